@@ -1,0 +1,23 @@
+# Every dependency comes from a Debian 12 package (scripts/setup.sh installs them).
+find_package(PkgConfig REQUIRED)
+find_package(Threads REQUIRED)
+find_package(TBB REQUIRED)
+find_package(fmt REQUIRED)
+find_package(CLI11 REQUIRED)
+find_package(nlohmann_json REQUIRED)
+find_package(Eigen3 REQUIRED NO_MODULE)
+pkg_check_modules(POLYCLIPPING REQUIRED IMPORTED_TARGET polyclipping)
+pkg_check_modules(LIB3MF REQUIRED IMPORTED_TARGET lib3MF)
+find_package(assimp REQUIRED)
+
+# Open CASCADE: linked by toolkit name so that only the toolkits maxslice uses must be
+# installed (the package's CMake config also demands the visualization toolkits).
+find_path(OCCT_INCLUDE_DIR Standard_Version.hxx PATH_SUFFIXES opencascade REQUIRED)
+set(MAXSLICE_OCCT_TOOLKITS TKSTEP TKSTEPBase TKSTEPAttr TKSTEP209 TKIGES TKXSBase TKShHealing
+    TKMesh TKTopAlgo TKGeomAlgo TKBRep TKGeomBase TKG3d TKG2d TKMath TKernel)
+add_library(maxslice_occt INTERFACE)
+target_include_directories(maxslice_occt SYSTEM INTERFACE ${OCCT_INCLUDE_DIR})
+foreach(tk IN LISTS MAXSLICE_OCCT_TOOLKITS)
+  find_library(OCCT_${tk}_LIB ${tk} REQUIRED)
+  target_link_libraries(maxslice_occt INTERFACE ${OCCT_${tk}_LIB})
+endforeach()

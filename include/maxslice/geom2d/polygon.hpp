@@ -1,0 +1,38 @@
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+namespace maxslice::geom2d {
+
+/// A point in a plane's own 2D frame, in integer micrometres. Coordinates stay within
+/// +-1e9 um (1 km) so that Clipper works in its fast 64-bit range and squared lengths fit.
+struct Point2 {
+    std::int64_t x = 0;
+    std::int64_t y = 0;
+    constexpr bool operator==(const Point2&) const = default;
+    constexpr auto operator<=>(const Point2&) const = default;
+};
+
+/// The largest coordinate magnitude geom2d accepts, in micrometres.
+inline constexpr std::int64_t kMaxCoordinateUm = 1'000'000'000;
+
+/// A closed polygon: the last point connects back to the first (it is not repeated).
+using Path2 = std::vector<Point2>;
+using Paths2 = std::vector<Path2>;
+
+/// Signed area in um^2: positive when counter-clockwise (y up).
+[[nodiscard]] double signed_area_um2(const Path2& path);
+/// Sum of signed areas in mm^2.
+[[nodiscard]] double signed_area_mm2(const Paths2& paths);
+/// Total length of a closed path, in mm.
+[[nodiscard]] double perimeter_mm(const Path2& path);
+
+/// How overlapping loops combine into a region.
+enum class FillRule {
+    kEvenOdd,   ///< inside where an odd number of loops cover the point
+    kNonZero,   ///< inside where the winding number is not zero
+    kPositive,  ///< inside where the winding number is positive (oriented loops)
+};
+
+}  // namespace maxslice::geom2d

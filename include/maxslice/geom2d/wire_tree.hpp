@@ -1,0 +1,48 @@
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "maxslice/geom2d/polygon.hpp"
+
+namespace maxslice::geom2d {
+
+/// One closed boundary curve of a region. Outer wires run counter-clockwise, holes
+/// clockwise.
+struct WireNode {
+    Path2 wire;
+    int parent = -1;            ///< index of the enclosing wire, -1 for a top-level wire
+    std::vector<int> children;  ///< wires directly inside this one
+    bool is_hole = false;       ///< true for a hole (its parent is an outer wire)
+    int depth = 0;              ///< 0 for top-level outers, 1 for their holes, 2 for islands...
+};
+
+/// The containment tree of a region's wires: outers -> holes -> islands in holes -> ...
+/// Nodes are stored in a deterministic order (parents before children).
+struct WireTree {
+    std::vector<WireNode> nodes;
+    std::vector<int> roots;  ///< top-level wires (outers, or holes when a slice has only those)
+
+    [[nodiscard]] bool empty() const { return nodes.empty(); }
+    [[nodiscard]] std::size_t outer_count() const;
+    [[nodiscard]] std::size_t hole_count() const;
+    /// Net area (outers minus holes) in mm^2.
+    [[nodiscard]] double area_mm2() const;
+    /// All wires as paths, in node order.
+    [[nodiscard]] Paths2 paths() const;
+};
+
+/// Combines raw closed loops into a region (Clipper union with the given fill rule) and
+/// returns its wires as a containment tree. Degenerate loops contribute nothing.
+[[nodiscard]] WireTree build_wire_tree(const Paths2& loops, FillRule rule);
+
+/// Region booleans on closed paths (results as flat paths, outers CCW, holes CW).
+[[nodiscard]] Paths2 union_of(const Paths2& a, FillRule rule = FillRule::kNonZero);
+[[nodiscard]] Paths2 intersection_of(const Paths2& a, const Paths2& b);
+[[nodiscard]] Paths2 difference_of(const Paths2& a, const Paths2& b);
+
+/// Grows (delta > 0) or shrinks (delta < 0) a region by delta micrometres, mitred joins
+/// limited to 2 x delta, round where sharper.
+[[nodiscard]] Paths2 offset_of(const Paths2& region, std::int64_t delta_um);
+
+}  // namespace maxslice::geom2d

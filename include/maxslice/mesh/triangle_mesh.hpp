@@ -1,0 +1,51 @@
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "maxslice/core/vec3.hpp"
+
+namespace maxslice::mesh {
+
+/// Three vertex indices, counter-clockwise seen from outside the solid.
+using Triangle = std::array<std::uint32_t, 3>;
+
+/// An indexed triangle mesh in double millimetres (part frame). Outward normals follow
+/// the right-hand rule on each triangle's vertex order.
+struct TriangleMesh {
+    std::vector<core::Vec3d> vertices;
+    std::vector<Triangle> triangles;
+
+    [[nodiscard]] bool empty() const { return triangles.empty(); }
+    [[nodiscard]] core::Vec3d corner(std::size_t tri, int k) const {
+        return vertices[triangles[tri][static_cast<std::size_t>(k)]];
+    }
+};
+
+/// Bounding box of the vertices used by triangles (unused vertices are ignored).
+[[nodiscard]] core::Box3d bounding_box(const TriangleMesh& mesh);
+/// Signed enclosed volume in mm^3 (divergence theorem); negative when inside-out.
+[[nodiscard]] double signed_volume(const TriangleMesh& mesh);
+/// Total triangle area in mm^2.
+[[nodiscard]] double surface_area(const TriangleMesh& mesh);
+/// Unnormalised normal (twice the area vector) of one triangle.
+[[nodiscard]] core::Vec3d area_vector(const TriangleMesh& mesh, std::size_t tri);
+
+/// Scales every vertex by s (unit conversion) in place.
+void scale(TriangleMesh& mesh, double s);
+/// Applies a 3x4 row-major affine transform [R | t] to every vertex in place; a transform
+/// with a negative determinant also flips every triangle to keep normals outward.
+void transform(TriangleMesh& mesh, const std::array<double, 12>& affine);
+/// Appends b's triangles to a (vertices are not shared).
+void append(TriangleMesh& a, const TriangleMesh& b);
+
+/// Builds an indexed mesh from a triangle soup (9 coordinates per triangle, corners in
+/// order), merging corners with bit-identical coordinates. Linear expected time.
+/// The first occurrence of a position fixes its vertex index, so the result is
+/// deterministic.
+[[nodiscard]] TriangleMesh weld_exact(std::span<const float> xyz);
+[[nodiscard]] TriangleMesh weld_exact(std::span<const double> xyz);
+
+}  // namespace maxslice::mesh

@@ -1,0 +1,44 @@
+#pragma once
+
+#include <vector>
+
+#include "maxslice/core/result.hpp"
+#include "maxslice/core/vec3.hpp"
+#include "maxslice/mesh/triangle_mesh.hpp"
+
+namespace maxslice::slice {
+
+/// One layer's extent along the slicing direction, as heights (mm) above a base plane.
+/// The layer is cut at `cut` (its mid-height unless stated otherwise).
+struct LayerSpan {
+    double bottom = 0.0;
+    double top = 0.0;
+    double cut = 0.0;
+    [[nodiscard]] double thickness() const { return top - bottom; }
+};
+
+/// Settings for choosing layer heights along one direction.
+struct LayerSettings {
+    double layer_mm = 0.5;          ///< uniform thickness
+    bool adaptive = false;          ///< vary thickness to bound the cusp height
+    double cusp_mm = 0.1;           ///< largest staircase (cusp) height allowed when adaptive
+    double min_layer_mm = 0.2;      ///< h_min when adaptive
+    double max_layer_mm = 0.5;      ///< h_max when adaptive
+};
+
+/// Checks ranges (positive, h_min <= layer <= h_max when adaptive ...).
+[[nodiscard]] core::Result<void> validate(const LayerSettings& settings);
+
+/// Equidistant layers covering heights [from, to]; the last layer is trimmed to end at `to`
+/// (a remainder thinner than 1% of the layer is merged into the previous layer).
+[[nodiscard]] std::vector<LayerSpan> uniform_layers(double from, double to, double layer_mm);
+
+/// Adaptive layers along direction (unit) over the mesh's extent: each layer is as thick as
+/// the cusp bound allows for the facets it crosses (c = h |n . d|), clamped to
+/// [min_layer_mm, max_layer_mm]. Heights are measured from `base_height`.
+[[nodiscard]] std::vector<LayerSpan> adaptive_layers(const mesh::TriangleMesh& mesh,
+                                                     const core::Vec3d& direction,
+                                                     double from, double to,
+                                                     const LayerSettings& settings);
+
+}  // namespace maxslice::slice

@@ -1,0 +1,162 @@
+// The only translation unit that includes the clipping library (Clipper 6, Debian's
+// libpolyclipping). Swapping it for another library touches this file alone.
+#include "maxslice/geom2d/wire_tree.hpp"
+
+#include <clipper.hpp>
+
+#include <algorithm>
+
+#include "maxslice/core/units.hpp"
+
+namespace maxslice::geom2d {
+namespace {
+
+ClipperLib::Path to_clipper(const Path2& path) {
+    ClipperLib::Path out;
+    out.reserve(path.size());
+    for (const Point2& p : path) out.emplace_back(p.x, p.y);
+    return out;
+}
+
+ClipperLib::Paths to_clipper(const Paths2& paths) {
+    ClipperLib::Paths out;
+    out.reserve(paths.size());
+    for (const Path2& p : paths) {
+        if (p.size() >= 3) out.push_back(to_clipper(p));
+    }
+    return out;
+}
+
+Path2 from_clipper(const ClipperLib::Path& path) {
+    Path2 out;
+    out.reserve(path.size());
+    for (const ClipperLib::IntPoint& p : path) out.push_back({p.X, p.Y});
+    return out;
+}
+
+Paths2 from_clipper(const ClipperLib::Paths& paths) {
+    Paths2 out;
+    out.reserve(paths.size());
+    for (const auto& p : paths) out.push_back(from_clipper(p));
+    return out;
+}
+
+ClipperLib::PolyFillType to_clipper(FillRule rule) {
+    switch (rule) {
+        case FillRule::kEvenOdd: return ClipperLib::pftEvenOdd;
+        case FillRule::kNonZero: return ClipperLib::pftNonZero;
+        case FillRule::kPositive: return ClipperLib::pftPositive;
+    }
+    return ClipperLib::pftNonZero;
+}
+
+// Rotates a closed path so that it starts at its smallest point: Clipper's start points
+// depend on input order, this makes the output canonical for a given region.
+void canonical_start(Path2& path) {
+    if (path.empty()) return;
+    auto it = std::min_element(path.begin(), path.end());
+    std::rotate(path.begin(), it, path.end());
+}
+
+void add_subtree(const ClipperLib::PolyNode& node, int parent, int depth, WireTree& tree) {
+    // Sort siblings by their first (smallest) point so the order does not depend on the
+    // order Clipper found them in.
+    std::vector<std::pair<Path2, const ClipperLib::PolyNode*>> kids;
+    kids.reserve(node.Childs.size());
+    for (const ClipperLib::PolyNode* child : node.Childs) {
+        Path2 p = from_clipper(child->Contour);
+        canonical_start(p);
+        kids.emplace_back(std::move(p), child);
+    }
+    std::sort(kids.begin(), kids.end(), [](const auto& a, const auto& b) {
+        return a.first.front() < b.first.front();
+    });
+    std::vector<std::pair<int, const ClipperLib::PolyNode*>> created;
+    for (auto& [path, child] : kids) {
+        if (path.size() < 3) continue;
+        const int id = static_cast<int>(tree.nodes.size());
+        WireNode wn;
+        wn.wire = std::move(path);
+        wn.parent = parent;
+        wn.is_hole = child->IsHole();
+        wn.depth = depth;
+        tree.nodes.push_back(std::move(wn));
+        if (parent >= 0) {
+            tree.nodes[static_cast<std::size_t>(parent)].children.push_back(id);
+        } else {
+            tree.roots.push_back(id);
+        }
+        created.emplace_back(id, child);
+    }
+    for (const auto& [id, child] : created) add_subtree(*child, id, depth + 1, tree);
+}
+
+}  // namespace
+
+std::size_t WireTree::outer_count() const {
+    return static_cast<std::size_t>(
+        std::count_if(nodes.begin(), nodes.end(), [](const WireNode& n) { return !n.is_hole; }));
+}
+
+std::size_t WireTree::hole_count() const { return nodes.size() - outer_count(); }
+
+double WireTree::area_mm2() const {
+    double sum = 0.0;
+    for (const WireNode& n : nodes) sum += signed_area_um2(n.wire);
+    return core::um2_to_mm2(sum);
+}
+
+Paths2 WireTree::paths() const {
+    Paths2 out;
+    out.reserve(nodes.size());
+    for (const WireNode& n : nodes) out.push_back(n.wire);
+    return out;
+}
+
+WireTree build_wire_tree(const Paths2& loops, FillRule rule) {
+    ClipperLib::Clipper clipper;
+    clipper.AddPaths(to_clipper(loops), ClipperLib::ptSubject, true);
+    ClipperLib::PolyTree solution;
+    clipper.Execute(ClipperLib::ctUnion, solution, to_clipper(rule), to_clipper(rule));
+    WireTree tree;
+    add_subtree(solution, -1, 0, tree);
+    return tree;
+}
+
+Paths2 union_of(const Paths2& a, FillRule rule) {
+    ClipperLib::Clipper clipper;
+    clipper.AddPaths(to_clipper(a), ClipperLib::ptSubject, true);
+    ClipperLib::Paths out;
+    clipper.Execute(ClipperLib::ctUnion, out, to_clipper(rule), to_clipper(rule));
+    return from_clipper(out);
+}
+
+Paths2 intersection_of(const Paths2& a, const Paths2& b) {
+    ClipperLib::Clipper clipper;
+    clipper.AddPaths(to_clipper(a), ClipperLib::ptSubject, true);
+    clipper.AddPaths(to_clipper(b), ClipperLib::ptClip, true);
+    ClipperLib::Paths out;
+    clipper.Execute(ClipperLib::ctIntersection, out, ClipperLib::pftNonZero,
+                    ClipperLib::pftNonZero);
+    return from_clipper(out);
+}
+
+Paths2 difference_of(const Paths2& a, const Paths2& b) {
+    ClipperLib::Clipper clipper;
+    clipper.AddPaths(to_clipper(a), ClipperLib::ptSubject, true);
+    clipper.AddPaths(to_clipper(b), ClipperLib::ptClip, true);
+    ClipperLib::Paths out;
+    clipper.Execute(ClipperLib::ctDifference, out, ClipperLib::pftNonZero,
+                    ClipperLib::pftNonZero);
+    return from_clipper(out);
+}
+
+Paths2 offset_of(const Paths2& region, std::int64_t delta_um) {
+    ClipperLib::ClipperOffset offset(2.0, 0.25 * core::kMicronsPerMm * 0.01);
+    offset.AddPaths(to_clipper(region), ClipperLib::jtMiter, ClipperLib::etClosedPolygon);
+    ClipperLib::Paths out;
+    offset.Execute(out, static_cast<double>(delta_um));
+    return from_clipper(out);
+}
+
+}  // namespace maxslice::geom2d
