@@ -1,0 +1,243 @@
+#include "maxslice/mesh/triangle_mesh.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <bit>
+#include <cstring>
+#include <limits>
+#include <utility>
+
+#include "maxslice/core/assert.hpp"
+
+namespace maxslice::mesh {
+namespace {
+
+// Sums f(i) over [0, n) in fixed blocks that may run in parallel; the block partial sums are
+// added in block order, so the result is the same for any number of threads.
+template <class F>
+double deterministic_sum(std::size_t n, F&& f) {
+    constexpr std::size_t kBlock = 1u << 15;
+    const std::size_t blocks = (n + kBlock - 1) / kBlock;
+    if (blocks <= 1) {
+        double s = 0.0;
+        for (std::size_t i = 0; i < n; ++i) s += f(i);
+        return s;
+    }
+    std::vector<double> partial(blocks, 0.0);
+    tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
+        const std::size_t end = std::min(n, (b + 1) * kBlock);
+        double s = 0.0;
+        for (std::size_t i = b * kBlock; i < end; ++i) s += f(i);
+        partial[b] = s;
+    });
+    double s = 0.0;
+    for (double p : partial) s += p;
+    return s;
+}
+
+// Exact weld: an open-addressing (linear probing) hash table keyed on the coordinate bit
+// patterns. Each slot stores the key inline next to the vertex index, so a lookup touches one
+// cache line, and the slot of a corner a few places ahead is prefetched while the current
+// one is resolved: the table is much larger than the cache for big meshes and the lookups
+// are otherwise latency-bound. The table starts sized for a closed mesh (about one vertex per
+// six corners) and doubles at load 1/2, which only happens for soups.
+template <class Bits>
+struct WeldSlot {
+    Bits key[3];
+    std::uint32_t index;  // kEmpty when free
+};
+
+constexpr std::uint32_t kEmpty = std::numeric_limits<std::uint32_t>::max();
+
+inline std::uint64_t mix64(std::uint64_t h) {
+    h ^= h >> 33;
+    h *= 0xff51afd7ed558ccdULL;
+    h ^= h >> 33;
+    h *= 0xc4ceb9fe1a85ec53ULL;
+    h ^= h >> 33;
+    return h;
+}
+
+template <class Bits>
+inline std::uint64_t hash_key(const Bits (&k)[3]) {
+    if constexpr (sizeof(Bits) == 4) {
+        const std::uint64_t a = (static_cast<std::uint64_t>(k[0]) << 32) | k[1];
+        return mix64(a * 0x9e3779b97f4a7c15ULL + k[2]);
+    } else {
+        return mix64(mix64(k[0] * 0x9e3779b97f4a7c15ULL + k[1]) + k[2]);
+    }
+}
+
+template <class Real>
+TriangleMesh weld_impl(std::span<const Real> xyz) {
+    using Bits = std::conditional_t<sizeof(Real) == 4, std::uint32_t, std::uint64_t>;
+    using Slot = WeldSlot<Bits>;
+    constexpr Bits kNegZero = Bits{1} << (sizeof(Bits) * 8 - 1);
+
+    // A trailing partial triangle (fewer than 9 numbers) is ignored.
+    const std::size_t tris = xyz.size() / 9;
+    const std::size_t corners = tris * 3;
+    MAXSLICE_ASSERT(corners < kEmpty);
+
+    TriangleMesh mesh;
+    mesh.triangles.resize(tris);
+    if (tris == 0) return mesh;
+    mesh.vertices.reserve(corners / 5 + 16);
+
+    std::size_t capacity = std::bit_ceil(std::max<std::size_t>(64, corners / 3));
+    std::vector<Slot> table(capacity, Slot{{}, kEmpty});
+    std::size_t mask = capacity - 1;
+    std::size_t grow_at = capacity / 2;
+
+    auto key_of = [&](std::size_t c, Bits(&k)[3]) {
+        std::memcpy(k, xyz.data() + 3 * c, sizeof(k));
+        for (Bits& b : k) {
+            if (b == kNegZero) b = 0;  // -0.0 and 0.0 are the same position
+        }
+    };
+
+    auto grow = [&] {
+        std::vector<Slot> bigger(capacity * 2, Slot{{}, kEmpty});
+        capacity *= 2;
+        mask = capacity - 1;
+        grow_at = capacity / 2;
+        for (const Slot& s : table) {
+            if (s.index == kEmpty) continue;
+            std::size_t i = hash_key(s.key) & mask;
+            while (bigger[i].index != kEmpty) i = (i + 1) & mask;
+            bigger[i] = s;
+        }
+        table.swap(bigger);
+    };
+
+    constexpr std::size_t kAhead = 16;
+    std::uint64_t hashes[kAhead];
+    for (std::size_t c = 0; c < std::min(kAhead, corners); ++c) {
+        Bits k[3];
+        key_of(c, k);
+        hashes[c] = hash_key(k);
+        __builtin_prefetch(&table[hashes[c] & mask]);
+    }
+
+    auto* out = mesh.triangles.front().data();
+    for (std::size_t c = 0; c < corners; ++c) {
+        Bits k[3];
+        key_of(c, k);
+        const std::uint64_t h = hashes[c % kAhead];
+        if (c + kAhead < corners) {
+            Bits ahead[3];
+            key_of(c + kAhead, ahead);
+            const std::uint64_t ha = hash_key(ahead);
+            hashes[c % kAhead] = ha;
+            __builtin_prefetch(&table[ha & mask]);
+        }
+        std::size_t i = h & mask;
+        std::uint32_t found = kEmpty;
+        while (true) {
+            Slot& s = table[i];
+            if (s.index == kEmpty) break;
+            if (s.key[0] == k[0] && s.key[1] == k[1] && s.key[2] == k[2]) {
+                found = s.index;
+                break;
+            }
+            i = (i + 1) & mask;
+        }
+        if (found == kEmpty) {
+            found = static_cast<std::uint32_t>(mesh.vertices.size());
+            Slot& s = table[i];
+            std::memcpy(s.key, k, sizeof(k));
+            s.index = found;
+            Real p[3];
+            std::memcpy(p, k, sizeof(p));
+            mesh.vertices.push_back(
+                {static_cast<double>(p[0]), static_cast<double>(p[1]), static_cast<double>(p[2])});
+            if (mesh.vertices.size() > grow_at) grow();
+        }
+        out[c] = found;
+    }
+    return mesh;
+}
+
+}  // namespace
+
+core::Box3d bounding_box(const TriangleMesh& mesh) {
+    core::Box3d box;
+    if (mesh.triangles.empty()) return box;
+    // Only used vertices count; marking them first keeps the min/max loop linear in the
+    // vertices rather than in the (three times more) corners.
+    std::vector<std::uint8_t> used(mesh.vertices.size(), 0);
+    for (const Triangle& t : mesh.triangles) {
+        for (std::uint32_t v : t) {
+            MAXSLICE_ASSERT(v < mesh.vertices.size());
+            used[v] = 1;
+        }
+    }
+    for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
+        if (used[v]) box.add(mesh.vertices[v]);
+    }
+    return box;
+}
+
+double signed_volume(const TriangleMesh& mesh) {
+    if (mesh.triangles.empty()) return 0.0;
+    // Tetrahedra are taken from the first vertex rather than the origin: the result is the
+    // same for a closed surface, and parts far from the origin lose less to cancellation.
+    const core::Vec3d o = mesh.vertices[mesh.triangles.front()[0]];
+    const double six_v = deterministic_sum(mesh.triangles.size(), [&](std::size_t t) {
+        const Triangle& tri = mesh.triangles[t];
+        const core::Vec3d a = mesh.vertices[tri[0]] - o;
+        const core::Vec3d b = mesh.vertices[tri[1]] - o;
+        const core::Vec3d c = mesh.vertices[tri[2]] - o;
+        return core::dot(a, core::cross(b, c));
+    });
+    return six_v / 6.0;
+}
+
+double surface_area(const TriangleMesh& mesh) {
+    return 0.5 * deterministic_sum(mesh.triangles.size(),
+                                   [&](std::size_t t) { return core::norm(area_vector(mesh, t)); });
+}
+
+core::Vec3d area_vector(const TriangleMesh& mesh, std::size_t tri) {
+    const Triangle& t = mesh.triangles[tri];
+    const core::Vec3d& a = mesh.vertices[t[0]];
+    return core::cross(mesh.vertices[t[1]] - a, mesh.vertices[t[2]] - a);
+}
+
+void scale(TriangleMesh& mesh, double s) {
+    for (core::Vec3d& v : mesh.vertices) v = v * s;
+}
+
+void transform(TriangleMesh& mesh, const std::array<double, 12>& m) {
+    for (core::Vec3d& v : mesh.vertices) {
+        v = {m[0] * v.x + m[1] * v.y + m[2] * v.z + m[3],
+             m[4] * v.x + m[5] * v.y + m[6] * v.z + m[7],
+             m[8] * v.x + m[9] * v.y + m[10] * v.z + m[11]};
+    }
+    const double det = m[0] * (m[5] * m[10] - m[6] * m[9]) - m[1] * (m[4] * m[10] - m[6] * m[8]) +
+                       m[2] * (m[4] * m[9] - m[5] * m[8]);
+    if (det < 0.0) {
+        for (Triangle& t : mesh.triangles) std::swap(t[1], t[2]);
+    }
+}
+
+void append(TriangleMesh& a, const TriangleMesh& b) {
+    MAXSLICE_ASSERT(a.vertices.size() + b.vertices.size() < kEmpty);
+    const auto offset = static_cast<std::uint32_t>(a.vertices.size());
+    a.vertices.insert(a.vertices.end(), b.vertices.begin(), b.vertices.end());
+    a.triangles.reserve(a.triangles.size() + b.triangles.size());
+    for (const Triangle& t : b.triangles) {
+        a.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+    }
+}
+
+TriangleMesh weld_exact(std::span<const float> xyz) {
+    return weld_impl(xyz);
+}
+TriangleMesh weld_exact(std::span<const double> xyz) {
+    return weld_impl(xyz);
+}
+
+}  // namespace maxslice::mesh
