@@ -68,9 +68,8 @@ void add_subtree(const ClipperLib::PolyNode& node, int parent, int depth, WireTr
         canonical_start(p);
         kids.emplace_back(std::move(p), child);
     }
-    std::sort(kids.begin(), kids.end(), [](const auto& a, const auto& b) {
-        return a.first.front() < b.first.front();
-    });
+    std::sort(kids.begin(), kids.end(),
+              [](const auto& a, const auto& b) { return a.first.front() < b.first.front(); });
     std::vector<std::pair<int, const ClipperLib::PolyNode*>> created;
     for (auto& [path, child] : kids) {
         if (path.size() < 3) continue;
@@ -98,7 +97,9 @@ std::size_t WireTree::outer_count() const {
         std::count_if(nodes.begin(), nodes.end(), [](const WireNode& n) { return !n.is_hole; }));
 }
 
-std::size_t WireTree::hole_count() const { return nodes.size() - outer_count(); }
+std::size_t WireTree::hole_count() const {
+    return nodes.size() - outer_count();
+}
 
 double WireTree::area_mm2() const {
     double sum = 0.0;
@@ -146,8 +147,7 @@ Paths2 difference_of(const Paths2& a, const Paths2& b) {
     clipper.AddPaths(to_clipper(a), ClipperLib::ptSubject, true);
     clipper.AddPaths(to_clipper(b), ClipperLib::ptClip, true);
     ClipperLib::Paths out;
-    clipper.Execute(ClipperLib::ctDifference, out, ClipperLib::pftNonZero,
-                    ClipperLib::pftNonZero);
+    clipper.Execute(ClipperLib::ctDifference, out, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
     return from_clipper(out);
 }
 

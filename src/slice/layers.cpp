@@ -1,0 +1,108 @@
+#include "maxslice/slice/layers.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace maxslice::slice {
+namespace {
+
+// A remainder thinner than this share of a layer is merged into the layer below.
+constexpr double kMergeRemainderShare = 0.01;
+// Facets whose normal is this close to the direction count as flat (horizontal).
+constexpr double kFlatFacetCos = 1.0 - 1e-9;
+
+LayerSpan make_span(double bottom, double top) {
+    return {bottom, top, 0.5 * (bottom + top)};
+}
+
+}  // namespace
+
+core::Result<void> validate(const LayerSettings& s) {
+    auto bad = [](std::string key, std::string why) {
+        return core::fail(core::ErrorCode::kInvalidInput, key + " " + why, "layer settings");
+    };
+    if (!(s.layer_mm > 0.0) || !std::isfinite(s.layer_mm)) {
+        return bad("layer height", "must be a positive number of mm");
+    }
+    if (s.adaptive) {
+        if (!(s.cusp_mm > 0.0)) return bad("cusp", "must be a positive number of mm");
+        if (!(s.min_layer_mm > 0.0)) return bad("minimum layer", "must be positive");
+        if (!(s.max_layer_mm >= s.min_layer_mm)) {
+            return bad("maximum layer", "must not be below the minimum layer height");
+        }
+    }
+    return {};
+}
+
+std::vector<LayerSpan> uniform_layers(double from, double to, double layer_mm) {
+    std::vector<LayerSpan> out;
+    if (!(to > from) || !(layer_mm > 0.0)) return out;
+    const double total = to - from;
+    const auto n =
+        static_cast<std::size_t>(std::max(1.0, std::ceil(total / layer_mm - kMergeRemainderShare)));
+    out.reserve(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const double bottom = from + static_cast<double>(i) * layer_mm;
+        const double top = i + 1 == n ? to : from + static_cast<double>(i + 1) * layer_mm;
+        out.push_back(make_span(bottom, top));
+    }
+    return out;
+}
+
+std::vector<LayerSpan> adaptive_layers(const mesh::TriangleMesh& mesh, const core::Vec3d& direction,
+                                       double from, double to, const LayerSettings& s) {
+    // Cusp height of a facet with unit normal n cut by layers of thickness h along d is
+    // c = h |n . d| (METHOD.md section 2), so a facet allows h <= cusp / |n . d|. Facets are
+    // swept by their lowest height; the active set holds those that reach the current layer.
+    struct Facet {
+        double lo, hi, cos;
+    };
+    std::vector<Facet> facets;
+    std::vector<double> flats;  // heights of flat facets: good places for a layer boundary
+    facets.reserve(mesh.triangles.size());
+    const core::Vec3d d = core::normalized(direction);
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+        const core::Vec3d a = mesh.corner(t, 0), b = mesh.corner(t, 1), c = mesh.corner(t, 2);
+        const core::Vec3d n = core::normalized(core::cross(b - a, c - a));
+        const double ha = core::dot(a, d), hb = core::dot(b, d), hc = core::dot(c, d);
+        const double cos = std::abs(core::dot(n, d));
+        if (cos >= kFlatFacetCos) {
+            flats.push_back(ha);
+            continue;
+        }
+        facets.push_back({std::min({ha, hb, hc}), std::max({ha, hb, hc}), cos});
+    }
+    std::sort(facets.begin(), facets.end(), [](const Facet& x, const Facet& y) {
+        return x.lo < y.lo || (x.lo == y.lo && x.hi < y.hi);
+    });
+    std::sort(flats.begin(), flats.end());
+
+    std::vector<LayerSpan> out;
+    std::vector<Facet> active;
+    std::size_t next = 0;
+    double z = from;
+    const double hmin = s.min_layer_mm, hmax = s.max_layer_mm;
+    while (to - z > kMergeRemainderShare * hmin) {
+        while (next < facets.size() && facets[next].lo < z + hmax) active.push_back(facets[next++]);
+        std::erase_if(active, [z](const Facet& f) { return f.hi <= z; });
+        double h = hmax;
+        for (const Facet& f : active) {
+            if (f.lo < z + h && f.cos > 0.0) h = std::min(h, s.cusp_mm / f.cos);
+        }
+        h = std::clamp(h, hmin, hmax);
+        // End the layer on a flat face inside it, so flat tops and steps are exact.
+        auto flat = std::upper_bound(flats.begin(), flats.end(), z + hmin);
+        if (flat != flats.end() && *flat < z + h) h = *flat - z;
+        // Do not leave a remainder thinner than h_min at the top: finish in one layer when
+        // that stays within h_max, else split what is left in two.
+        const double left = to - z;
+        if (left - h < hmin) h = left <= hmax ? left : std::max(hmin, 0.5 * left);
+        out.push_back(make_span(z, z + h));
+        z += h;
+    }
+    if (!out.empty()) out.back() = make_span(out.back().bottom, to);
+    return out;
+}
+
+}  // namespace maxslice::slice

@@ -1,0 +1,429 @@
+// Mesh slicing: METHOD.md sections 1 and 2.
+//
+// The algorithm follows Minetto et al. (2017), "An optimal algorithm for 3D triangle mesh
+// slicing": triangles are bucketed by the range of planes they cross (O(n log k) with a
+// binary search per triangle, then a counting sort), each plane is cut independently
+// (in parallel), and its segments are chained into loops through a hash table keyed on the
+// mesh edge (the pair of vertex ids) each segment starts on: O(n log k + m) in all, with no
+// rounding of coordinates involved in the topology.
+//
+// Degenerate positions are resolved by symbolic perturbation: a vertex counts as "above" a
+// plane at height h only when its height is > h, so a plane through a vertex, an edge or a
+// whole face behaves like a plane an infinitesimal step above it. Every triangle then
+// crosses a plane in exactly zero or two of its edges, and two triangles sharing an edge
+// agree on whether it is crossed, so loops close on any closed mesh.
+#include "maxslice/slice/slicer.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <bit>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <string>
+
+#include "maxslice/core/tolerances.hpp"
+#include "maxslice/core/units.hpp"
+
+namespace maxslice::slice {
+namespace {
+
+using geom2d::Path2;
+using geom2d::Paths2;
+using geom2d::Point2;
+
+// A segment of the cut in one triangle: it enters the triangle across edge `from` and
+// leaves it across edge `to` (both undirected edge keys), solid on its left.
+struct Segment {
+    std::uint64_t from;
+    std::uint64_t to;
+    Point2 start;              // the crossing point on edge `from`
+    std::uint32_t to_a, to_b;  // the vertices of edge `to` (for the end of an open chain)
+};
+
+std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
+    const std::uint32_t lo = std::min(a, b), hi = std::max(a, b);
+    return (static_cast<std::uint64_t>(lo) << 32) | hi;
+}
+
+// Per-mesh data shared by all planes: vertex heights along the normal and in-plane
+// coordinates (mm), and for each plane (in sorted order) the triangles that cross it.
+struct CutContext {
+    const mesh::TriangleMesh* mesh = nullptr;
+    std::vector<double> height;
+    std::vector<double> pu, pv;
+    std::vector<double> sorted_heights;
+    std::vector<std::size_t> bucket_begin;  // size planes + 1
+    std::vector<std::uint32_t> bucket_tris;
+};
+
+core::Result<CutContext> prepare(const mesh::TriangleMesh& mesh, const PlaneFrame& base,
+                                 std::span<const double> heights) {
+    CutContext ctx;
+    ctx.mesh = &mesh;
+    const std::size_t nv = mesh.vertices.size();
+    ctx.height.resize(nv);
+    ctx.pu.resize(nv);
+    ctx.pv.resize(nv);
+    std::atomic<bool> finite{true};
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nv, 1 << 14), [&](const auto& r) {
+        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+            const core::Vec3d d = mesh.vertices[i] - base.origin;
+            ctx.height[i] = core::dot(d, base.normal);
+            ctx.pu[i] = core::dot(d, base.u);
+            ctx.pv[i] = core::dot(d, base.v);
+            if (!core::is_finite(mesh.vertices[i])) finite.store(false);
+        }
+    });
+    if (!finite.load()) {
+        return core::fail(core::ErrorCode::kInvalidInput,
+                          "the mesh has NaN or infinite vertex coordinates", "slicing");
+    }
+    for (const double h : heights) {
+        if (!std::isfinite(h)) {
+            return core::fail(core::ErrorCode::kInvalidInput, "a plane height is not finite",
+                              "slicing");
+        }
+    }
+    ctx.sorted_heights.assign(heights.begin(), heights.end());
+    std::sort(ctx.sorted_heights.begin(), ctx.sorted_heights.end());
+    const auto& hs = ctx.sorted_heights;
+    const std::size_t nt = mesh.triangles.size();
+    const std::size_t np = hs.size();
+
+    // Plane range [k0, k1) crossed by each triangle: planes with min <= h < max.
+    std::vector<std::uint32_t> k0(nt), k1(nt);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nt, 1 << 14), [&](const auto& r) {
+        for (std::size_t t = r.begin(); t != r.end(); ++t) {
+            const auto& tri = mesh.triangles[t];
+            const double a = ctx.height[tri[0]], b = ctx.height[tri[1]], c = ctx.height[tri[2]];
+            const double lo = std::min({a, b, c}), hi = std::max({a, b, c});
+            k0[t] =
+                static_cast<std::uint32_t>(std::lower_bound(hs.begin(), hs.end(), lo) - hs.begin());
+            k1[t] =
+                static_cast<std::uint32_t>(std::lower_bound(hs.begin(), hs.end(), hi) - hs.begin());
+        }
+    });
+    // Counting sort of (plane, triangle) pairs; triangles stay in index order per plane.
+    ctx.bucket_begin.assign(np + 1, 0);
+    for (std::size_t t = 0; t < nt; ++t) {
+        for (std::uint32_t k = k0[t]; k < k1[t]; ++k) ++ctx.bucket_begin[k + 1];
+    }
+    std::partial_sum(ctx.bucket_begin.begin(), ctx.bucket_begin.end(), ctx.bucket_begin.begin());
+    ctx.bucket_tris.resize(ctx.bucket_begin[np]);
+    std::vector<std::size_t> fill(ctx.bucket_begin.begin(), ctx.bucket_begin.end() - 1);
+    for (std::size_t t = 0; t < nt; ++t) {
+        for (std::uint32_t k = k0[t]; k < k1[t]; ++k) {
+            ctx.bucket_tris[fill[k]++] = static_cast<std::uint32_t>(t);
+        }
+    }
+    return ctx;
+}
+
+// The point where the plane at height h crosses edge (a, b), in micrometres. It is computed
+// from the lower vertex id to the higher one so both triangles of the edge get equal bits.
+Point2 crossing(const CutContext& ctx, std::uint32_t a, std::uint32_t b, double h) {
+    if (a > b) std::swap(a, b);
+    const double ha = ctx.height[a], hb = ctx.height[b];
+    const double t = (h - ha) / (hb - ha);
+    const double u = ctx.pu[a] + (ctx.pu[b] - ctx.pu[a]) * t;
+    const double v = ctx.pv[a] + (ctx.pv[b] - ctx.pv[a]) * t;
+    return {core::mm_to_um(u), core::mm_to_um(v)};
+}
+
+// Open addressing table from an edge key to the segments that start on that edge (more than
+// one only at non-manifold edges; they are linked through `next`).
+class EdgeTable {
+public:
+    explicit EdgeTable(const std::vector<Segment>& segs) : segs_(segs) {
+        std::size_t cap = 16;
+        while (cap < 2 * segs.size()) cap <<= 1;
+        mask_ = cap - 1;
+        slots_.assign(cap, kEmpty);
+        next_.assign(segs.size(), kEmpty);
+        // Insert in reverse so each chain of equal keys lists segments in index order.
+        for (std::size_t i = segs.size(); i-- > 0;) {
+            std::size_t s = hash(segs[i].from);
+            while (slots_[s] != kEmpty && segs_[slots_[s]].from != segs[i].from)
+                s = (s + 1) & mask_;
+            next_[i] = slots_[s];
+            slots_[s] = static_cast<std::uint32_t>(i);
+        }
+    }
+    // The first segment starting on edge key that is not used yet, or kEmpty.
+    std::uint32_t find_unused(std::uint64_t key, const std::vector<char>& used) const {
+        std::size_t s = hash(key);
+        while (slots_[s] != kEmpty) {
+            if (segs_[slots_[s]].from == key) {
+                for (std::uint32_t i = slots_[s]; i != kEmpty; i = next_[i]) {
+                    if (!used[i]) return i;
+                }
+                return kEmpty;
+            }
+            s = (s + 1) & mask_;
+        }
+        return kEmpty;
+    }
+    static constexpr std::uint32_t kEmpty = std::numeric_limits<std::uint32_t>::max();
+
+private:
+    std::size_t hash(std::uint64_t key) const {
+        return static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ULL) >> 17) & mask_;
+    }
+    const std::vector<Segment>& segs_;
+    std::size_t mask_ = 0;
+    std::vector<std::uint32_t> slots_;
+    std::vector<std::uint32_t> next_;
+};
+
+void drop_repeated_points(Path2& path) {
+    path.erase(std::unique(path.begin(), path.end()), path.end());
+    while (path.size() > 1 && path.front() == path.back()) path.pop_back();
+}
+
+double distance_um(const Point2& a, const Point2& b) {
+    return std::hypot(static_cast<double>(a.x - b.x), static_cast<double>(a.y - b.y));
+}
+
+// Rejoins the pieces of one open run that were started in the middle: a piece that ends
+// exactly where another starts continues into it. Runs that form a cycle become loops.
+std::vector<Path2> join_exact(std::vector<Path2>& open, PlaneCut& cut) {
+    std::vector<std::pair<Point2, std::size_t>> starts;
+    starts.reserve(open.size());
+    for (std::size_t i = 0; i < open.size(); ++i) starts.emplace_back(open[i].front(), i);
+    std::sort(starts.begin(), starts.end());
+    const std::size_t none = open.size();
+    std::vector<std::size_t> next(open.size(), none);
+    std::vector<char> has_prev(open.size(), 0);
+    for (std::size_t i = 0; i < open.size(); ++i) {
+        auto it = std::lower_bound(starts.begin(), starts.end(),
+                                   std::make_pair(open[i].back(), std::size_t{0}));
+        for (; it != starts.end() && it->first == open[i].back(); ++it) {
+            if (it->second != i && !has_prev[it->second]) {
+                next[i] = it->second;
+                has_prev[it->second] = 1;
+                break;
+            }
+        }
+    }
+    std::vector<Path2> runs;
+    std::vector<char> done(open.size(), 0);
+    auto walk = [&](std::size_t head) {
+        Path2 run;
+        std::size_t i = head;
+        while (i != none && !done[i]) {
+            done[i] = 1;
+            run.insert(run.end(), open[i].begin(), open[i].end());
+            i = next[i];
+        }
+        return std::make_pair(std::move(run), i == head);
+    };
+    for (std::size_t i = 0; i < open.size(); ++i) {
+        if (!has_prev[i] && !done[i]) runs.push_back(walk(i).first);
+    }
+    for (std::size_t i = 0; i < open.size(); ++i) {
+        if (done[i]) continue;
+        auto [run, cycle] = walk(i);  // every piece has a predecessor: a closed cycle
+        drop_repeated_points(run);
+        if (cycle && run.size() >= 3) cut.loops.push_back(std::move(run));
+    }
+    return runs;
+}
+
+// Closes open chains (from open meshes: holes in scans, cracks) end to start when the gap is
+// below the closing tolerance, nearest first; chains that cannot be closed are dropped and
+// counted.
+void close_open_chains(std::vector<Path2>& open, PlaneCut& cut) {
+    const double tol = core::kSliceGapCloseMm * core::kMicronsPerMm;
+    std::vector<char> taken(open.size(), 0);
+    for (std::size_t i = 0; i < open.size(); ++i) {
+        if (taken[i]) continue;
+        taken[i] = 1;
+        Path2 chain = std::move(open[i]);
+        int joins = 0;
+        while (true) {
+            const Point2 end = chain.back();
+            double best = distance_um(end, chain.front());
+            std::size_t best_j = open.size();
+            for (std::size_t j = 0; j < open.size(); ++j) {
+                if (taken[j]) continue;
+                const double d = distance_um(end, open[j].front());
+                if (d < best) best = d, best_j = j;
+            }
+            if (best > tol) break;
+            ++joins;
+            if (best_j == open.size()) {  // nearest is our own start: close
+                drop_repeated_points(chain);
+                if (chain.size() >= 3) {
+                    cut.loops.push_back(std::move(chain));
+                    cut.gaps_closed += joins;
+                }
+                chain.clear();
+                break;
+            }
+            taken[best_j] = 1;
+            chain.insert(chain.end(), open[best_j].begin(), open[best_j].end());
+        }
+        if (!chain.empty()) ++cut.open_chains;
+    }
+}
+
+PlaneCut cut_plane(const CutContext& ctx, std::size_t k) {
+    const double h = ctx.sorted_heights[k];
+    const auto& tris = ctx.mesh->triangles;
+    std::vector<Segment> segs;
+    segs.reserve(ctx.bucket_begin[k + 1] - ctx.bucket_begin[k]);
+    for (std::size_t i = ctx.bucket_begin[k]; i < ctx.bucket_begin[k + 1]; ++i) {
+        const auto& tri = tris[ctx.bucket_tris[i]];
+        // Walking the triangle's edges in winding order, the cut enters where an edge goes
+        // from above the plane to below it and leaves where an edge goes back up; with the
+        // outward normal from the winding, the solid is then on the left (seen from +normal).
+        std::uint64_t from = 0, to = 0;
+        std::uint32_t fa = 0, fb = 0, ta = 0, tb = 0;
+        int found = 0;
+        for (int e = 0; e < 3; ++e) {
+            const std::uint32_t a = tri[static_cast<std::size_t>(e)];
+            const std::uint32_t b = tri[static_cast<std::size_t>((e + 1) % 3)];
+            const bool above_a = ctx.height[a] > h, above_b = ctx.height[b] > h;
+            if (above_a && !above_b) {
+                from = edge_key(a, b), fa = a, fb = b;
+                found |= 1;
+            } else if (!above_a && above_b) {
+                to = edge_key(a, b), ta = a, tb = b;
+                found |= 2;
+            }
+        }
+        if (found != 3 || from == to) continue;  // degenerate triangle (repeated vertex)
+        segs.push_back({from, to, crossing(ctx, fa, fb, h), ta, tb});
+    }
+
+    PlaneCut cut;
+    const EdgeTable table(segs);
+    std::vector<char> used(segs.size(), 0);
+    std::vector<Path2> open;
+    for (std::size_t s0 = 0; s0 < segs.size(); ++s0) {
+        if (used[s0]) continue;
+        Path2 chain;
+        std::uint32_t cur = static_cast<std::uint32_t>(s0);
+        bool closed = false;
+        while (true) {
+            used[cur] = 1;
+            chain.push_back(segs[cur].start);
+            const std::uint64_t next_edge = segs[cur].to;
+            if (next_edge == segs[s0].from) {
+                closed = true;
+                break;
+            }
+            const std::uint32_t nxt = table.find_unused(next_edge, used);
+            if (nxt == EdgeTable::kEmpty) {
+                // The cut leaves the surface through an open edge: end the chain there.
+                chain.push_back(crossing(ctx, segs[cur].to_a, segs[cur].to_b, h));
+                break;
+            }
+            cur = nxt;
+        }
+        if (closed) {
+            drop_repeated_points(chain);
+            if (chain.size() >= 3) cut.loops.push_back(std::move(chain));
+        } else {
+            open.push_back(std::move(chain));
+        }
+    }
+    if (!open.empty()) {
+        std::vector<Path2> runs = join_exact(open, cut);
+        close_open_chains(runs, cut);
+    }
+    return cut;
+}
+
+core::Result<std::vector<std::size_t>> plane_order(std::span<const double> heights) {
+    std::vector<std::size_t> idx(heights.size());
+    std::iota(idx.begin(), idx.end(), std::size_t{0});
+    std::stable_sort(idx.begin(), idx.end(),
+                     [&](std::size_t a, std::size_t b) { return heights[a] < heights[b]; });
+    return idx;
+}
+
+}  // namespace
+
+core::Result<std::vector<PlaneCut>> cut_mesh(const mesh::TriangleMesh& mesh, const PlaneFrame& base,
+                                             std::span<const double> heights,
+                                             const core::Progress* progress) {
+    auto ctx = prepare(mesh, base, heights);
+    if (!ctx) return std::unexpected(ctx.error());
+    auto order = plane_order(heights);
+    std::vector<PlaneCut> out(heights.size());
+    std::atomic<std::size_t> done{0};
+    tbb::parallel_for(std::size_t{0}, heights.size(), [&](std::size_t k) {
+        if (progress != nullptr && progress->cancelled()) return;
+        out[(*order)[k]] = cut_plane(*ctx, k);
+        if (progress != nullptr) {
+            progress->report("slicing",
+                             static_cast<double>(++done) / static_cast<double>(heights.size()));
+        }
+    });
+    if (progress != nullptr && progress->cancelled()) {
+        return core::fail(core::ErrorCode::kCancelled, "cancelled", "slicing");
+    }
+    return out;
+}
+
+core::Result<std::vector<Slice>> slice_mesh(const mesh::TriangleMesh& mesh, const PlaneFrame& base,
+                                            std::span<const LayerSpan> layers,
+                                            const core::Progress* progress) {
+    std::vector<double> heights(layers.size());
+    for (std::size_t i = 0; i < layers.size(); ++i) heights[i] = layers[i].cut;
+    auto ctx = prepare(mesh, base, heights);
+    if (!ctx) return std::unexpected(ctx.error());
+    auto order = plane_order(heights);
+    std::vector<Slice> out(layers.size());
+    std::atomic<std::size_t> done{0};
+    tbb::parallel_for(std::size_t{0}, layers.size(), [&](std::size_t k) {
+        if (progress != nullptr && progress->cancelled()) return;
+        const std::size_t i = (*order)[k];
+        PlaneCut cut = cut_plane(*ctx, k);
+        Slice& s = out[i];
+        s.index = static_cast<int>(i);
+        s.span = layers[i];
+        s.plane = base.shifted(layers[i].cut);
+        s.gaps_closed = cut.gaps_closed;
+        s.wires = geom2d::build_wire_tree(cut.loops, geom2d::FillRule::kPositive);
+        if (progress != nullptr) {
+            progress->report("slicing",
+                             static_cast<double>(++done) / static_cast<double>(layers.size()));
+        }
+    });
+    if (progress != nullptr && progress->cancelled()) {
+        return core::fail(core::ErrorCode::kCancelled, "cancelled", "slicing");
+    }
+    return out;
+}
+
+PlaneFrame base_frame(const mesh::TriangleMesh& mesh, const core::Vec3d& direction) {
+    const core::Vec3d d = core::normalized(direction);
+    double lo = std::numeric_limits<double>::infinity();
+    for (const auto& tri : mesh.triangles) {
+        for (const std::uint32_t i : tri) lo = std::min(lo, core::dot(mesh.vertices[i], d));
+    }
+    if (!std::isfinite(lo)) lo = 0.0;
+    return PlaneFrame::from_normal(d * lo, d);
+}
+
+std::pair<double, double> extent_along(const mesh::TriangleMesh& mesh, const PlaneFrame& frame) {
+    double lo = std::numeric_limits<double>::infinity();
+    double hi = -std::numeric_limits<double>::infinity();
+    for (const auto& tri : mesh.triangles) {
+        for (const std::uint32_t i : tri) {
+            const double h = frame.height(mesh.vertices[i]);
+            lo = std::min(lo, h);
+            hi = std::max(hi, h);
+        }
+    }
+    if (!(lo <= hi)) return {0.0, 0.0};
+    return {lo, hi};
+}
+
+}  // namespace maxslice::slice

@@ -31,7 +31,9 @@ struct Vec3d {
 [[nodiscard]] constexpr Vec3d cross(const Vec3d& a, const Vec3d& b) {
     return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
-[[nodiscard]] inline double norm(const Vec3d& a) { return std::sqrt(dot(a, a)); }
+[[nodiscard]] inline double norm(const Vec3d& a) {
+    return std::sqrt(dot(a, a));
+}
 /// The unit vector along a; a zero vector stays zero.
 [[nodiscard]] inline Vec3d normalized(const Vec3d& a) {
     const double n = norm(a);

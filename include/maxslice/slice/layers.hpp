@@ -19,11 +19,11 @@ struct LayerSpan {
 
 /// Settings for choosing layer heights along one direction.
 struct LayerSettings {
-    double layer_mm = 0.5;          ///< uniform thickness
-    bool adaptive = false;          ///< vary thickness to bound the cusp height
-    double cusp_mm = 0.1;           ///< largest staircase (cusp) height allowed when adaptive
-    double min_layer_mm = 0.2;      ///< h_min when adaptive
-    double max_layer_mm = 0.5;      ///< h_max when adaptive
+    double layer_mm = 0.5;      ///< uniform thickness
+    bool adaptive = false;      ///< vary thickness to bound the cusp height
+    double cusp_mm = 0.1;       ///< largest staircase (cusp) height allowed when adaptive
+    double min_layer_mm = 0.2;  ///< h_min when adaptive
+    double max_layer_mm = 0.5;  ///< h_max when adaptive
 };
 
 /// Checks ranges (positive, h_min <= layer <= h_max when adaptive ...).
@@ -37,8 +37,7 @@ struct LayerSettings {
 /// the cusp bound allows for the facets it crosses (c = h |n . d|), clamped to
 /// [min_layer_mm, max_layer_mm]. Heights are measured from `base_height`.
 [[nodiscard]] std::vector<LayerSpan> adaptive_layers(const mesh::TriangleMesh& mesh,
-                                                     const core::Vec3d& direction,
-                                                     double from, double to,
-                                                     const LayerSettings& settings);
+                                                     const core::Vec3d& direction, double from,
+                                                     double to, const LayerSettings& settings);
 
 }  // namespace maxslice::slice

@@ -15,11 +15,11 @@ namespace maxslice::slice {
 
 /// One cross-section of the solid: METHOD.md section 1.
 struct Slice {
-    int index = 0;                ///< position in its sequence, from the base up
-    PlaneFrame plane;             ///< the cutting plane (origin on it, normal = build dir.)
-    LayerSpan span;               ///< heights above the sequence's base plane (mm)
-    geom2d::WireTree wires;       ///< boundary curves as a containment tree
-    int gaps_closed = 0;          ///< open chains closed by the slicer (open meshes)
+    int index = 0;           ///< position in its sequence, from the base up
+    PlaneFrame plane;        ///< the cutting plane (origin on it, normal = build dir.)
+    LayerSpan span;          ///< heights above the sequence's base plane (mm)
+    geom2d::WireTree wires;  ///< boundary curves as a containment tree
+    int gaps_closed = 0;     ///< open chains closed by the slicer (open meshes)
 
     [[nodiscard]] double thickness() const { return span.thickness(); }
     [[nodiscard]] double area_mm2() const { return wires.area_mm2(); }
@@ -39,25 +39,23 @@ struct PlaneCut {
 /// at its bottom face yields its full square and at its top face yields nothing.
 /// Work: O(n log n + k) for n triangles and k triangle-plane crossings; parallel over
 /// planes, identical results for any thread count.
-[[nodiscard]] core::Result<std::vector<PlaneCut>> cut_mesh(const mesh::TriangleMesh& mesh,
-                                                          const PlaneFrame& base,
-                                                          std::span<const double> heights,
-                                                          const core::Progress* progress = nullptr);
+[[nodiscard]] core::Result<std::vector<PlaneCut>> cut_mesh(
+    const mesh::TriangleMesh& mesh, const PlaneFrame& base, std::span<const double> heights,
+    const core::Progress* progress = nullptr);
 
 /// Slices the mesh into the given layers along base.normal and builds each slice's wire
 /// tree (union of the oriented loops with the positive fill rule, so overlapping bodies
 /// merge). Errors name the layer when a slice cannot be built.
 [[nodiscard]] core::Result<std::vector<Slice>> slice_mesh(const mesh::TriangleMesh& mesh,
-                                                         const PlaneFrame& base,
-                                                         std::span<const LayerSpan> layers,
-                                                         const core::Progress* progress = nullptr);
+                                                          const PlaneFrame& base,
+                                                          std::span<const LayerSpan> layers,
+                                                          const core::Progress* progress = nullptr);
 
 /// The base frame for slicing a mesh along direction: normal = direction, origin at the
 /// mesh's lowest point along it (so heights run from 0 to the part's extent).
-[[nodiscard]] PlaneFrame base_frame(const mesh::TriangleMesh& mesh,
-                                    const core::Vec3d& direction);
+[[nodiscard]] PlaneFrame base_frame(const mesh::TriangleMesh& mesh, const core::Vec3d& direction);
 /// The mesh's extent along the frame's normal: [min height, max height].
 [[nodiscard]] std::pair<double, double> extent_along(const mesh::TriangleMesh& mesh,
-                                                      const PlaneFrame& frame);
+                                                     const PlaneFrame& frame);
 
 }  // namespace maxslice::slice
