@@ -1,1 +1,242 @@
-int main() { return 0; }
+// The maxslice command line: parse, call the library, map errors to exit codes.
+// Exit codes: 0 success, 2 bad input (unreadable, invalid, unsliceable, bad options),
+// 1 internal error.
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+#include <tbb/global_control.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "maxslice/core/units.hpp"
+#include "maxslice/pipeline/previews.hpp"
+#include "maxslice/pipeline/slice_job.hpp"
+
+namespace {
+
+using namespace maxslice;
+
+constexpr int kExitOk = 0;
+constexpr int kExitInternal = 1;
+constexpr int kExitBadInput = 2;
+
+int report_error(const core::Error& e) {
+    std::fprintf(stderr, "maxslice: error: %s\n", e.describe().c_str());
+    return e.code == core::ErrorCode::kInternal ? kExitInternal : kExitBadInput;
+}
+
+// Options shared by every command that reads a part.
+struct PartOptions {
+    std::string path;
+    std::string units;
+    bool repair = false;
+    double chord_mm = 0.05;
+    int threads = 0;
+    bool timings = false;
+
+    void add_to(CLI::App& cmd) {
+        cmd.add_option("PART", path, "Part file: STL, OBJ, PLY, OFF, 3MF, STEP or IGES")
+            ->required();
+        cmd.add_option("--units", units,
+                       "Unit of the file's numbers: mm, in, m, cm, um, ft (overrides the file)");
+        cmd.add_flag("--repair", repair,
+                     "Apply safe repairs: weld near-coincident vertices, drop degenerate and "
+                     "duplicate faces, fix orientation");
+        cmd.add_option("--chord-deviation", chord_mm,
+                       "STEP/IGES tessellation: largest chord deviation in mm")
+            ->check(CLI::PositiveNumber);
+        cmd.add_option("--threads", threads, "Worker threads (0 = all cores)")
+            ->check(CLI::NonNegativeNumber);
+        cmd.add_flag("--timings", timings, "Print stage times (seconds) to stderr");
+    }
+
+    [[nodiscard]] core::Result<pipeline::PrepareSettings> settings() const {
+        pipeline::PrepareSettings s;
+        s.repair = repair;
+        s.import.chord_deviation_mm = chord_mm;
+        if (!units.empty()) {
+            auto u = core::parse_unit(units);
+            if (!u) {
+                return core::fail(core::ErrorCode::kInvalidInput,
+                                  "unknown unit '" + units + "' (use mm, in, m, cm, um or ft)",
+                                  "--units");
+            }
+            s.import.units = *u;
+        }
+        return s;
+    }
+};
+
+void print_warnings(const pipeline::PreparedPart& part) {
+    for (const auto& w : part.warnings) std::fprintf(stderr, "maxslice: warning: %s\n", w.c_str());
+    for (const auto& r : part.repairs) std::fprintf(stderr, "maxslice: repaired: %s\n", r.c_str());
+}
+
+void print_timings(const pipeline::StageTimes& t) {
+    std::fprintf(stderr, "timing load %.4f\ntiming validate %.4f\ntiming slice %.4f\n", t.load_s,
+                 t.validate_s, t.slice_s);
+}
+
+// A one-line progress bar on stderr, only when stderr is a terminal.
+std::unique_ptr<core::Progress> make_progress() {
+    if (isatty(STDERR_FILENO) == 0) return nullptr;
+    return std::make_unique<core::Progress>([](std::string_view stage, double f) {
+        static thread_local int last = -1;
+        const int pct = static_cast<int>(f * 100.0);
+        if (pct == last) return;
+        last = pct;
+        std::fprintf(stderr, "\r%-10.*s %3d%%%s", static_cast<int>(stage.size()), stage.data(),
+                     pct, pct >= 100 ? "\r                \r" : "");
+    });
+}
+
+int run_info(const PartOptions& opt, bool json) {
+    auto settings = opt.settings();
+    if (!settings) return report_error(settings.error());
+    pipeline::StageTimes times;
+    // info reports what is wrong rather than refusing: read, validate, repair if asked.
+    auto part = pipeline::read_part(opt.path, *settings, &times);
+    if (!part) return report_error(part.error());
+    const std::string text = json ? pipeline::info_json(*part) : pipeline::info_text(*part);
+    std::fputs(text.c_str(), stdout);
+    if (opt.timings) print_timings(times);
+    return kExitOk;
+}
+
+struct SliceOptions {
+    double layer = 0.5;
+    std::vector<double> direction{0.0, 0.0, 1.0};
+    bool adaptive = false;
+    double cusp = 0.1;
+    std::optional<double> min_layer, max_layer;
+    std::string svg_dir, contact_sheet, json_file;
+};
+
+int run_slice(const PartOptions& opt, const SliceOptions& so) {
+    auto settings = opt.settings();
+    if (!settings) return report_error(settings.error());
+    pipeline::SliceSettings ss;
+    ss.direction = {so.direction[0], so.direction[1], so.direction[2]};
+    ss.layers.layer_mm = so.layer;
+    ss.layers.adaptive = so.adaptive;
+    ss.layers.cusp_mm = so.cusp;
+    ss.layers.min_layer_mm = so.min_layer.value_or(so.layer * 0.4);
+    ss.layers.max_layer_mm = so.max_layer.value_or(so.layer);
+    if (auto ok = pipeline::validate(ss); !ok) return report_error(ok.error());
+
+    pipeline::StageTimes times;
+    auto part = pipeline::prepare_part(opt.path, *settings, &times);
+    if (!part) return report_error(part.error());
+    print_warnings(*part);
+    const auto progress = make_progress();
+    auto stack = pipeline::slice_part(part->imported.mesh, ss, progress.get(), &times);
+    if (!stack) return report_error(stack.error());
+
+    double volume = 0.0, hmin = 1e300, hmax = 0.0;
+    std::size_t outers = 0, holes = 0;
+    int gaps = 0;
+    for (const auto& s : stack->slices) {
+        volume += s.area_mm2() * s.thickness();
+        hmin = std::min(hmin, s.thickness());
+        hmax = std::max(hmax, s.thickness());
+        outers = std::max(outers, s.wires.outer_count());
+        holes = std::max(holes, s.wires.hole_count());
+        gaps += s.gaps_closed;
+    }
+    if (!so.json_file.empty()) {
+        if (auto ok = pipeline::write_slices_json(so.json_file, *stack, *part); !ok) {
+            return report_error(ok.error());
+        }
+    }
+    if (!so.svg_dir.empty()) {
+        if (auto ok = pipeline::write_layer_svgs(so.svg_dir, *stack); !ok) {
+            return report_error(ok.error());
+        }
+    }
+    if (!so.contact_sheet.empty()) {
+        if (auto ok = pipeline::write_contact_sheet(so.contact_sheet, *stack); !ok) {
+            return report_error(ok.error());
+        }
+    }
+    const auto& n = stack->base.normal;
+    std::printf("layers          %zu along (%.4f, %.4f, %.4f)\n", stack->slices.size(), n.x, n.y,
+                n.z);
+    std::printf("thickness       %.4f - %.4f mm\n", hmin, hmax);
+    std::printf("most wires      %zu outer, %zu holes in one layer\n", outers, holes);
+    std::printf("sliced volume   %.6g mm3 (mesh %.6g mm3, %+.3f%%)\n", volume,
+                part->report.volume_mm3,
+                part->report.volume_mm3 != 0.0
+                    ? 100.0 * (volume - part->report.volume_mm3) / part->report.volume_mm3
+                    : 0.0);
+    if (gaps > 0) std::printf("gaps closed     %d (open mesh)\n", gaps);
+    if (opt.timings) print_timings(times);
+    return kExitOk;
+}
+
+int run(int argc, char** argv) {
+    CLI::App app{"maxslice: multi-axis slicer for directed energy deposition"};
+    app.require_subcommand(1);
+    app.set_version_flag("--version", "maxslice 0.1.0");
+
+    PartOptions info_opt;
+    bool info_json = false;
+    CLI::App* info = app.add_subcommand("info", "Print a part's size, volume and mesh defects");
+    info_opt.add_to(*info);
+    info->add_flag("--json", info_json, "Print JSON instead of text");
+
+    PartOptions slice_opt;
+    SliceOptions so;
+    CLI::App* slice = app.add_subcommand("slice", "Slice a part into layers along a direction");
+    slice_opt.add_to(*slice);
+    slice->add_option("--layer", so.layer, "Layer thickness in mm (h_max when adaptive)")
+        ->check(CLI::PositiveNumber);
+    slice->add_option("--direction", so.direction, "Slicing (build) direction X,Y,Z")
+        ->delimiter(',')
+        ->expected(3);
+    slice->add_flag("--adaptive", so.adaptive, "Vary the thickness to bound the cusp height");
+    slice->add_option("--cusp", so.cusp, "Largest cusp height in mm (with --adaptive)")
+        ->check(CLI::PositiveNumber);
+    slice->add_option("--min-layer", so.min_layer, "h_min in mm (default 0.4 x --layer)")
+        ->check(CLI::PositiveNumber);
+    slice->add_option("--max-layer", so.max_layer, "h_max in mm (default --layer)")
+        ->check(CLI::PositiveNumber);
+    slice->add_option("--svg", so.svg_dir, "Write one SVG per layer into this folder");
+    slice->add_option("--contact-sheet", so.contact_sheet, "Write all layers into one SVG");
+    slice->add_option("--json", so.json_file, "Write the slices' summary as JSON");
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        const int code = app.exit(e);
+        return code == 0 ? kExitOk : kExitBadInput;
+    }
+
+    const PartOptions& active = info->parsed() ? info_opt : slice_opt;
+    std::optional<tbb::global_control> threads;
+    if (active.threads > 0) {
+        threads.emplace(tbb::global_control::max_allowed_parallelism,
+                        static_cast<std::size_t>(active.threads));
+    }
+    if (info->parsed()) return run_info(info_opt, info_json);
+    return run_slice(slice_opt, so);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    try {
+        return run(argc, argv);
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "maxslice: internal error: %s\n", e.what());
+        return kExitInternal;
+    } catch (...) {
+        std::fprintf(stderr, "maxslice: internal error\n");
+        return kExitInternal;
+    }
+}

@@ -390,6 +390,7 @@ core::Result<std::vector<Slice>> slice_mesh(const mesh::TriangleMesh& mesh, cons
         s.span = layers[i];
         s.plane = base.shifted(layers[i].cut);
         s.gaps_closed = cut.gaps_closed;
+        s.open_chains = cut.open_chains;
         s.wires = geom2d::build_wire_tree(cut.loops, geom2d::FillRule::kPositive);
         if (progress != nullptr) {
             progress->report("slicing",

@@ -1,0 +1,76 @@
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "maxslice/core/progress.hpp"
+#include "maxslice/core/result.hpp"
+#include "maxslice/io/read_mesh.hpp"
+#include "maxslice/mesh/validation.hpp"
+#include "maxslice/slice/layers.hpp"
+#include "maxslice/slice/slicer.hpp"
+
+namespace maxslice::pipeline {
+
+/// Wall-clock seconds spent in each stage of a job (reported, never asserted).
+struct StageTimes {
+    double load_s = 0.0;      ///< read and weld
+    double validate_s = 0.0;  ///< validation (and repair)
+    double slice_s = 0.0;     ///< layer heights, cutting and wire trees
+};
+
+/// A part read, checked and (with repair) mended: the input of every later stage.
+struct PreparedPart {
+    io::ImportedMesh imported;
+    mesh::ValidationReport report;       ///< of the mesh as read
+    std::vector<std::string> repairs;    ///< what --repair changed, one line each
+    std::vector<std::string> warnings;   ///< import warnings and accepted defects
+    std::optional<mesh::ValidationReport> repaired_report;  ///< after --repair
+};
+
+/// How to read and check a part.
+struct PrepareSettings {
+    io::ImportOptions import;
+    bool repair = false;  ///< apply the safe repairs (weld, drop degenerate/duplicate, orient)
+};
+
+/// Reads and validates a part and, with settings.repair, repairs it; `report` describes the
+/// mesh as read. Refuses only files that cannot be read.
+[[nodiscard]] core::Result<PreparedPart> read_part(const std::filesystem::path& path,
+                                                   const PrepareSettings& settings,
+                                                   StageTimes* times = nullptr);
+
+/// Reads, validates and (optionally) repairs a part (read_part), then refuses (kInvalidInput) a mesh that
+/// cannot be sliced: no triangles, non-finite coordinates, no enclosed volume, and without
+/// repair an inside-out or inconsistently oriented mesh; the message names the defect, its
+/// count and a coordinate, and says whether --repair would help.
+[[nodiscard]] core::Result<PreparedPart> prepare_part(const std::filesystem::path& path,
+                                                      const PrepareSettings& settings,
+                                                      StageTimes* times = nullptr);
+
+/// Settings of the slicing stage.
+struct SliceSettings {
+    core::Vec3d direction{0.0, 0.0, 1.0};
+    slice::LayerSettings layers;
+};
+
+/// Checks the settings (direction non-zero and finite, layer ranges).
+[[nodiscard]] core::Result<void> validate(const SliceSettings& settings);
+
+/// The slices of a part along one direction, from its lowest point up.
+struct SliceStack {
+    slice::PlaneFrame base;
+    std::vector<slice::Slice> slices;
+    int layers_with_open_chains = 0;  ///< layers where a chain could not be closed
+};
+
+/// Slices the part. Layers whose open chains could not be closed make the job fail with the
+/// first such layer named (an open mesh with holes wider than the closing tolerance).
+[[nodiscard]] core::Result<SliceStack> slice_part(const mesh::TriangleMesh& mesh,
+                                                  const SliceSettings& settings,
+                                                  const core::Progress* progress = nullptr,
+                                                  StageTimes* times = nullptr);
+
+}  // namespace maxslice::pipeline

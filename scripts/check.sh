@@ -1,0 +1,10 @@
+#!/usr/bin/env bash
+# The whole test suite: install, build (warnings as errors), run every test, then run the
+# suite again under AddressSanitizer + UndefinedBehaviorSanitizer.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/setup.sh
+bash scripts/build.sh release -DMAXSLICE_WERROR=ON
+ctest --preset release
+bash scripts/build.sh asan -DMAXSLICE_WERROR=ON
+ctest --preset asan

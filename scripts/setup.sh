@@ -1,0 +1,22 @@
+#!/usr/bin/env bash
+# Installs what maxslice needs from Debian 12's archive, only the packages that are missing.
+set -euo pipefail
+packages=(
+  cmake ninja-build g++ pkg-config clang-format python3
+  libpolyclipping-dev libeigen3-dev libtbb-dev libfmt-dev libcli11-dev nlohmann-json3-dev
+  libtomlplusplus-dev libassimp-dev lib3mf-dev
+  libocct-foundation-dev libocct-modeling-data-dev libocct-modeling-algorithms-dev
+  libocct-data-exchange-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  sudo=""
+  [ "$(id -u)" -eq 0 ] || sudo="sudo"
+  echo "maxslice setup: installing ${missing[*]}"
+  $sudo apt-get update -q
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -q --no-install-recommends "${missing[@]}"
+fi
