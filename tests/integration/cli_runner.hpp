@@ -1,0 +1,61 @@
+#pragma once
+// Runs the maxslice CLI as a separate process and captures its exit code and output.
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace maxslice::test {
+
+struct CliRun {
+    int exit_code = -1;    ///< the process's exit status, or 128 + signal number
+    std::string out;
+    std::string err;
+};
+
+inline std::string shell_quote(const std::string& s) {
+    std::string q = "'";
+    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+}
+
+inline std::string slurp(const std::filesystem::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+/// Runs `maxslice args...` with a time limit (a hang shows as exit code 124).
+inline CliRun run_cli(const std::vector<std::string>& args, int timeout_s = 300) {
+    static int counter = 0;
+    const auto dir = std::filesystem::temp_directory_path();
+    const auto stem = "maxslice_cli_" + std::to_string(::getpid()) + "_" + std::to_string(counter++);
+    const auto out_file = dir / (stem + ".out");
+    const auto err_file = dir / (stem + ".err");
+    std::string cmd = "timeout " + std::to_string(timeout_s) + " " + shell_quote(MAXSLICE_CLI);
+    for (const auto& a : args) cmd += " " + shell_quote(a);
+    cmd += " >" + shell_quote(out_file.string()) + " 2>" + shell_quote(err_file.string()) +
+           " </dev/null";
+    const int status = std::system(cmd.c_str());
+    CliRun run;
+    if (WIFEXITED(status)) {
+        run.exit_code = WEXITSTATUS(status);
+    } else if (WIFSIGNALED(status)) {
+        run.exit_code = 128 + WTERMSIG(status);
+    }
+    run.out = slurp(out_file);
+    run.err = slurp(err_file);
+    std::filesystem::remove(out_file);
+    std::filesystem::remove(err_file);
+    return run;
+}
+
+}  // namespace maxslice::test

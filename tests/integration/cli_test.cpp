@@ -1,0 +1,187 @@
+// The CLI as a person uses it: exit codes, one-line errors, outputs, determinism, and every
+// shared test file (valid and malformed) handled without crash or hang. Under the asan
+// preset the CLI itself is built with AddressSanitizer and UBSan, so these runs also check
+// for memory errors.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "cli_runner.hpp"
+
+namespace fs = std::filesystem;
+using maxslice::test::CliRun;
+using maxslice::test::run_cli;
+using maxslice::test::slurp;
+
+namespace {
+
+const fs::path kTestData = MAXSLICE_TESTDATA_DIR;
+const fs::path kExample = fs::path(MAXSLICE_SOURCE_DIR) / "examples/parts/flanged_bushing.stl";
+
+fs::path temp_dir(const std::string& name) {
+    const fs::path d = fs::temp_directory_path() / ("maxslice_cli_test_" + name);
+    fs::remove_all(d);
+    fs::create_directories(d);
+    return d;
+}
+
+std::vector<fs::path> files_under(const fs::path& dir) {
+    std::vector<fs::path> out;
+    for (const auto& e : fs::recursive_directory_iterator(dir)) {
+        if (e.is_regular_file()) out.push_back(e.path());
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+// A failed run must say why in exactly one line on stderr, and nothing must have crashed.
+void expect_clean_outcome(const CliRun& r, const std::string& what) {
+    EXPECT_TRUE(r.exit_code == 0 || r.exit_code == 2)
+        << what << ": exit " << r.exit_code << "\n" << r.err;
+    EXPECT_EQ(r.err.find("AddressSanitizer"), std::string::npos) << what << "\n" << r.err;
+    EXPECT_EQ(r.err.find("runtime error"), std::string::npos) << what << "\n" << r.err;
+    if (r.exit_code == 2) {
+        const auto first = r.err.find("maxslice: error: ");
+        ASSERT_NE(first, std::string::npos) << what << "\n" << r.err;
+        const std::string line = r.err.substr(first);
+        EXPECT_EQ(std::count(line.begin(), line.end(), '\n'), 1) << what << "\n" << r.err;
+        EXPECT_GT(line.size(), 30u) << what << ": message too short to act on: " << line;
+    }
+}
+
+}  // namespace
+
+TEST(Cli, HelpOnEveryCommand) {
+    for (const std::vector<std::string> args :
+         {std::vector<std::string>{"--help"}, {"info", "--help"}, {"slice", "--help"}}) {
+        const CliRun r = run_cli(args);
+        EXPECT_EQ(r.exit_code, 0) << args[0];
+        EXPECT_NE(r.out.find("Usage"), std::string::npos) << r.out;
+    }
+}
+
+TEST(Cli, BadOptionsAndFilesExitTwoWithOneLine) {
+    const std::string part = kExample.string();
+    const std::vector<std::vector<std::string>> cases = {
+        {"slice", part, "--layer", "-1"},
+        {"slice", part, "--direction", "0,0,0"},
+        {"slice", part, "--units", "furlong"},
+        {"slice", part, "--adaptive", "--min-layer", "0.5", "--max-layer", "0.2"},
+        {"slice", "/nonexistent/part.stl"},
+        {"info", (kTestData / "malformed/stl-models/empty.stl").string()},
+        {"slice", "--bogus-option", part},
+        {},
+    };
+    for (const auto& args : cases) {
+        const CliRun r = run_cli(args);
+        std::string what;
+        for (const auto& a : args) what += a + " ";
+        EXPECT_EQ(r.exit_code, 2) << what << "\n" << r.err;
+        EXPECT_EQ(r.err.find("Segmentation"), std::string::npos);
+    }
+}
+
+TEST(Cli, InfoReportsTheExamplePart) {
+    const CliRun r = run_cli({"info", kExample.string(), "--json"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["triangles"].get<int>(), 96 * 6 * 2);
+    EXPECT_EQ(j["bodies"].get<int>(), 1);
+    EXPECT_TRUE(j["closed_manifold"].get<bool>());
+    // Volume of the revolved profile, polygonal: the 96-gon area factor times the rings.
+    const double k = 96.0 / 2.0 * std::sin(2.0 * M_PI / 96.0);
+    const double expected = k * ((30 * 30 - 10 * 10) * 6.0 + (18 * 18 - 10 * 10) * 24.0);
+    EXPECT_NEAR(j["volume_mm3"].get<double>(), expected, expected * 1e-6);
+}
+
+TEST(Cli, SliceWritesJsonAndSvgsThatAgreeWithThePart) {
+    const fs::path dir = temp_dir("slice");
+    const CliRun r = run_cli({"slice", kExample.string(), "--layer", "0.5", "--json",
+                              (dir / "s.json").string(), "--svg", (dir / "svg").string(),
+                              "--contact-sheet", (dir / "sheet.svg").string()});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto j = nlohmann::json::parse(slurp(dir / "s.json"));
+    ASSERT_EQ(j["layer_count"].get<int>(), 60);
+    const auto& layers = j["layers"];
+    double volume = 0.0;
+    for (const auto& l : layers) {
+        volume += l["area_mm2"].get<double>() * l["thickness_mm"].get<double>();
+        EXPECT_EQ(l["outers"].get<int>(), 1);
+        EXPECT_EQ(l["holes"].get<int>(), 1);
+        // The hole is the outer's child.
+        const auto& tree = l["tree"];
+        ASSERT_EQ(tree.size(), 2u);
+        EXPECT_EQ(tree[1]["parent"].get<int>(), 0);
+        EXPECT_TRUE(tree[1]["hole"].get<bool>());
+    }
+    EXPECT_NEAR(volume, j["part"]["volume_mm3"].get<double>(),
+                0.005 * j["part"]["volume_mm3"].get<double>());
+    EXPECT_EQ(std::distance(fs::directory_iterator(dir / "svg"), fs::directory_iterator{}), 60);
+    const std::string svg = slurp(dir / "svg" / "layer_00001.svg");
+    EXPECT_NE(svg.find("<path"), std::string::npos);
+    EXPECT_NE(slurp(dir / "sheet.svg").find("</svg>"), std::string::npos);
+}
+
+TEST(Cli, SameBytesForAnyThreadCount) {
+    const fs::path dir = temp_dir("determinism");
+    const std::string part = (kTestData / "meshes/stl-models/gearwheel.bin.stl").string();
+    for (const std::string t : {"1", "2", "2"}) {
+        const CliRun r = run_cli({"slice", part, "--layer", "0.2", "--direction", "0.3,0.2,1",
+                                  "--threads", t, "--json", (dir / ("t" + t + ".json")).string(),
+                                  "--contact-sheet", (dir / ("t" + t + ".svg")).string()});
+        ASSERT_EQ(r.exit_code, 0) << r.err;
+    }
+    EXPECT_EQ(slurp(dir / "t1.json"), slurp(dir / "t2.json"));
+    EXPECT_EQ(slurp(dir / "t1.svg"), slurp(dir / "t2.svg"));
+    EXPECT_GT(slurp(dir / "t1.json").size(), 1000u);
+}
+
+TEST(Cli, EveryMalformedFileIsHandledCleanly) {
+    const auto files = files_under(kTestData / "malformed");
+    ASSERT_GT(files.size(), 30u);
+    for (const auto& f : files) {
+        expect_clean_outcome(run_cli({"info", f.string()}, 120), "info " + f.string());
+        expect_clean_outcome(run_cli({"slice", f.string(), "--layer", "0.1"}, 120),
+                             "slice " + f.string());
+    }
+}
+
+TEST(Cli, MalformedFilesThatMustBeRefused) {
+    // Files whose defect makes slicing meaningless: refusing them is the only honest answer.
+    for (const char* name : {"stl-models/empty.stl", "stl-models/faceless.ascii.stl",
+                             "trimesh/stl_empty_bin.stl", "assimp/empty.obj",
+                             "assimp/testpoints.obj", "stl-models/singleFace.ascii.stl",
+                             "trimesh/soup.stl", "dodgy-step-files/Tsh001.stp",
+                             "dodgy-step-files/Ad005.stp"}) {
+        const CliRun r = run_cli({"slice", (kTestData / "malformed" / name).string()}, 120);
+        EXPECT_EQ(r.exit_code, 2) << name << "\n" << r.err;
+        expect_clean_outcome(r, name);
+    }
+}
+
+TEST(Cli, ValidOddFilesAreAccepted) {
+    // Valid but unusual syntax: accepted (possibly with warnings) and sliced.
+    for (const char* name :
+         {"stl-models/wrongHeader.bin.stl", "stl-models/solidNameMismatch.ascii.stl",
+          "stl-models/missingEndsolid.ascii.stl", "stl-models/wrongNormals.ascii.stl",
+          "stl-models/notANumberNormal.ascii.stl", "trimesh/negative_indices.obj",
+          "assimp/box_UTF16BE.obj"}) {
+        const CliRun r =
+            run_cli({"slice", (kTestData / "malformed" / name).string(), "--layer", "0.1"}, 120);
+        EXPECT_EQ(r.exit_code, 0) << name << "\n" << r.err;
+    }
+}
+
+TEST(Cli, EverySharedModelSlicesOrIsRefusedCleanly) {
+    std::vector<fs::path> files = files_under(kTestData / "meshes");
+    for (const auto& f : files_under(kTestData / "step")) files.push_back(f);
+    ASSERT_GT(files.size(), 30u);
+    for (const auto& f : files) {
+        const CliRun r = run_cli({"slice", f.string(), "--layer", "0.5"}, 300);
+        expect_clean_outcome(r, f.string());
+    }
+}
