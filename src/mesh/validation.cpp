@@ -1,0 +1,370 @@
+#include "maxslice/mesh/validation.hpp"
+
+#include <fmt/format.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_invoke.h>
+#include <tbb/parallel_reduce.h>
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <limits>
+
+#include "maxslice/core/assert.hpp"
+#include "maxslice/core/tolerances.hpp"
+
+namespace maxslice::mesh {
+namespace {
+
+constexpr std::uint64_t kNoEdge = std::numeric_limits<std::uint64_t>::max();
+constexpr std::size_t kNoTriangle = std::numeric_limits<std::size_t>::max();
+using Triple = std::array<std::uint32_t, 3>;
+constexpr Triple kNoTriple = {std::numeric_limits<std::uint32_t>::max(),
+                              std::numeric_limits<std::uint32_t>::max(),
+                              std::numeric_limits<std::uint32_t>::max()};
+
+// A defect count with the smallest key of its instances (keys order the instances
+// deterministically, whatever the thread schedule).
+template <class Key>
+struct Tally {
+    std::size_t count = 0;
+    Key first;
+
+    void add(const Key& k) {
+        ++count;
+        first = std::min(first, k);
+    }
+    void join(const Tally& o) {
+        count += o.count;
+        first = std::min(first, o.first);
+    }
+};
+
+struct EdgeTallies {
+    Tally<std::uint64_t> boundary{0, kNoEdge};
+    Tally<std::uint64_t> nonmanifold{0, kNoEdge};
+    Tally<std::uint64_t> misoriented{0, kNoEdge};
+    Tally<Triple> duplicate{0, kNoTriple};
+
+    void join(const EdgeTallies& o) {
+        boundary.join(o.boundary);
+        nonmanifold.join(o.nonmanifold);
+        misoriented.join(o.misoriented);
+        duplicate.join(o.duplicate);
+    }
+};
+
+struct TriangleTallies {
+    Tally<std::size_t> degenerate{0, kNoTriangle};
+    Tally<std::size_t> nonfinite{0, kNoTriangle};  // triangles with a non-finite corner
+
+    void join(const TriangleTallies& o) {
+        degenerate.join(o.degenerate);
+        nonfinite.join(o.nonfinite);
+    }
+};
+
+core::Vec3d midpoint(const TriangleMesh& mesh, std::uint64_t edge) {
+    const auto lo = static_cast<std::uint32_t>(edge >> 32);
+    const auto hi = static_cast<std::uint32_t>(edge & 0xffffffffu);
+    return (mesh.vertices[lo] + mesh.vertices[hi]) * 0.5;
+}
+
+core::Vec3d centroid(const TriangleMesh& mesh, const Triple& t) {
+    return (mesh.vertices[t[0]] + mesh.vertices[t[1]] + mesh.vertices[t[2]]) / 3.0;
+}
+
+// Edge analysis. Every edge u-v (u != v) of every triangle is filed under its smaller vertex
+// lo = min(u, v) (counting sort into CSR arrays: linear time, no hashing), as a 64-bit entry
+//   hi (31 bits) | third vertex of the triangle (32 bits) | direction (1 bit: 1 when v < u).
+// Sorting each vertex's short list (six entries on average) groups the uses of each
+// undirected edge (lo, hi); within a group the direction bits give the misoriented count and
+// equal third vertices give duplicate triangles. A triangle with three distinct vertices
+// s0 < s1 < s2 is looked at for duplicates only on its edge (s0, s1), the one edge whose
+// third vertex is larger than both ends, so each duplicate is counted once.
+EdgeTallies analyse_edges(const TriangleMesh& mesh) {
+    const std::size_t nv = mesh.vertices.size();
+    MAXSLICE_ASSERT(nv < (std::size_t{1} << 31));
+    std::vector<std::uint32_t> start(nv + 1, 0);
+    for (const Triangle& t : mesh.triangles) {
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t u = t[k];
+            const std::uint32_t v = t[(k + 1) % 3];
+            if (u != v) ++start[std::min(u, v) + 1];
+        }
+    }
+    for (std::size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
+    std::vector<std::uint64_t> entries(start[nv]);
+    {
+        std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+        for (const Triangle& t : mesh.triangles) {
+            for (int k = 0; k < 3; ++k) {
+                const std::uint32_t u = t[k];
+                const std::uint32_t v = t[(k + 1) % 3];
+                if (u == v) continue;
+                const std::uint32_t third = t[(k + 2) % 3];
+                const std::uint32_t lo = std::min(u, v);
+                const std::uint64_t hi = std::max(u, v);
+                entries[fill[lo]++] = (hi << 33) | (std::uint64_t{third} << 1) | (v < u ? 1u : 0u);
+            }
+        }
+    }
+
+    return tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, nv, 4096), EdgeTallies{},
+        [&](const tbb::blocked_range<std::size_t>& r, EdgeTallies acc) {
+            for (std::size_t lo = r.begin(); lo != r.end(); ++lo) {
+                std::uint64_t* b = entries.data() + start[lo];
+                std::uint64_t* e = entries.data() + start[lo + 1];
+                if (e - b > 24) {
+                    std::sort(b, e);
+                } else {
+                    for (std::uint64_t* i = b + 1; i < e; ++i) {
+                        const std::uint64_t x = *i;
+                        std::uint64_t* j = i;
+                        for (; j > b && *(j - 1) > x; --j) *j = *(j - 1);
+                        *j = x;
+                    }
+                }
+                for (std::uint64_t* g = b; g < e;) {
+                    const std::uint64_t hi = *g >> 33;
+                    std::uint64_t* ge = g + 1;
+                    while (ge < e && (*ge >> 33) == hi) ++ge;
+                    const std::uint64_t key = (std::uint64_t{lo} << 32) | hi;
+                    const auto uses = static_cast<std::size_t>(ge - g);
+                    std::size_t backward = 0;
+                    for (std::uint64_t* i = g; i < ge; ++i) backward += *i & 1u;
+                    const std::size_t forward = uses - backward;
+                    if (uses == 1) acc.boundary.add(key);
+                    if (uses > 2) acc.nonmanifold.add(key);
+                    // Each direction used more than once is one misoriented (directed) edge.
+                    if (forward > 1) acc.misoriented.add(key);
+                    if (backward > 1) acc.misoriented.add(key);
+                    for (std::uint64_t* i = g + 1; i < ge; ++i) {
+                        const std::uint64_t third = (*i >> 1) & 0xffffffffu;
+                        if (third > hi && third == ((*(i - 1) >> 1) & 0xffffffffu)) {
+                            acc.duplicate.add({static_cast<std::uint32_t>(lo),
+                                               static_cast<std::uint32_t>(hi),
+                                               static_cast<std::uint32_t>(third)});
+                        }
+                    }
+                    g = ge;
+                }
+            }
+            return acc;
+        },
+        [](EdgeTallies a, const EdgeTallies& b) {
+            a.join(b);
+            return a;
+        });
+}
+
+// Duplicates among triangles with a repeated vertex index (they have at most one edge, so
+// the edge pass does not see them); there are few of these, so sorting is fine.
+Tally<Triple> repeated_index_duplicates(const TriangleMesh& mesh) {
+    std::vector<Triple> keys;
+    for (const Triangle& t : mesh.triangles) {
+        if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) {
+            Triple k = t;
+            std::sort(k.begin(), k.end());
+            keys.push_back(k);
+        }
+    }
+    std::sort(keys.begin(), keys.end());
+    Tally<Triple> tally{0, kNoTriple};
+    for (std::size_t i = 1; i < keys.size(); ++i) {
+        if (keys[i] == keys[i - 1]) tally.add(keys[i]);
+    }
+    return tally;
+}
+
+// Bodies: union-find over vertices (each triangle joins its corners), path halving, the
+// smaller index becomes the root. Returns the number of components among used vertices.
+std::size_t count_bodies(const TriangleMesh& mesh, const std::vector<std::uint8_t>& used) {
+    std::vector<std::uint32_t> parent(mesh.vertices.size());
+    for (std::size_t v = 0; v < parent.size(); ++v) parent[v] = static_cast<std::uint32_t>(v);
+    auto find = [&](std::uint32_t v) {
+        while (parent[v] != v) {
+            parent[v] = parent[parent[v]];
+            v = parent[v];
+        }
+        return v;
+    };
+    auto unite = [&](std::uint32_t a, std::uint32_t b) {
+        a = find(a);
+        b = find(b);
+        if (a < b) {
+            parent[b] = a;
+        } else if (b < a) {
+            parent[a] = b;
+        }
+    };
+    for (const Triangle& t : mesh.triangles) {
+        unite(t[0], t[1]);
+        unite(t[0], t[2]);
+    }
+    std::size_t bodies = 0;
+    for (std::size_t v = 0; v < parent.size(); ++v) {
+        if (used[v] && parent[v] == v) ++bodies;
+    }
+    return bodies;
+}
+
+TriangleTallies analyse_triangles(const TriangleMesh& mesh) {
+    return tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, mesh.triangles.size(), 8192), TriangleTallies{},
+        [&](const tbb::blocked_range<std::size_t>& r, TriangleTallies acc) {
+            for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                const Triangle& t = mesh.triangles[i];
+                const core::Vec3d& a = mesh.vertices[t[0]];
+                const core::Vec3d& b = mesh.vertices[t[1]];
+                const core::Vec3d& c = mesh.vertices[t[2]];
+                if (!core::is_finite(a) || !core::is_finite(b) || !core::is_finite(c)) {
+                    acc.nonfinite.add(i);
+                    continue;
+                }
+                if (is_degenerate(a, b, c) || t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) {
+                    acc.degenerate.add(i);
+                }
+            }
+            return acc;
+        },
+        [](TriangleTallies a, const TriangleTallies& b) {
+            a.join(b);
+            return a;
+        });
+}
+
+std::string plural(std::size_t n, const char* one, const char* many) {
+    return fmt::format("{} {}", n, n == 1 ? one : many);
+}
+
+}  // namespace
+
+bool is_degenerate(const core::Vec3d& a, const core::Vec3d& b, const core::Vec3d& c) {
+    // Relative test: area <= kDegenerateTriangleAreaMm2 * (longest edge / 1 mm)^2. For a
+    // triangle with a 1 mm longest edge this is the absolute threshold; scaling the part
+    // scales both sides alike, so a well-shaped triangle of a part in metres (edges of
+    // 1e-4) is not degenerate, while collinear corners (area 0, or rounding noise far
+    // below the longest edge squared) are at any size. Corners at one point (longest
+    // edge 0) are degenerate.
+    if (!core::is_finite(a) || !core::is_finite(b) || !core::is_finite(c)) return false;
+    const core::Vec3d ab = b - a;
+    const core::Vec3d ac = c - a;
+    const core::Vec3d bc = c - b;
+    const double longest2 = std::max({core::dot(ab, ab), core::dot(ac, ac), core::dot(bc, bc)});
+    const double area = 0.5 * core::norm(core::cross(ab, ac));
+    return area <= core::kDegenerateTriangleAreaMm2 * longest2;
+}
+
+bool ValidationReport::closed_manifold() const {
+    return boundary_edges.count == 0 && nonmanifold_edges.count == 0 &&
+           misoriented_edges.count == 0;
+}
+
+bool ValidationReport::inside_out() const {
+    return closed_manifold() && volume_mm3 < 0.0;
+}
+
+std::vector<std::string> ValidationReport::defects() const {
+    std::vector<std::string> lines;
+    if (triangles == 0) {
+        lines.emplace_back("no triangles");
+        return lines;
+    }
+    auto line = [&](const DefectCount& d, const char* one, const char* many) {
+        if (d.count == 0) return;
+        std::string s = plural(d.count, one, many);
+        if (d.example) {
+            s += fmt::format(", e.g. near ({:.3f}, {:.3f}, {:.3f}) mm", d.example->x, d.example->y,
+                             d.example->z);
+        }
+        lines.push_back(std::move(s));
+    };
+    line(nonfinite_vertices, "vertex with a NaN or infinite coordinate",
+         "vertices with NaN or infinite coordinates");
+    line(degenerate_triangles, "degenerate (zero-area) triangle",
+         "degenerate (zero-area) triangles");
+    line(duplicate_triangles, "duplicate triangle", "duplicate triangles");
+    line(boundary_edges, "open (boundary) edge", "open (boundary) edges");
+    line(nonmanifold_edges, "non-manifold edge (shared by more than two triangles)",
+         "non-manifold edges (shared by more than two triangles)");
+    line(misoriented_edges, "misoriented edge (its two triangles disagree on the outside)",
+         "misoriented edges (their triangles disagree on the outside)");
+    if (inside_out()) {
+        lines.push_back(fmt::format("the surface is inside out (volume {:.3f} mm^3)", volume_mm3));
+    }
+    return lines;
+}
+
+ValidationReport validate(const TriangleMesh& mesh) {
+    ValidationReport report;
+    report.triangles = mesh.triangles.size();
+    if (mesh.triangles.empty()) return report;
+
+    std::vector<std::uint8_t> used(mesh.vertices.size(), 0);
+    for (const Triangle& t : mesh.triangles) {
+        for (std::uint32_t v : t) {
+            MAXSLICE_ASSERT(v < mesh.vertices.size());
+            used[v] = 1;
+        }
+    }
+
+    EdgeTallies edges;
+    Tally<Triple> repeated_duplicates;
+    TriangleTallies tris;
+    tbb::parallel_invoke([&] { edges = analyse_edges(mesh); },
+                         [&] {
+                             report.bodies = count_bodies(mesh, used);
+                             repeated_duplicates = repeated_index_duplicates(mesh);
+                         },
+                         [&] {
+                             tris = analyse_triangles(mesh);
+                             report.volume_mm3 = signed_volume(mesh);
+                             report.area_mm2 = surface_area(mesh);
+                         });
+    edges.duplicate.join(repeated_duplicates);
+
+    for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
+        if (!used[v]) continue;
+        ++report.vertices;
+        if (core::is_finite(mesh.vertices[v])) {
+            report.bounding_box.add(mesh.vertices[v]);
+        } else {
+            ++report.nonfinite_vertices.count;
+        }
+    }
+    if (tris.nonfinite.count > 0) {
+        // The place of a non-finite vertex is given by the finite corners of the first
+        // triangle that uses one (none when all three are non-finite).
+        const Triangle& t = mesh.triangles[tris.nonfinite.first];
+        core::Vec3d sum;
+        int finite = 0;
+        for (std::uint32_t v : t) {
+            if (core::is_finite(mesh.vertices[v])) {
+                sum += mesh.vertices[v];
+                ++finite;
+            }
+        }
+        if (finite > 0) report.nonfinite_vertices.example = sum / finite;
+    }
+
+    auto fill_edge = [&](DefectCount& d, const Tally<std::uint64_t>& t) {
+        d.count = t.count;
+        if (t.count > 0) d.example = midpoint(mesh, t.first);
+    };
+    fill_edge(report.boundary_edges, edges.boundary);
+    fill_edge(report.nonmanifold_edges, edges.nonmanifold);
+    fill_edge(report.misoriented_edges, edges.misoriented);
+    report.duplicate_triangles.count = edges.duplicate.count;
+    if (edges.duplicate.count > 0) {
+        report.duplicate_triangles.example = centroid(mesh, edges.duplicate.first);
+    }
+    report.degenerate_triangles.count = tris.degenerate.count;
+    if (tris.degenerate.count > 0) {
+        report.degenerate_triangles.example = centroid(mesh, mesh.triangles[tris.degenerate.first]);
+    }
+    return report;
+}
+
+}  // namespace maxslice::mesh

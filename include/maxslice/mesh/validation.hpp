@@ -19,16 +19,16 @@ struct DefectCount {
 /// What is wrong (or unusual) with a mesh, measured without changing it.
 struct ValidationReport {
     std::size_t triangles = 0;
-    std::size_t vertices = 0;           ///< vertices used by at least one triangle
-    std::size_t bodies = 0;             ///< connected components (sharing an edge or vertex)
-    DefectCount nonfinite_vertices;     ///< NaN or infinite coordinates
-    DefectCount degenerate_triangles;   ///< zero area (repeated index or collinear corners)
-    DefectCount duplicate_triangles;    ///< same three vertices as an earlier triangle
-    DefectCount boundary_edges;         ///< used by one triangle: the surface is open
-    DefectCount nonmanifold_edges;      ///< used by more than two triangles
-    DefectCount misoriented_edges;      ///< the same directed edge used twice
-    core::Box3d bounding_box;
-    double volume_mm3 = 0.0;            ///< signed; negative means inside-out
+    std::size_t vertices = 0;          ///< vertices used by at least one triangle
+    std::size_t bodies = 0;            ///< connected components (sharing an edge or vertex)
+    DefectCount nonfinite_vertices;    ///< NaN or infinite coordinates
+    DefectCount degenerate_triangles;  ///< zero area (repeated index or collinear corners)
+    DefectCount duplicate_triangles;   ///< same three vertices as an earlier triangle
+    DefectCount boundary_edges;        ///< used by one triangle: the surface is open
+    DefectCount nonmanifold_edges;     ///< used by more than two triangles
+    DefectCount misoriented_edges;     ///< the same directed edge used twice
+    core::Box3d bounding_box;          ///< of the used vertices with finite coordinates (mm)
+    double volume_mm3 = 0.0;           ///< signed; negative means inside-out
     double area_mm2 = 0.0;
 
     /// No open, non-manifold or misoriented edges.
@@ -39,6 +39,16 @@ struct ValidationReport {
     [[nodiscard]] std::vector<std::string> defects() const;
 };
 
+/// Measures the mesh without changing it. Linear expected time; the result does not depend
+/// on the number of threads. Examples are taken from the first instance in vertex-index
+/// order (edges by their smaller, then larger vertex index; triangles by index).
+/// Precondition: every triangle index is below mesh.vertices.size().
 [[nodiscard]] ValidationReport validate(const TriangleMesh& mesh);
+
+/// True when the triangle (a, b, c) has zero area for practical purposes: its area is at most
+/// core::kDegenerateTriangleAreaMm2 times the square of its longest edge in mm, a test that
+/// does not depend on the unit the part is in. Corners at one point count as degenerate;
+/// a triangle with a non-finite corner does not.
+[[nodiscard]] bool is_degenerate(const core::Vec3d& a, const core::Vec3d& b, const core::Vec3d& c);
 
 }  // namespace maxslice::mesh
