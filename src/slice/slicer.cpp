@@ -94,17 +94,40 @@ core::Result<CutContext> prepare(const mesh::TriangleMesh& mesh, const PlaneFram
     const std::size_t nt = mesh.triangles.size();
     const std::size_t np = hs.size();
 
-    // Plane range [k0, k1) crossed by each triangle: planes with min <= h < max.
+    // Plane range [k0, k1) crossed by each triangle: planes with min <= h < max. A table of
+    // lower bounds at 4 bins per plane gives a start index close to the answer; a short
+    // forward scan makes it exact (the same result as std::lower_bound).
+    const double h0 = np > 0 ? hs.front() : 0.0;
+    const std::size_t bins = 4 * np + 1;
+    const double width = np >= 2 ? (hs.back() - h0) / static_cast<double>(bins - 1) : 0.0;
+    std::vector<std::uint32_t> bin_start(bins, 0);
+    if (width > 0.0) {
+        for (std::size_t b = 0; b < bins; ++b) {
+            const double x = h0 + width * static_cast<double>(b);
+            bin_start[b] =
+                static_cast<std::uint32_t>(std::lower_bound(hs.begin(), hs.end(), x) - hs.begin());
+        }
+    }
+    const auto lower_bound = [&](double x) -> std::uint32_t {
+        if (!(width > 0.0)) {
+            return static_cast<std::uint32_t>(std::lower_bound(hs.begin(), hs.end(), x) -
+                                              hs.begin());
+        }
+        const double q = (x - h0) / width;  // truncation below is floor: q >= 0 there
+        if (!(q >= 0.0)) return 0;
+        if (q >= static_cast<double>(bins)) return static_cast<std::uint32_t>(np);
+        std::size_t k = bin_start[static_cast<std::size_t>(q)];
+        while (k > 0 && hs[k - 1] >= x) --k;  // guards rounding in the bin computation
+        while (k < np && hs[k] < x) ++k;
+        return static_cast<std::uint32_t>(k);
+    };
     std::vector<std::uint32_t> k0(nt), k1(nt);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nt, 1 << 14), [&](const auto& r) {
         for (std::size_t t = r.begin(); t != r.end(); ++t) {
             const auto& tri = mesh.triangles[t];
             const double a = ctx.height[tri[0]], b = ctx.height[tri[1]], c = ctx.height[tri[2]];
-            const double lo = std::min({a, b, c}), hi = std::max({a, b, c});
-            k0[t] =
-                static_cast<std::uint32_t>(std::lower_bound(hs.begin(), hs.end(), lo) - hs.begin());
-            k1[t] =
-                static_cast<std::uint32_t>(std::lower_bound(hs.begin(), hs.end(), hi) - hs.begin());
+            k0[t] = lower_bound(std::min({a, b, c}));
+            k1[t] = lower_bound(std::max({a, b, c}));
         }
     });
     // Counting sort of (plane, triangle) pairs; triangles stay in index order per plane.

@@ -11,9 +11,11 @@ namespace maxslice::core {
 /// only conversions between the two.
 inline constexpr double kMicronsPerMm = 1000.0;
 
-/// Millimetres to integer micrometres, rounded to nearest.
-[[nodiscard]] inline std::int64_t mm_to_um(double mm) {
-    return static_cast<std::int64_t>(std::llround(mm * kMicronsPerMm));
+/// Millimetres to integer micrometres, rounded to nearest (halves away from zero, as
+/// std::llround, but inline: this runs for every slice point). Callers keep |mm| < 1e6.
+[[nodiscard]] constexpr std::int64_t mm_to_um(double mm) {
+    const double um = mm * kMicronsPerMm;
+    return static_cast<std::int64_t>(um >= 0.0 ? um + 0.5 : um - 0.5);
 }
 /// Integer micrometres to millimetres.
 [[nodiscard]] constexpr double um_to_mm(std::int64_t um) {
