@@ -1,8 +1,5 @@
 #include "maxslice/mesh/triangle_mesh.hpp"
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <bit>
 #include <cstdlib>
@@ -11,6 +8,7 @@
 #include <utility>
 
 #include "maxslice/core/assert.hpp"
+#include "mesh_detail.hpp"
 
 #if defined(__linux__)
 #include <sys/mman.h>
@@ -18,29 +16,6 @@
 
 namespace maxslice::mesh {
 namespace {
-
-// Sums f(i) over [0, n) in fixed blocks that may run in parallel; the block partial sums are
-// added in block order, so the result is the same for any number of threads.
-template <class F>
-double deterministic_sum(std::size_t n, F&& f) {
-    constexpr std::size_t kBlock = 1u << 15;
-    const std::size_t blocks = (n + kBlock - 1) / kBlock;
-    if (blocks <= 1) {
-        double s = 0.0;
-        for (std::size_t i = 0; i < n; ++i) s += f(i);
-        return s;
-    }
-    std::vector<double> partial(blocks, 0.0);
-    tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
-        const std::size_t end = std::min(n, (b + 1) * kBlock);
-        double s = 0.0;
-        for (std::size_t i = b * kBlock; i < end; ++i) s += f(i);
-        partial[b] = s;
-    });
-    double s = 0.0;
-    for (double p : partial) s += p;
-    return s;
-}
 
 // Asks the kernel to back [p, p + bytes) with transparent huge pages where it can. The large
 // buffers of a weld are touched once each, so with 4 KiB pages the page faults cost more than
@@ -242,19 +217,20 @@ double signed_volume(const TriangleMesh& mesh) {
     // Tetrahedra are taken from the first vertex rather than the origin: the result is the
     // same for a closed surface, and parts far from the origin lose less to cancellation.
     const core::Vec3d o = mesh.vertices[mesh.triangles.front()[0]];
-    const double six_v = deterministic_sum(mesh.triangles.size(), [&](std::size_t t) {
+    const double six_v = detail::deterministic_sum(mesh.triangles.size(), [&](std::size_t t) {
         const Triangle& tri = mesh.triangles[t];
-        const core::Vec3d a = mesh.vertices[tri[0]] - o;
-        const core::Vec3d b = mesh.vertices[tri[1]] - o;
-        const core::Vec3d c = mesh.vertices[tri[2]] - o;
-        return core::dot(a, core::cross(b, c));
+        return detail::six_volume_term(o, mesh.vertices[tri[0]], mesh.vertices[tri[1]],
+                                       mesh.vertices[tri[2]]);
     });
     return six_v / 6.0;
 }
 
 double surface_area(const TriangleMesh& mesh) {
-    return 0.5 * deterministic_sum(mesh.triangles.size(),
-                                   [&](std::size_t t) { return core::norm(area_vector(mesh, t)); });
+    return 0.5 * detail::deterministic_sum(mesh.triangles.size(), [&](std::size_t t) {
+               const Triangle& tri = mesh.triangles[t];
+               return detail::twice_area_term(mesh.vertices[tri[0]], mesh.vertices[tri[1]],
+                                              mesh.vertices[tri[2]]);
+           });
 }
 
 core::Vec3d area_vector(const TriangleMesh& mesh, std::size_t tri) {

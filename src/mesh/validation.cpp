@@ -2,16 +2,19 @@
 
 #include <fmt/format.h>
 #include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 #include <tbb/parallel_reduce.h>
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <limits>
 
 #include "maxslice/core/assert.hpp"
 #include "maxslice/core/tolerances.hpp"
+#include "mesh_detail.hpp"
 
 namespace maxslice::mesh {
 namespace {
@@ -19,6 +22,8 @@ namespace {
 constexpr std::uint64_t kNoEdge = std::numeric_limits<std::uint64_t>::max();
 constexpr std::size_t kNoTriangle = std::numeric_limits<std::size_t>::max();
 using Triple = std::array<std::uint32_t, 3>;
+// How many triangles ahead the passes over triangles prefetch per-vertex data.
+constexpr std::size_t kPrefetchAhead = 8;
 constexpr Triple kNoTriple = {std::numeric_limits<std::uint32_t>::max(),
                               std::numeric_limits<std::uint32_t>::max(),
                               std::numeric_limits<std::uint32_t>::max()};
@@ -57,10 +62,14 @@ struct EdgeTallies {
 struct TriangleTallies {
     Tally<std::size_t> degenerate{0, kNoTriangle};
     Tally<std::size_t> nonfinite{0, kNoTriangle};  // triangles with a non-finite corner
+    double six_volume = 0.0;
+    double twice_area = 0.0;
 
     void join(const TriangleTallies& o) {
         degenerate.join(o.degenerate);
         nonfinite.join(o.nonfinite);
+        six_volume += o.six_volume;
+        twice_area += o.twice_area;
     }
 };
 
@@ -85,29 +94,64 @@ core::Vec3d centroid(const TriangleMesh& mesh, const Triple& t) {
 EdgeTallies analyse_edges(const TriangleMesh& mesh) {
     const std::size_t nv = mesh.vertices.size();
     MAXSLICE_ASSERT(nv < (std::size_t{1} << 31));
+    // Both passes over the triangles run in parallel with relaxed atomic counters; the order
+    // of the entries within a vertex's list then depends on the schedule, but each list is
+    // sorted before use, so the result does not. The vertex arrays are accessed at random
+    // when the vertex order does not follow the triangle order, so the slots of a triangle
+    // some way ahead are prefetched.
+    const std::size_t nt = mesh.triangles.size();
+    const tbb::blocked_range<std::size_t> all(0, nt, 1u << 14);
     std::vector<std::uint32_t> start(nv + 1, 0);
-    for (const Triangle& t : mesh.triangles) {
-        for (int k = 0; k < 3; ++k) {
-            const std::uint32_t u = t[k];
-            const std::uint32_t v = t[(k + 1) % 3];
-            if (u != v) ++start[std::min(u, v) + 1];
-        }
-    }
-    for (std::size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
-    std::vector<std::uint64_t> entries(start[nv]);
-    {
-        std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-        for (const Triangle& t : mesh.triangles) {
+    tbb::parallel_for(all, [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+            if (i + kPrefetchAhead < nt) {
+                for (std::uint32_t w : mesh.triangles[i + kPrefetchAhead]) {
+                    __builtin_prefetch(&start[w + 1], 1);
+                }
+            }
+            const Triangle& t = mesh.triangles[i];
             for (int k = 0; k < 3; ++k) {
                 const std::uint32_t u = t[k];
                 const std::uint32_t v = t[(k + 1) % 3];
                 if (u == v) continue;
-                const std::uint32_t third = t[(k + 2) % 3];
-                const std::uint32_t lo = std::min(u, v);
-                const std::uint64_t hi = std::max(u, v);
-                entries[fill[lo]++] = (hi << 33) | (std::uint64_t{third} << 1) | (v < u ? 1u : 0u);
+                std::atomic_ref<std::uint32_t>(start[std::min(u, v) + 1])
+                    .fetch_add(1, std::memory_order_relaxed);
             }
         }
+    });
+    for (std::size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
+    std::vector<std::uint64_t> entries(start[nv]);
+    {
+        std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+        tbb::parallel_for(all, [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                if (i + 2 * kPrefetchAhead < nt) {
+                    for (std::uint32_t w : mesh.triangles[i + 2 * kPrefetchAhead]) {
+                        __builtin_prefetch(&fill[w], 1);
+                    }
+                }
+                if (i + kPrefetchAhead < nt) {
+                    for (std::uint32_t w : mesh.triangles[i + kPrefetchAhead]) {
+                        const std::size_t at = std::min<std::size_t>(
+                            std::atomic_ref<std::uint32_t>(fill[w]).load(std::memory_order_relaxed),
+                            entries.size() - 1);
+                        __builtin_prefetch(entries.data() + at, 1);
+                    }
+                }
+                const Triangle& t = mesh.triangles[i];
+                for (int k = 0; k < 3; ++k) {
+                    const std::uint32_t u = t[k];
+                    const std::uint32_t v = t[(k + 1) % 3];
+                    if (u == v) continue;
+                    const std::uint32_t third = t[(k + 2) % 3];
+                    const std::uint32_t lo = std::min(u, v);
+                    const std::uint64_t hi = std::max(u, v);
+                    const std::uint32_t at = std::atomic_ref<std::uint32_t>(fill[lo]).fetch_add(
+                        1, std::memory_order_relaxed);
+                    entries[at] = (hi << 33) | (std::uint64_t{third} << 1) | (v < u ? 1u : 0u);
+                }
+            }
+        });
     }
 
     return tbb::parallel_reduce(
@@ -180,7 +224,8 @@ Tally<Triple> repeated_index_duplicates(const TriangleMesh& mesh) {
 
 // Bodies: union-find over vertices (each triangle joins its corners), path halving, the
 // smaller index becomes the root. Returns the number of components among used vertices.
-std::size_t count_bodies(const TriangleMesh& mesh, const std::vector<std::uint8_t>& used) {
+std::size_t count_bodies(const TriangleMesh& mesh, std::vector<std::uint8_t>& used) {
+    used.assign(mesh.vertices.size(), 0);
     std::vector<std::uint32_t> parent(mesh.vertices.size());
     for (std::size_t v = 0; v < parent.size(); ++v) parent[v] = static_cast<std::uint32_t>(v);
     auto find = [&](std::uint32_t v) {
@@ -199,7 +244,16 @@ std::size_t count_bodies(const TriangleMesh& mesh, const std::vector<std::uint8_
             parent[a] = b;
         }
     };
-    for (const Triangle& t : mesh.triangles) {
+    const std::size_t nt = mesh.triangles.size();
+    for (std::size_t i = 0; i < nt; ++i) {
+        const Triangle& t = mesh.triangles[i];
+        if (i + kPrefetchAhead < nt) {
+            for (std::uint32_t w : mesh.triangles[i + kPrefetchAhead]) {
+                __builtin_prefetch(&parent[w], 1);
+            }
+        }
+        MAXSLICE_ASSERT(t[0] < parent.size() && t[1] < parent.size() && t[2] < parent.size());
+        used[t[0]] = used[t[1]] = used[t[2]] = 1;
         unite(t[0], t[1]);
         unite(t[0], t[2]);
     }
@@ -210,29 +264,37 @@ std::size_t count_bodies(const TriangleMesh& mesh, const std::vector<std::uint8_
     return bodies;
 }
 
+// One pass over the triangles for everything that needs their corners: degenerate and
+// non-finite triangles, volume and area. Volume and area use the same terms, blocks and
+// summation order as signed_volume() and surface_area(), so they equal those exactly; one
+// pass instead of three matters when the vertices are not in triangle order (cache misses).
 TriangleTallies analyse_triangles(const TriangleMesh& mesh) {
-    return tbb::parallel_reduce(
-        tbb::blocked_range<std::size_t>(0, mesh.triangles.size(), 8192), TriangleTallies{},
-        [&](const tbb::blocked_range<std::size_t>& r, TriangleTallies acc) {
-            for (std::size_t i = r.begin(); i != r.end(); ++i) {
-                const Triangle& t = mesh.triangles[i];
-                const core::Vec3d& a = mesh.vertices[t[0]];
-                const core::Vec3d& b = mesh.vertices[t[1]];
-                const core::Vec3d& c = mesh.vertices[t[2]];
-                if (!core::is_finite(a) || !core::is_finite(b) || !core::is_finite(c)) {
-                    acc.nonfinite.add(i);
-                    continue;
-                }
-                if (is_degenerate(a, b, c) || t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) {
-                    acc.degenerate.add(i);
+    const core::Vec3d o = mesh.vertices[mesh.triangles.front()[0]];
+    const auto partials = detail::block_partials(
+        mesh.triangles.size(), TriangleTallies{}, [&](TriangleTallies& acc, std::size_t i) {
+            if (i + kPrefetchAhead < mesh.triangles.size()) {
+                for (std::uint32_t w : mesh.triangles[i + kPrefetchAhead]) {
+                    __builtin_prefetch(&mesh.vertices[w]);
                 }
             }
-            return acc;
-        },
-        [](TriangleTallies a, const TriangleTallies& b) {
-            a.join(b);
-            return a;
+            const Triangle& t = mesh.triangles[i];
+            const core::Vec3d& a = mesh.vertices[t[0]];
+            const core::Vec3d& b = mesh.vertices[t[1]];
+            const core::Vec3d& c = mesh.vertices[t[2]];
+            const double twice_area = detail::twice_area_term(a, b, c);
+            acc.six_volume += detail::six_volume_term(o, a, b, c);
+            acc.twice_area += twice_area;
+            if (!core::is_finite(a) || !core::is_finite(b) || !core::is_finite(c)) {
+                acc.nonfinite.add(i);
+            } else if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2] ||
+                       detail::degenerate_with_area(twice_area, a, b, c,
+                                                    core::kDegenerateTriangleAreaMm2)) {
+                acc.degenerate.add(i);
+            }
         });
+    TriangleTallies total;
+    for (const TriangleTallies& p : partials) total.join(p);
+    return total;
 }
 
 std::string plural(std::size_t n, const char* one, const char* many) {
@@ -249,12 +311,8 @@ bool is_degenerate(const core::Vec3d& a, const core::Vec3d& b, const core::Vec3d
     // below the longest edge squared) are at any size. Corners at one point (longest
     // edge 0) are degenerate.
     if (!core::is_finite(a) || !core::is_finite(b) || !core::is_finite(c)) return false;
-    const core::Vec3d ab = b - a;
-    const core::Vec3d ac = c - a;
-    const core::Vec3d bc = c - b;
-    const double longest2 = std::max({core::dot(ab, ab), core::dot(ac, ac), core::dot(bc, bc)});
-    const double area = 0.5 * core::norm(core::cross(ab, ac));
-    return area <= core::kDegenerateTriangleAreaMm2 * longest2;
+    return detail::degenerate_with_area(detail::twice_area_term(a, b, c), a, b, c,
+                                        core::kDegenerateTriangleAreaMm2);
 }
 
 bool ValidationReport::closed_manifold() const {
@@ -302,14 +360,7 @@ ValidationReport validate(const TriangleMesh& mesh) {
     report.triangles = mesh.triangles.size();
     if (mesh.triangles.empty()) return report;
 
-    std::vector<std::uint8_t> used(mesh.vertices.size(), 0);
-    for (const Triangle& t : mesh.triangles) {
-        for (std::uint32_t v : t) {
-            MAXSLICE_ASSERT(v < mesh.vertices.size());
-            used[v] = 1;
-        }
-    }
-
+    std::vector<std::uint8_t> used;
     EdgeTallies edges;
     Tally<Triple> repeated_duplicates;
     TriangleTallies tris;
@@ -318,11 +369,9 @@ ValidationReport validate(const TriangleMesh& mesh) {
                              report.bodies = count_bodies(mesh, used);
                              repeated_duplicates = repeated_index_duplicates(mesh);
                          },
-                         [&] {
-                             tris = analyse_triangles(mesh);
-                             report.volume_mm3 = signed_volume(mesh);
-                             report.area_mm2 = surface_area(mesh);
-                         });
+                         [&] { tris = analyse_triangles(mesh); });
+    report.volume_mm3 = tris.six_volume / 6.0;
+    report.area_mm2 = 0.5 * tris.twice_area;
     edges.duplicate.join(repeated_duplicates);
 
     for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {

@@ -271,6 +271,8 @@ TEST(Validate, SameResultWithOneThreadOrMany) {
     EXPECT_EQ(one.misoriented_edges.count, many.misoriented_edges.count);
     EXPECT_EQ(one.misoriented_edges.example, many.misoriented_edges.example);
     EXPECT_EQ(one.volume_mm3, many.volume_mm3);  // bit-identical
+    EXPECT_EQ(many.volume_mm3, signed_volume(m));
+    EXPECT_EQ(many.area_mm2, surface_area(m));
     EXPECT_EQ(one.area_mm2, many.area_mm2);
     EXPECT_EQ(one.defects(), many.defects());
     // 3000/7 -> 429 bodies lose a triangle (3 open edges each).

@@ -1,0 +1,70 @@
+#pragma once
+// Shared internals of the mesh module: deterministic reductions and per-triangle terms.
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cstddef>
+#include <vector>
+
+#include "maxslice/core/vec3.hpp"
+
+namespace maxslice::mesh::detail {
+
+/// Items per block of a deterministic reduction. Fixed, so that the result does not depend on
+/// the number of threads.
+inline constexpr std::size_t kReduceBlock = std::size_t{1} << 15;
+
+/// Runs f(acc, i) for i in [0, n) in fixed blocks of kReduceBlock items, each block with its
+/// own accumulator (a copy of init), blocks possibly in parallel; returns the accumulators in
+/// block order. Combining them in that order gives a result independent of the thread count.
+template <class Acc, class F>
+std::vector<Acc> block_partials(std::size_t n, const Acc& init, F&& f) {
+    const std::size_t blocks = (n + kReduceBlock - 1) / kReduceBlock;
+    std::vector<Acc> partial(blocks, init);
+    auto run = [&](std::size_t b) {
+        const std::size_t end = std::min(n, (b + 1) * kReduceBlock);
+        Acc& acc = partial[b];
+        for (std::size_t i = b * kReduceBlock; i < end; ++i) f(acc, i);
+    };
+    if (blocks <= 1) {
+        for (std::size_t b = 0; b < blocks; ++b) run(b);
+    } else {
+        tbb::parallel_for(std::size_t{0}, blocks, run);
+    }
+    return partial;
+}
+
+/// Sum of f(i) over [0, n), the same for any number of threads.
+template <class F>
+double deterministic_sum(std::size_t n, F&& f) {
+    double s = 0.0;
+    for (double p : block_partials(n, 0.0, [&](double&acc, std::size_t i) { acc += f(i); })) {
+        s += p;
+    }
+    return s;
+}
+
+/// Six times the signed volume of the tetrahedron (o, a, b, c).
+inline double six_volume_term(const core::Vec3d& o, const core::Vec3d& a, const core::Vec3d& b,
+                              const core::Vec3d& c) {
+    return core::dot(a - o, core::cross(b - o, c - o));
+}
+
+/// Twice the area of the triangle (a, b, c).
+inline double twice_area_term(const core::Vec3d& a, const core::Vec3d& b, const core::Vec3d& c) {
+    return core::norm(core::cross(b - a, c - a));
+}
+
+/// The degenerate-triangle test of is_degenerate() for finite corners whose twice_area_term()
+/// is already known.
+inline bool degenerate_with_area(double twice_area, const core::Vec3d& a, const core::Vec3d& b,
+                                 const core::Vec3d& c, double area_per_length2) {
+    const core::Vec3d ab = b - a;
+    const core::Vec3d ac = c - a;
+    const core::Vec3d bc = c - b;
+    const double longest2 = std::max({core::dot(ab, ab), core::dot(ac, ac), core::dot(bc, bc)});
+    return 0.5 * twice_area <= area_per_length2 * longest2;
+}
+
+}  // namespace maxslice::mesh::detail
