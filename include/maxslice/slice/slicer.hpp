@@ -19,7 +19,8 @@ struct Slice {
     PlaneFrame plane;        ///< the cutting plane (origin on it, normal = build dir.)
     LayerSpan span;          ///< heights above the sequence's base plane (mm)
     geom2d::WireTree wires;  ///< boundary curves as a containment tree
-    int gaps_closed = 0;     ///< open chains closed by the slicer (open meshes)
+    int gaps_closed = 0;     ///< gaps in open chains the slicer bridged (open meshes)
+    int open_chains = 0;     ///< chains that could not be closed and were dropped
 
     [[nodiscard]] double thickness() const { return span.thickness(); }
     [[nodiscard]] double area_mm2() const { return wires.area_mm2(); }
