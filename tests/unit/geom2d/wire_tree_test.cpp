@@ -1,0 +1,304 @@
+#include "maxslice/geom2d/wire_tree.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include "maxslice/geom2d/polygon.hpp"
+
+namespace maxslice::geom2d {
+namespace {
+
+// Square [x0, x1] x [y0, y1] given in mm, counter-clockwise unless cw.
+Path2 square(double x0, double y0, double x1, double y1, bool cw = false) {
+    auto um = [](double mm) { return static_cast<std::int64_t>(std::llround(mm * 1000.0)); };
+    Path2 p{{um(x0), um(y0)}, {um(x1), um(y0)}, {um(x1), um(y1)}, {um(x0), um(y1)}};
+    if (cw) std::reverse(p.begin(), p.end());
+    return p;
+}
+
+// Regular n-gon of circumradius r (mm) centred on (cx, cy), counter-clockwise.
+Path2 ngon(double cx, double cy, double r, int n) {
+    Path2 p;
+    for (int i = 0; i < n; ++i) {
+        const double a = 2.0 * std::numbers::pi * i / n;
+        p.push_back({std::llround((cx + r * std::cos(a)) * 1000.0),
+                     std::llround((cy + r * std::sin(a)) * 1000.0)});
+    }
+    return p;
+}
+
+double perimeter_sum(const Paths2& paths) {
+    double sum = 0.0;
+    for (const auto& p : paths) sum += perimeter_mm(p);
+    return sum;
+}
+
+Path2 reversed(Path2 p) {
+    std::reverse(p.begin(), p.end());
+    return p;
+}
+
+void expect_same_tree(const WireTree& a, const WireTree& b) {
+    EXPECT_EQ(a.roots, b.roots);
+    ASSERT_EQ(a.nodes.size(), b.nodes.size());
+    for (std::size_t i = 0; i < a.nodes.size(); ++i) {
+        SCOPED_TRACE(i);
+        EXPECT_EQ(a.nodes[i].wire, b.nodes[i].wire);
+        EXPECT_EQ(a.nodes[i].parent, b.nodes[i].parent);
+        EXPECT_EQ(a.nodes[i].children, b.nodes[i].children);
+        EXPECT_EQ(a.nodes[i].is_hole, b.nodes[i].is_hole);
+        EXPECT_EQ(a.nodes[i].depth, b.nodes[i].depth);
+    }
+}
+
+// ---- Polygons ----------------------------------------------------------------------------
+
+TEST(Polygon, SignedAreaIsPositiveCounterClockwise) {
+    EXPECT_DOUBLE_EQ(signed_area_um2(square(0, 0, 10, 10)), 1e8);
+    EXPECT_DOUBLE_EQ(signed_area_um2(square(0, 0, 10, 10, true)), -1e8);
+    EXPECT_DOUBLE_EQ(signed_area_um2(Path2{{0, 0}, {4, 0}, {0, 3}}), 6.0);
+    EXPECT_DOUBLE_EQ(signed_area_um2(Path2{{0, 0}, {0, 3}, {4, 0}}), -6.0);
+}
+
+TEST(Polygon, SignedAreaDoesNotDependOnTheStartPoint) {
+    Path2 p = ngon(3, -2, 7, 13);
+    const double a = signed_area_um2(p);
+    for (std::size_t k = 0; k < p.size(); ++k) {
+        std::rotate(p.begin(), p.begin() + 1, p.end());
+        EXPECT_DOUBLE_EQ(signed_area_um2(p), a);
+    }
+}
+
+TEST(Polygon, DegenerateLoopsHaveNoArea) {
+    EXPECT_EQ(signed_area_um2(Path2{}), 0.0);
+    EXPECT_EQ(signed_area_um2(Path2{{1, 1}, {5, 5}}), 0.0);
+    EXPECT_EQ(signed_area_um2(Path2{{0, 0}, {1, 1}, {2, 2}}), 0.0);
+}
+
+TEST(Polygon, AreaAtTheEdgeOfTheCoordinateRange) {
+    const std::int64_t m = kMaxCoordinateUm;
+    const Path2 p{{-m, -m}, {m, -m}, {m, m}, {-m, m}};
+    EXPECT_DOUBLE_EQ(signed_area_um2(p), 4.0 * static_cast<double>(m) * static_cast<double>(m));
+    EXPECT_DOUBLE_EQ(perimeter_mm(p), 8.0 * static_cast<double>(m) / 1000.0);
+}
+
+TEST(Polygon, AreaSumAndPerimeterInMillimetres) {
+    const Paths2 ring{square(0, 0, 10, 10), square(2, 2, 8, 8, true)};
+    EXPECT_DOUBLE_EQ(signed_area_mm2(ring), 100.0 - 36.0);
+    EXPECT_DOUBLE_EQ(perimeter_mm(square(0, 0, 10, 5)), 30.0);
+    EXPECT_DOUBLE_EQ(perimeter_mm(Path2{{0, 0}, {3000, 4000}, {0, 4000}}), 5.0 + 3.0 + 4.0);
+}
+
+// ---- Wire trees --------------------------------------------------------------------------
+
+Paths2 nested_loops() {
+    return {square(0, 0, 100, 100), square(10, 10, 90, 90, true), square(20, 20, 80, 80),
+            square(30, 30, 70, 70, true)};
+}
+
+TEST(WireTree, NestedSquaresFormAChain) {
+    for (const FillRule rule : {FillRule::kPositive, FillRule::kNonZero, FillRule::kEvenOdd}) {
+        SCOPED_TRACE(static_cast<int>(rule));
+        const WireTree t = build_wire_tree(nested_loops(), rule);
+        ASSERT_EQ(t.nodes.size(), 4u);
+        ASSERT_EQ(t.roots, (std::vector<int>{0}));
+        int id = 0;
+        for (int depth = 0; depth < 4; ++depth) {
+            const WireNode& n = t.nodes[static_cast<std::size_t>(id)];
+            EXPECT_EQ(n.depth, depth);
+            EXPECT_EQ(n.is_hole, depth % 2 == 1);
+            EXPECT_EQ(n.parent, depth == 0 ? -1 : id - 1);
+            EXPECT_EQ(signed_area_um2(n.wire) < 0.0, n.is_hole);
+            if (depth < 3) {
+                ASSERT_EQ(n.children.size(), 1u);
+                id = n.children[0];
+                EXPECT_GT(id, n.parent);
+            } else {
+                EXPECT_TRUE(n.children.empty());
+            }
+        }
+        EXPECT_EQ(t.outer_count(), 2u);
+        EXPECT_EQ(t.hole_count(), 2u);
+        EXPECT_DOUBLE_EQ(t.area_mm2(), 10000.0 - 6400.0 + 3600.0 - 1600.0);
+    }
+}
+
+TEST(WireTree, EvenOddIgnoresOrientation) {
+    Paths2 all_ccw = nested_loops();
+    for (auto& p : all_ccw) {
+        if (signed_area_um2(p) < 0) p = reversed(p);
+    }
+    const WireTree t = build_wire_tree(all_ccw, FillRule::kEvenOdd);
+    EXPECT_EQ(t.outer_count(), 2u);
+    EXPECT_EQ(t.hole_count(), 2u);
+    EXPECT_DOUBLE_EQ(t.area_mm2(), 5600.0);
+}
+
+TEST(WireTree, SeveralTopLevelOuters) {
+    const Paths2 loops{square(50, 0, 60, 10), square(0, 0, 10, 10), square(20, 0, 40, 20),
+                       square(25, 5, 35, 15, true)};
+    const WireTree t = build_wire_tree(loops, FillRule::kPositive);
+    ASSERT_EQ(t.roots.size(), 3u);
+    EXPECT_EQ(t.outer_count(), 3u);
+    EXPECT_EQ(t.hole_count(), 1u);
+    EXPECT_DOUBLE_EQ(t.area_mm2(), 100.0 + 100.0 + 400.0 - 100.0);
+    int with_hole = 0;
+    for (const int r : t.roots) {
+        const WireNode& n = t.nodes[static_cast<std::size_t>(r)];
+        EXPECT_EQ(n.parent, -1);
+        EXPECT_FALSE(n.is_hole);
+        if (!n.children.empty()) {
+            ++with_hole;
+            EXPECT_DOUBLE_EQ(signed_area_um2(n.wire), 4e8);
+        }
+    }
+    EXPECT_EQ(with_hole, 1);
+    // Parents come before their children.
+    for (std::size_t i = 0; i < t.nodes.size(); ++i) {
+        EXPECT_LT(t.nodes[i].parent, static_cast<int>(i));
+    }
+}
+
+TEST(WireTree, HoleLikeLoopsAloneAreEmptyUnderThePositiveRule) {
+    const Paths2 loops{square(0, 0, 10, 10, true), square(20, 0, 30, 10, true)};
+    const WireTree positive = build_wire_tree(loops, FillRule::kPositive);
+    EXPECT_TRUE(positive.empty());
+    EXPECT_EQ(positive.area_mm2(), 0.0);
+    EXPECT_TRUE(positive.roots.empty());
+    // Under the non-zero rule the same loops are filled regions with outers made CCW.
+    const WireTree nonzero = build_wire_tree(loops, FillRule::kNonZero);
+    EXPECT_EQ(nonzero.outer_count(), 2u);
+    EXPECT_DOUBLE_EQ(nonzero.area_mm2(), 200.0);
+}
+
+TEST(WireTree, EmptyAndDegenerateInput) {
+    EXPECT_TRUE(build_wire_tree({}, FillRule::kPositive).empty());
+    const Paths2 junk{{}, {{0, 0}}, {{0, 0}, {10, 10}}, {{0, 0}, {5, 5}, {10, 10}}};
+    EXPECT_TRUE(build_wire_tree(junk, FillRule::kPositive).empty());
+    Paths2 with_junk = nested_loops();
+    with_junk.insert(with_junk.begin() + 1, junk.begin(), junk.end());
+    expect_same_tree(build_wire_tree(with_junk, FillRule::kPositive),
+                     build_wire_tree(nested_loops(), FillRule::kPositive));
+}
+
+TEST(WireTree, OverlappingLoopsMergeUnderThePositiveRule) {
+    // Two CCW squares overlapping in a 5 x 5 corner: one outer, the overlap counted once.
+    const WireTree both =
+        build_wire_tree({square(0, 0, 10, 10), square(5, 5, 15, 15)}, FillRule::kPositive);
+    EXPECT_EQ(both.nodes.size(), 1u);
+    EXPECT_DOUBLE_EQ(both.area_mm2(), 175.0);
+    // A CW loop over part of a CCW one cancels it there (winding 0) and adds nothing
+    // outside it (winding -1).
+    const Paths2 mixed{square(0, 0, 10, 10), square(5, 5, 15, 15, true)};
+    EXPECT_DOUBLE_EQ(build_wire_tree(mixed, FillRule::kPositive).area_mm2(), 75.0);
+    // Non-zero fills both parts with winding +-1 and leaves the overlap empty.
+    EXPECT_DOUBLE_EQ(build_wire_tree(mixed, FillRule::kNonZero).area_mm2(), 150.0);
+    // A CW loop inside a CCW one is a hole.
+    const WireTree ring =
+        build_wire_tree({square(0, 0, 10, 10), square(2, 2, 8, 8, true)}, FillRule::kPositive);
+    EXPECT_EQ(ring.outer_count(), 1u);
+    EXPECT_EQ(ring.hole_count(), 1u);
+    EXPECT_DOUBLE_EQ(ring.area_mm2(), 64.0);
+}
+
+TEST(WireTree, SameTreeForAnyInputOrderAndStartPoint) {
+    Paths2 loops = nested_loops();
+    loops.push_back(square(200, 0, 210, 10));
+    loops.push_back(ngon(150, 50, 20, 24));
+    loops.push_back(reversed(ngon(150, 50, 10, 24)));
+    loops.push_back(square(-50, -50, -40, -40));
+    const WireTree reference = build_wire_tree(loops, FillRule::kPositive);
+    ASSERT_EQ(reference.nodes.size(), 8u);
+    std::mt19937_64 rng(42);
+    for (int trial = 0; trial < 20; ++trial) {
+        Paths2 shuffled = loops;
+        std::shuffle(shuffled.begin(), shuffled.end(), rng);
+        for (Path2& p : shuffled) {
+            std::uniform_int_distribution<std::size_t> k(0, p.size() - 1);
+            std::rotate(p.begin(), p.begin() + static_cast<std::ptrdiff_t>(k(rng)), p.end());
+        }
+        SCOPED_TRACE(trial);
+        expect_same_tree(build_wire_tree(shuffled, FillRule::kPositive), reference);
+    }
+}
+
+TEST(WireTree, PathsFollowNodeOrder) {
+    const WireTree t = build_wire_tree(nested_loops(), FillRule::kPositive);
+    const Paths2 paths = t.paths();
+    ASSERT_EQ(paths.size(), t.nodes.size());
+    for (std::size_t i = 0; i < paths.size(); ++i) EXPECT_EQ(paths[i], t.nodes[i].wire);
+    EXPECT_DOUBLE_EQ(signed_area_mm2(paths), t.area_mm2());
+}
+
+// ---- Booleans and offsets ----------------------------------------------------------------
+
+TEST(Booleans, OverlappingSquares) {
+    const Paths2 a{square(0, 0, 10, 10)};
+    const Paths2 b{square(5, 5, 15, 15)};
+    EXPECT_DOUBLE_EQ(signed_area_mm2(union_of({a[0], b[0]})), 175.0);
+    EXPECT_DOUBLE_EQ(signed_area_mm2(intersection_of(a, b)), 25.0);
+    EXPECT_DOUBLE_EQ(signed_area_mm2(difference_of(a, b)), 75.0);
+    EXPECT_DOUBLE_EQ(signed_area_mm2(difference_of(b, a)), 75.0);
+    EXPECT_TRUE(intersection_of(a, {square(20, 20, 30, 30)}).empty());
+}
+
+TEST(Booleans, DifferenceMakesAHoleOrientedClockwise) {
+    const Paths2 d = difference_of({square(0, 0, 10, 10)}, {square(3, 3, 7, 7)});
+    ASSERT_EQ(d.size(), 2u);
+    const int negatives = static_cast<int>(
+        std::count_if(d.begin(), d.end(), [](const Path2& p) { return signed_area_um2(p) < 0.0; }));
+    EXPECT_EQ(negatives, 1);
+    EXPECT_DOUBLE_EQ(signed_area_mm2(d), 84.0);
+}
+
+TEST(Booleans, UnionWithFillRules) {
+    const Paths2 mixed{square(0, 0, 10, 10), square(5, 5, 15, 15, true)};
+    EXPECT_DOUBLE_EQ(signed_area_mm2(union_of(mixed, FillRule::kNonZero)), 150.0);
+    EXPECT_DOUBLE_EQ(signed_area_mm2(union_of(mixed, FillRule::kPositive)), 75.0);
+    EXPECT_DOUBLE_EQ(signed_area_mm2(union_of(mixed, FillRule::kEvenOdd)), 150.0);
+}
+
+TEST(Booleans, PolygonIntersectionMatchesAnalyticArea) {
+    // A 64-gon of radius 10 cut by the half plane x >= 0 (a large square): half its area.
+    const Path2 circle = ngon(0, 0, 10, 64);
+    const double area = signed_area_mm2({circle});
+    EXPECT_NEAR(area, 0.5 * 64 * 100 * std::sin(2 * std::numbers::pi / 64),
+                perimeter_mm(circle) * 0.001);
+    EXPECT_NEAR(signed_area_mm2(intersection_of({circle}, {square(0, -20, 20, 20)})), area / 2,
+                1e-6 * area);
+}
+
+TEST(Offset, SquareGrowsAndShrinksWithMitredCorners) {
+    const Paths2 sq{square(0, 0, 10, 10)};
+    EXPECT_NEAR(signed_area_mm2(offset_of(sq, 1000)), 144.0, 1e-9);
+    EXPECT_NEAR(signed_area_mm2(offset_of(sq, -1000)), 64.0, 1e-9);
+    EXPECT_TRUE(offset_of(sq, -5001).empty());
+    EXPECT_TRUE(offset_of({square(0, 0, 20, 2)}, -1500).empty());
+}
+
+TEST(Offset, RingGrowsOutwardAndItsHoleShrinks) {
+    const Paths2 ring{square(0, 0, 20, 20), square(5, 5, 15, 15, true)};
+    const Paths2 grown = offset_of(ring, 1000);
+    EXPECT_NEAR(signed_area_mm2(grown), 22.0 * 22.0 - 8.0 * 8.0, 1e-9);
+    EXPECT_EQ(grown.size(), 2u);
+}
+
+TEST(Offset, RegularPolygonGrowsToALargerRegularPolygon) {
+    // Offsetting a regular n-gon by d with mitres moves each side out by d: the apothem
+    // becomes a + d and the area n (a + d)^2 tan(pi / n).
+    const int n = 64;
+    const Path2 poly = ngon(0, 0, 10, n);
+    const double a = 10.0 * std::cos(std::numbers::pi / n);
+    for (const double d : {1.0, -2.0}) {
+        const Paths2 out = offset_of({poly}, std::llround(d * 1000));
+        const double expected = n * (a + d) * (a + d) * std::tan(std::numbers::pi / n);
+        EXPECT_NEAR(signed_area_mm2(out), expected, perimeter_sum(out) * 0.001) << d;
+    }
+}
+
+}  // namespace
+}  // namespace maxslice::geom2d
