@@ -148,9 +148,12 @@ void expect_adaptive_properties(const AdaptiveCase& c, const LayerSettings& s) {
                      std::to_string(l.top) + "]");
         EXPECT_GE(l.thickness(), s.min_layer_mm - 1e-9);
         EXPECT_LE(l.thickness(), s.max_layer_mm + 1e-9);
-        // The cusp bound holds unless the layer is already at its minimum thickness.
+        // The cusp bound holds unless the layer is already at its minimum thickness, or it
+        // is the last one and too short to split into two layers of at least the minimum.
         const double cusp = l.thickness() * steepest_cos_in(c.mesh, c.base, l);
-        if (l.thickness() > s.min_layer_mm + 1e-9 && cusp > s.cusp_mm * (1.0 + 1e-6)) {
+        const bool forced = l.thickness() <= s.min_layer_mm + 1e-9 ||
+                            (i + 1 == c.layers.size() && l.thickness() < 2.0 * s.min_layer_mm);
+        if (!forced && cusp > s.cusp_mm * (1.0 + 1e-6)) {
             ++cusp_violations;
             ADD_FAILURE() << "cusp " << cusp << " > " << s.cusp_mm;
         }
@@ -217,10 +220,30 @@ TEST(AdaptiveLayers, VerticalWallsGetTheMaximumLayer) {
 }
 
 TEST(AdaptiveLayers, LayersCrossingFlatFacesStayUnderTheCusp) {
-    // A horizontal face has |n . d| = 1: a layer across it may be at most cusp thick.
+    // A horizontal face has |n . d| = 1: a layer across it may be at most cusp thick (or
+    // it ends on the face).
     expect_adaptive_properties(adaptive_case(test::nested_boxes(), {0, 0, 1}, kAdaptive),
                                kAdaptive);
     expect_adaptive_properties(adaptive_case(test::t_shape(), {0, 0, 1}, kAdaptive), kAdaptive);
+}
+
+TEST(AdaptiveLayers, FlatFaceJustAboveALayerBoundary) {
+    // Settings where a flat face (the cavity floor at z = 3, the bar's underside at z = 10)
+    // comes less than min_layer above a layer boundary.
+    const LayerSettings nested{.layer_mm = 0.2,
+                               .adaptive = true,
+                               .cusp_mm = 0.133,
+                               .min_layer_mm = 0.137,
+                               .max_layer_mm = 0.728};
+    ASSERT_TRUE(validate(nested).has_value());
+    expect_adaptive_properties(adaptive_case(test::nested_boxes(), {0, 0, 1}, nested), nested);
+    const LayerSettings tee{.layer_mm = 0.2,
+                            .adaptive = true,
+                            .cusp_mm = 0.155,
+                            .min_layer_mm = 0.161,
+                            .max_layer_mm = 0.449};
+    ASSERT_TRUE(validate(tee).has_value());
+    expect_adaptive_properties(adaptive_case(test::t_shape(), {0, 0, 1}, tee), tee);
 }
 
 }  // namespace

@@ -401,6 +401,27 @@ TEST(CutMesh, ResultsFollowTheOrderOfTheHeights) {
     }
 }
 
+TEST(CutMesh, RepeatedHeightsGiveRepeatedCuts) {
+    const std::vector<double> heights{1.0, 0.25, 1.0, 0.25};
+    const auto cuts = cut_mesh(test::tube(10.0, 3.0, 2.0, 32), kXY, heights);
+    ASSERT_TRUE(cuts.has_value());
+    ASSERT_EQ(cuts->size(), 4u);
+    EXPECT_EQ((*cuts)[0].loops, (*cuts)[2].loops);
+    EXPECT_EQ((*cuts)[1].loops, (*cuts)[3].loops);
+    EXPECT_EQ((*cuts)[0].loops.size(), 2u);
+}
+
+TEST(CutMesh, EmptyInputs) {
+    const auto none = cut_mesh(test::unit_cube(), kXY, std::span<const double>{});
+    ASSERT_TRUE(none.has_value());
+    EXPECT_TRUE(none->empty());
+    const double heights[] = {0.5};
+    const auto empty_mesh = cut_mesh(mesh::TriangleMesh{}, kXY, heights);
+    ASSERT_TRUE(empty_mesh.has_value());
+    ASSERT_EQ(empty_mesh->size(), 1u);
+    EXPECT_TRUE(empty_mesh->front().loops.empty());
+}
+
 TEST(CutMesh, SmallGapInAnOpenMeshIsClosedAndCounted) {
     mesh::TriangleMesh m = test::unit_cube();
     m.triangles.erase(m.triangles.begin() + 4);  // one triangle of a side wall
@@ -467,6 +488,35 @@ TEST(SliceMesh, NestedBoxesTreeHasAnIslandInAHole) {
     EXPECT_FALSE(island.is_hole);
     EXPECT_EQ(island.depth, 2);
     EXPECT_NEAR(core::um2_to_mm2(geom2d::signed_area_um2(island.wire)), 64.0, 1e-9);
+}
+
+TEST(SliceMesh, LayersKeepTheirGivenOrder) {
+    const test::TSpec t{};
+    const std::vector<LayerSpan> layers{{12.0, 12.5, 12.25}, {1.0, 1.5, 1.25}, {6.0, 6.5, 6.25}};
+    const auto slices = slice_mesh(test::t_shape(t), kXY, layers);
+    ASSERT_TRUE(slices.has_value());
+    ASSERT_EQ(slices->size(), layers.size());
+    for (std::size_t i = 0; i < layers.size(); ++i) {
+        EXPECT_EQ((*slices)[i].index, static_cast<int>(i));
+        EXPECT_EQ((*slices)[i].span.cut, layers[i].cut);
+        EXPECT_NEAR((*slices)[i].area_mm2(), test::t_shape_area_at(t, layers[i].cut), 1e-6);
+    }
+}
+
+TEST(SliceMesh, PartFarFromTheOrigin) {
+    // 100 m away: 2D coordinates stay in range and areas exact to the micrometre grid.
+    const auto m = test::translated(test::plate_with_holes(), {1e5, -1e5, 3e4});
+    const test::PlateSpec spec{};
+    const auto flat = slice_along(m, {0, 0, 1}, 0.25);
+    ASSERT_EQ(flat.size(), 8u);
+    for (const Slice& s : flat) {
+        EXPECT_EQ(static_cast<int>(s.wires.hole_count()), spec.n_holes);
+        EXPECT_NEAR(s.area_mm2(), test::plate_area_at(spec, 1.0),
+                    area_tolerance(test::plate_area_at(spec, 1.0), perimeter_mm(s.wires.paths())));
+    }
+    const auto tilted = slice_along(m, core::normalized({0.0, 0.1, 1.0}), 0.01);
+    EXPECT_NEAR(volume_of(tilted), test::plate_volume(spec),
+                kAreaRelative * test::plate_volume(spec));
 }
 
 TEST(SliceMesh, OverlappingBodiesMerge) {
