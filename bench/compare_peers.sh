@@ -1,0 +1,394 @@
+#!/usr/bin/env bash
+# Times maxslice and the peer slicers (PrusaSlicer, CuraEngine, Slic3r) in one run, on the
+# same models and layer heights, and checks the speed targets of the "foundation" issue.
+#
+#   bench/compare_peers.sh [options]
+#
+#   -r, --runs N          timed runs per measurement, median reported (default 3; one
+#                         unrecorded warm-up run comes first, so the page cache is warm)
+#   -m, --models LIST     comma-separated: lattice, bunny, bunny1m, torus2m or STL paths
+#                         (default lattice,bunny,torus2m)
+#   -l, --layers LIST     layer heights in mm, comma-separated (default 0.2,0.5)
+#   -p, --peers LIST      prusa,cura,slic3r or none (default all three)
+#   -b, --maxslice PATH   the maxslice binary (default build/release/apps/maxslice/maxslice,
+#                         built with scripts/build.sh release, or cmake, when missing)
+#   -t, --threads N       maxslice --threads (default 0 = all cores; the peers use both)
+#   -d, --models-dir DIR  where the generated models live (default build/bench-models,
+#                         git-ignored); bunny150/bunny1m/torus2m are made there if missing
+#   -P, --peers-dir DIR   the peer scripts (default /work/shared/peers, or $MAXSLICE_PEERS_DIR)
+#       --no-whole        skip the peers' whole-process timings (stages only; saves ~2/3)
+#       --wait-idle S     before each measurement wait up to S seconds for the rest of the
+#                         machine to use < 0.25 core (default 0: do not wait, only report)
+#       --tsv FILE        also write every median as a TSV row to FILE
+#   -h, --help
+#
+# The peers come from /work/shared/peers/install.sh DIR (run as root: apt-get installs
+# prusa-slicer, cura-engine, slic3r and GNU time; it also makes the models). CuraEngine
+# needs CURA_DEFS (default DIR/cura_defs).
+#
+# What is measured (all with a warm page cache: every file was read by the warm-up run):
+#   whole process  wall seconds (bash $EPOCHREALTIME around GNU time), CPU seconds (user +
+#                  system, GNU time) and peak RSS (GNU time %M) of each program: maxslice
+#                  reads, validates and slices; the peers also make toolpaths and G-code,
+#                  so these rows are context only.
+#   stages         maxslice: its own --timings (load = read + weld, validate, slice);
+#                  PrusaSlicer and CuraEngine: load and slice from their own logs
+#                  (stages.py); Slic3r has no stage log: its --export-svg run (start-up,
+#                  load and slicing, no toolpaths) is the closest it has to a slice stage.
+#   plain read     `cat FILE > /dev/null` (wall, includes starting cat, ~1 ms).
+#   foreign load   /proc/stat busy time of the whole machine during a run minus the run's
+#                  own CPU time, divided by its wall time: cores used by other work. Wall
+#                  times with a foreign load above ~0.2 core are inflated; CPU seconds less.
+# Targets (per model and layer height):
+#   (a) maxslice load (read + weld) >= 3x faster than CuraEngine's load stage
+#   (b) maxslice slice stage faster than CuraEngine's slice stage
+#   (c) maxslice slice stage <= 2x the plain read time of the file
+set -euo pipefail
+
+repo=$(cd "$(dirname "$0")/.." && pwd)
+runs=3
+models_arg=lattice,bunny,torus2m
+layers_arg=0.2,0.5
+peers_arg=prusa,cura,slic3r
+maxslice=$repo/build/release/apps/maxslice/maxslice
+threads=0
+models_dir=$repo/build/bench-models
+peers_dir=${MAXSLICE_PEERS_DIR:-/work/shared/peers}
+whole=1
+wait_idle=0
+tsv=
+
+usage() { sed -n '2,/^set -euo/p' "$0" | sed '$d' | sed 's/^# \{0,1\}//'; }
+die() { echo "compare_peers.sh: $*" >&2; exit 2; }
+
+while [ $# -gt 0 ]; do
+    case $1 in
+        -r|--runs) runs=${2:?}; shift 2 ;;
+        -m|--models) models_arg=${2:?}; shift 2 ;;
+        -l|--layers) layers_arg=${2:?}; shift 2 ;;
+        -p|--peers) peers_arg=${2:?}; shift 2 ;;
+        -b|--maxslice) maxslice=${2:?}; shift 2 ;;
+        -t|--threads) threads=${2:?}; shift 2 ;;
+        -d|--models-dir) models_dir=${2:?}; shift 2 ;;
+        -P|--peers-dir) peers_dir=${2:?}; shift 2 ;;
+        --no-whole) whole=0; shift ;;
+        --wait-idle) wait_idle=${2:?}; shift 2 ;;
+        --tsv) tsv=${2:?}; shift 2 ;;
+        -h|--help) usage; exit 0 ;;
+        *) die "unknown option '$1' (see --help)" ;;
+    esac
+done
+[[ $runs =~ ^[1-9][0-9]*$ ]] || die "--runs must be a positive integer"
+[[ $threads =~ ^[0-9]+$ ]] || die "--threads must be a non-negative integer"
+IFS=', ' read -r -a model_names <<< "$models_arg"
+IFS=', ' read -r -a layers <<< "$layers_arg"
+IFS=', ' read -r -a peers <<< "$peers_arg"
+[ "${peers[*]}" = none ] && peers=()
+for p in "${peers[@]}"; do
+    case $p in prusa|cura|slic3r) ;; *) die "unknown peer '$p' (prusa, cura, slic3r)" ;; esac
+done
+
+gnu_time=/usr/bin/time
+[ -x "$gnu_time" ] || die "GNU time not found (Debian package 'time')"
+mkdir -p "$models_dir"
+models_dir=$(cd "$models_dir" && pwd)
+export CURA_DEFS=${CURA_DEFS:-$models_dir/cura_defs}
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+
+# ---------------------------------------------------------------- the maxslice binary
+if [ ! -x "$maxslice" ]; then
+    echo "compare_peers.sh: $maxslice missing, building it" >&2
+    if [ -f "$repo/scripts/build.sh" ] && bash "$repo/scripts/build.sh" release >&2; then :
+    else
+        cmake -S "$repo" -B "$repo/build/release" -G Ninja -DCMAKE_BUILD_TYPE=Release >&2
+        cmake --build "$repo/build/release" --target maxslice >&2
+    fi
+fi
+[ -x "$maxslice" ] || die "no maxslice binary at $maxslice"
+
+# ---------------------------------------------------------------- peers available?
+have_peer() {
+    case $1 in
+        prusa) type -P prusa-slicer >/dev/null ;;
+        cura) type -P CuraEngine >/dev/null && [ -f "$CURA_DEFS/fdmprinter.def.json" ] ;;
+        slic3r) type -P slic3r >/dev/null ;;
+    esac
+}
+active_peers=()
+for p in "${peers[@]}"; do
+    if have_peer "$p"; then active_peers+=("$p")
+    else echo "compare_peers.sh: peer '$p' not installed (run $peers_dir/install.sh $models_dir as root); skipped" >&2
+    fi
+done
+peers=("${active_peers[@]}")
+
+# ---------------------------------------------------------------- models
+mk() { python3 "$peers_dir/make_big_mesh.py" "$@" >&2; }
+model_path() {              # name or path -> path, making the generated models if missing
+    local f
+    case $1 in
+        lattice) echo /work/shared/testdata/large/Spiral_lattice_cone_2_occt.stl; return ;;
+        bunny) f=$models_dir/bunny150.stl ;;
+        bunny1m) f=$models_dir/bunny1m.stl ;;
+        torus2m) f=$models_dir/torus2m.stl ;;
+        *) [ -f "$1" ] || die "no model '$1'"; echo "$1"; return ;;
+    esac
+    if [ ! -f "$f" ]; then
+        local src=$models_dir/stl-models/objects/bunny.bin.stl
+        case $1 in
+            torus2m) mk torus "$f" --nu 1000 --nv 1000 ;;
+            bunny|bunny1m)
+                [ -f "$src" ] || die "$src missing: run $peers_dir/install.sh $models_dir"
+                [ -f "$models_dir/bunny150.stl" ] ||
+                    mk transform "$src" "$models_dir/bunny150.stl" --scale 1000 --yup --sink 7
+                [ "$1" = bunny1m ] && mk subdivide "$models_dir/bunny150.stl" "$f" --levels 2 ;;
+        esac
+    fi
+    echo "$f"
+}
+
+# ---------------------------------------------------------------- measuring
+busy_jiffies() { awk '/^cpu / { print $2 + $3 + $4 + $7 + $8 + $9; exit }' /proc/stat; }
+median() { sort -g | awk '{ a[NR] = $1 } END { if (NR == 0) print "nan"; else print (NR % 2) ? a[(NR + 1) / 2] : (a[NR / 2] + a[NR / 2 + 1]) / 2 }'; }
+hz=$(getconf CLK_TCK)
+
+# Cores used by everything else over `secs` seconds, while we do nothing.
+idle_sample() {
+    local b0 b1
+    b0=$(busy_jiffies); sleep "$1"; b1=$(busy_jiffies)
+    awk -v d=$((b1 - b0)) -v hz="$hz" -v s="$1" 'BEGIN { printf "%.2f", d / hz / s }'
+}
+wait_for_idle() {
+    [ "$wait_idle" = 0 ] && return 0
+    local deadline=$((SECONDS + wait_idle)) load
+    while :; do
+        load=$(idle_sample 2)
+        awk -v l="$load" 'BEGIN { exit !(l < 0.25) }' && return 0
+        if [ $SECONDS -ge $deadline ]; then
+            echo "compare_peers.sh: machine still busy ($load cores) after ${wait_idle}s; measuring anyway" >&2
+            return 0
+        fi
+        echo "compare_peers.sh: waiting for the machine to be idle ($load cores busy)" >&2
+        sleep 3
+    done
+}
+
+# measure KEY CMD... : 1 warm-up + $runs timed runs. Leaves per-run rows in $work/KEY.runs
+# (wall user sys maxrss_kib exit foreign_cores) and each run's stderr in $work/KEY.errN.
+measure() {
+    local key=$1; shift
+    local i t0 t1 b0 b1 rc
+    wait_for_idle
+    : > "$work/$key.runs"
+    for i in $(seq 0 "$runs"); do
+        rc=0
+        b0=$(busy_jiffies); t0=$EPOCHREALTIME
+        "$gnu_time" -o "$work/time.out" -f '%U %S %M' "$@" >/dev/null 2>"$work/$key.err$i" || rc=$?
+        t1=$EPOCHREALTIME; b1=$(busy_jiffies)
+        [ "$i" -eq 0 ] && continue
+        awk -v t0="$t0" -v t1="$t1" -v b="$((b1 - b0))" -v hz="$hz" -v rc="$rc" '
+            END { wall = t1 - t0; own = $1 + $2
+                  foreign = (b / hz - own) / wall; if (foreign < 0) foreign = 0
+                  printf "%.4f %.2f %.2f %d %d %.2f\n", wall, $1, $2, $3, rc, foreign }' \
+            "$work/time.out" >> "$work/$key.runs"
+    done
+}
+col() { awk -v c="$2" '{ print $c }' "$work/$1.runs" | median; }
+cpu_med() { awk '{ print $2 + $3 }' "$work/$1.runs" | median; }
+rss_med() { awk '{ print $4 / 1024 }' "$work/$1.runs" | median; }
+max_foreign() { awk 'BEGIN { m = 0 } $6 > m { m = $6 } END { printf "%.2f", m }' "$work/$1.runs"; }
+exits() { awk '{ print $5 }' "$work/$1.runs" | sort -u | paste -sd, -; }
+# Median of a "timing NAME S" line over the timed runs' stderr.
+ms_stage() {
+    local key=$1 name=$2 i
+    for i in $(seq 1 "$runs"); do
+        awk -v n="$name" '$1 == "timing" && $2 == n { print $3 }' "$work/$key.err$i"
+    done | median
+}
+ratio() { awk -v a="$1" -v b="$2" 'BEGIN { if (a == "" || b == "" || a == "nan" || b == "nan" || b + 0 == 0) print "-"; else printf "%.2f", a / b }'; }
+num() { awk -v a="$1" -v p="${2:-3}" 'BEGIN { if (a == "" || a == "nan") print "-"; else printf "%.*f", p, a }'; }
+
+declare -A R              # results: R[model|layer|what] = value
+emit_tsv() { [ -n "$tsv" ] && printf '%s\n' "$(IFS=$'\t'; echo "$*")" >> "$tsv"; return 0; }
+[ -n "$tsv" ] && printf 'model\tlayer_mm\ttool\tmetric\tvalue\n' > "$tsv"
+
+# ---------------------------------------------------------------- header
+commit=$(git -C "$repo" rev-parse --short HEAD 2>/dev/null || echo unknown)
+dirty=$(git -C "$repo" status --porcelain --untracked-files=no 2>/dev/null | grep -q . && echo " (+ uncommitted changes)" || true)
+echo "# maxslice vs peer slicers  $(date -u '+%Y-%m-%d %H:%M UTC')"
+echo "commit $commit$dirty; maxslice: $maxslice (--threads $threads)"
+echo "machine: $(nproc) cores, $(awk -F': ' '/model name/ { print $2; exit }' /proc/cpuinfo), $(awk '/MemTotal/ { printf "%.0f GiB", $2 / 1048576 }' /proc/meminfo); $(. /etc/os-release; echo "$PRETTY_NAME")"
+for p in "${peers[@]}"; do
+    case $p in
+        prusa) echo "peer PrusaSlicer $(dpkg-query -W -f '${Version}' prusa-slicer 2>/dev/null)" ;;
+        cura) echo "peer CuraEngine $(dpkg-query -W -f '${Version}' cura-engine 2>/dev/null)  (CURA_DEFS=$CURA_DEFS)" ;;
+        slic3r) echo "peer Slic3r $(dpkg-query -W -f '${Version}' slic3r 2>/dev/null)" ;;
+    esac
+done
+echo "runs: median of $runs after 1 warm-up (warm page cache); load average at start: $(cut -d' ' -f1-3 /proc/loadavg); other work now: $(idle_sample 1) cores"
+echo
+
+# ---------------------------------------------------------------- the measurements
+model_files=()
+declare -A short              # file -> name shown in the tables
+for name in "${model_names[@]}"; do
+    f=$(model_path "$name"); model_files+=("$f")
+    case $name in lattice) short[$f]=lattice_cone ;; *) short[$f]=$(basename "$f" .stl) ;; esac
+done
+
+for f in "${model_files[@]}"; do
+    m=${short[$f]}
+    echo "## $m  ($f, $(awk -v s="$(stat -c %s "$f")" 'BEGIN { printf "%.1f MB", s / 1e6 }'))"
+    info_out=$("$maxslice" info "$f" 2>&1) || true
+    head -n 14 <<< "$info_out" | sed "s/^/    /"
+
+    # Plain read of the file, warm cache.
+    : > "$work/cat.t"
+    cat "$f" > /dev/null
+    for i in $(seq 1 $((runs > 5 ? runs : 5))); do
+        t0=$EPOCHREALTIME; cat "$f" > /dev/null; t1=$EPOCHREALTIME
+        awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.5f\n", b - a }' >> "$work/cat.t"
+    done
+    read_s=$(median < "$work/cat.t")
+    R["$m|read"]=$read_s
+    emit_tsv "$m" - cat read_s "$read_s"
+    echo "plain read (cat FILE > /dev/null, warm cache, median of $(wc -l < "$work/cat.t")): $(num "$read_s" 4) s"
+    echo
+
+    for L in "${layers[@]}"; do
+        k=$m.$L
+        measure "$k.maxslice" "$maxslice" slice "$f" --layer "$L" --timings --threads "$threads"
+        for s in load validate slice; do R["$m|$L|ms_$s"]=$(ms_stage "$k.maxslice" "$s"); done
+        R["$m|$L|ms_exit"]=$(exits "$k.maxslice")
+        if [ "${R[$m|$L|ms_exit]}" != 0 ]; then
+            # Refused (e.g. an open mesh): its load and validate stages still come from `info`.
+            R["$m|$L|ms_error"]=$(grep -m1 -h "error" "$work/$k.maxslice.err1" | sed "s/^maxslice: //" || true)
+            measure "$k.msinfo" "$maxslice" info "$f" --timings --threads "$threads"
+            for s in load validate; do R["$m|$L|ms_$s"]=$(ms_stage "$k.msinfo" "$s"); done
+        fi
+        if [ "$whole" = 1 ]; then
+            for p in "${peers[@]}"; do
+                measure "$k.$p" "$peers_dir/slice_$p.sh" "$f" "$L" "$work/out.gcode"
+                rm -f "$work/out.gcode"
+            done
+        fi
+        if [[ " ${peers[*]} " == *" slic3r "* ]]; then
+            measure "$k.slic3r-svg" env SVG_ONLY=1 "$peers_dir/slice_slic3r.sh" "$f" "$L" "$work/out.svg"
+            rm -f "$work/out.svg"
+        fi
+        # PrusaSlicer's and CuraEngine's own stage times (stages.py runs both, $runs times).
+        if [[ " ${peers[*]} " == *" prusa "* || " ${peers[*]} " == *" cura "* ]]; then
+            wait_for_idle
+            b0=$(busy_jiffies); t0=$EPOCHREALTIME
+            "$gnu_time" -o "$work/time.out" -f '%U %S' \
+                python3 "$peers_dir/stages.py" "$f" "$L" "$runs" > "$work/$k.stages" 2>/dev/null || true
+            t1=$EPOCHREALTIME; b1=$(busy_jiffies)
+            R["$m|$L|stages_foreign"]=$(awk -v t0="$t0" -v t1="$t1" -v b="$((b1 - b0))" -v hz="$hz" \
+                'END { f = (b / hz - $1 - $2) / (t1 - t0); printf "%.2f", f < 0 ? 0 : f }' "$work/time.out")
+            while IFS=$'\t' read -r _ _ peer load slice _; do
+                [ "$peer" = peer ] && continue
+                [ "$load" = failed ] && { R["$m|$L|${peer}_load"]=failed; continue; }
+                R["$m|$L|${peer}_load"]=$load; R["$m|$L|${peer}_slice"]=$slice
+            done < "$work/$k.stages"
+        fi
+
+        # ---- report for this model and layer
+        echo "### $m, layer $L mm"
+        echo
+        echo "Whole process (context: maxslice = read + validate + slice; peers also do toolpaths + G-code)"
+        echo
+        printf '| %-22s | %5s | %8s | %8s | %8s | %13s | %12s | %7s |\n' tool exit "wall s" "cpu s" \
+            "peak MiB" "wall peer/ms" "MiB peer/ms" foreign
+        printf '|%s|%s:|%s:|%s:|%s:|%s:|%s:|%s:|\n' ------------------------ ------ --------- --------- \
+            --------- -------------- ------------- --------
+        tools=(maxslice)
+        [ "$whole" = 1 ] && tools+=("${peers[@]}")
+        [[ " ${peers[*]} " == *" slic3r "* ]] && tools+=(slic3r-svg)
+        ms_wall=$(col "$k.maxslice" 1); ms_rss=$(rss_med "$k.maxslice")
+        for t in "${tools[@]}"; do
+            wall=$(col "$k.$t" 1); cpu=$(cpu_med "$k.$t"); rss=$(rss_med "$k.$t")
+            label=$t
+            case $t in
+                prusa) label="PrusaSlicer" ;; cura) label="CuraEngine" ;; slic3r) label="Slic3r" ;;
+                slic3r-svg) label="Slic3r --export-svg" ;;
+            esac
+            printf '| %-22s | %5s | %8s | %8s | %8s | %13s | %12s | %7s |\n' "$label" "$(exits "$k.$t")" \
+                "$(num "$wall")" "$(num "$cpu" 2)" "$(num "$rss" 0)" "$(ratio "$wall" "$ms_wall")" \
+                "$(ratio "$rss" "$ms_rss")" "$(max_foreign "$k.$t")"
+            R["$m|$L|${t}_wall"]=$wall; R["$m|$L|${t}_cpu"]=$cpu; R["$m|$L|${t}_rss"]=$rss
+            emit_tsv "$m" "$L" "$t" wall_s "$wall"; emit_tsv "$m" "$L" "$t" cpu_s "$cpu"
+            emit_tsv "$m" "$L" "$t" peak_MiB "$rss"; emit_tsv "$m" "$L" "$t" exit "$(exits "$k.$t")"
+        done
+        [ -n "${R[$m|$L|ms_error]:-}" ] && echo "${R[$m|$L|ms_error]}"
+        echo
+        echo "Stages (s; median of $runs; peers' from their own logs, foreign load during them ${R[$m|$L|stages_foreign]:--} cores)"
+        echo
+        printf '| %-22s | %8s | %8s | %8s | %12s | %13s |\n' tool load validate slice \
+            "load peer/ms" "slice peer/ms"
+        printf '|%s|%s:|%s:|%s:|%s:|%s:|\n' ------------------------ --------- --------- --------- \
+            -------------- ---------------
+        printf '| %-22s | %8s | %8s | %8s | %12s | %13s |\n' "maxslice" "$(num "${R[$m|$L|ms_load]}")" \
+            "$(num "${R[$m|$L|ms_validate]}")" "$(num "${R[$m|$L|ms_slice]}")" 1.00 1.00
+        for p in prusa cura; do
+            [[ " ${peers[*]} " == *" $p "* ]] || continue
+            label=PrusaSlicer; [ $p = cura ] && label=CuraEngine
+            printf '| %-22s | %8s | %8s | %8s | %12s | %13s |\n' "$label" "$(num "${R[$m|$L|${p}_load]:-}")" \
+                - "$(num "${R[$m|$L|${p}_slice]:-}")" \
+                "$(ratio "${R[$m|$L|${p}_load]:-}" "${R[$m|$L|ms_load]}")" \
+                "$(ratio "${R[$m|$L|${p}_slice]:-}" "${R[$m|$L|ms_slice]}")"
+            emit_tsv "$m" "$L" "$p" stage_load_s "${R[$m|$L|${p}_load]:-}"
+            emit_tsv "$m" "$L" "$p" stage_slice_s "${R[$m|$L|${p}_slice]:-}"
+        done
+        if [[ " ${peers[*]} " == *" slic3r "* ]]; then
+            ms_ls=$(awk -v a="${R[$m|$L|ms_load]}" -v b="${R[$m|$L|ms_slice]}" 'BEGIN { print a + b }')
+            printf '| %-22s | %8s | %8s | %8s | %12s | %13s |\n' "Slic3r (svg, whole)" - - \
+                "$(num "${R[$m|$L|slic3r-svg_wall]}")" - "$(ratio "${R[$m|$L|slic3r-svg_wall]}" "$ms_ls")"
+            echo "(Slic3r: whole --export-svg process, incl. start-up and load; its ratio is against maxslice load + slice)"
+        fi
+        for s in load validate slice; do emit_tsv "$m" "$L" maxslice "stage_${s}_s" "${R[$m|$L|ms_$s]}"; done
+        echo
+    done
+done
+
+# ---------------------------------------------------------------- targets
+verdict() {                 # verdict RATIO OP LIMIT
+    awk -v v="$1" -v op="$2" -v l="$3" 'BEGIN {
+        if (v == "-") { print "n/a"; exit }
+        ok = (op == ">=") ? v + 0 >= l : (op == ">") ? v + 0 > l : v + 0 <= l
+        print ok ? "holds" : "FAILS" }'
+}
+echo "## Targets"
+echo
+echo "(a) maxslice load (read + weld) at least 3x faster than CuraEngine's load stage"
+echo "(b) maxslice slice stage faster than CuraEngine's slice stage"
+echo "(c) maxslice slice stage within 2x of the plain read time of the file (cat, warm cache)"
+echo
+printf '| %-16s | %5s | %8s | %9s | %11s | %-6s | %8s | %10s | %12s | %-6s | %8s | %10s | %-6s |\n' \
+    model layer "ms load" "cura load" "cura/ms" "(a)" "ms slice" "cura slice" "cura/ms" "(b)" "read" "ms slice/read" "(c)"
+printf '|%s|%s:|%s:|%s:|%s:|%s|%s:|%s:|%s:|%s|%s:|%s:|%s|\n' ------------------ ------ --------- ---------- \
+    ------------ -------- --------- ----------- ------------- -------- --------- ----------- --------
+for f in "${model_files[@]}"; do
+    m=${short[$f]}
+    for L in "${layers[@]}"; do
+        ml=${R[$m|$L|ms_load]}; ms=${R[$m|$L|ms_slice]}
+        cl=${R[$m|$L|cura_load]:-}; cs=${R[$m|$L|cura_slice]:-}
+        rd=${R[$m|read]}
+        ra=$(ratio "$cl" "$ml"); rb=$(ratio "$cs" "$ms"); rc=$(ratio "$ms" "$rd")
+        printf '| %-16s | %5s | %8s | %9s | %11s | %-6s | %8s | %10s | %12s | %-6s | %8s | %10s | %-6s |\n' \
+            "$m" "$L" "$(num "$ml")" "$(num "$cl")" "$ra" "$(verdict "$ra" ">=" 3)" "$(num "$ms")" \
+            "$(num "$cs")" "$rb" "$(verdict "$rb" ">" 1)" "$(num "$rd" 4)" "$rc" "$(verdict "$rc" "<=" 2)"
+        emit_tsv "$m" "$L" target a_ratio "$ra"; emit_tsv "$m" "$L" target b_ratio "$rb"
+        emit_tsv "$m" "$L" target c_ratio "$rc"
+    done
+done
+echo
+echo "(a) holds when cura/ms >= 3; (b) when cura/ms > 1; (c) when maxslice slice / plain read <= 2."
+for f in "${model_files[@]}"; do
+    m=${short[$f]}
+    for L in "${layers[@]}"; do
+        [ -n "${R[$m|$L|ms_error]:-}" ] &&
+            echo "$m $L mm: maxslice refused to slice (exit ${R[$m|$L|ms_exit]}; load from 'maxslice info --timings'): ${R[$m|$L|ms_error]}"
+    done
+done
+echo "load average at end: $(cut -d' ' -f1-3 /proc/loadavg); largest foreign load in any timed run is in the 'foreign' columns (cores)."
