@@ -36,21 +36,23 @@ core::Result<void> check_sliceable(const mesh::ValidationReport& r, bool repaire
     }
     const std::string hint = repaired ? "" : "; rerun with --repair to fix the orientation";
     if (r.misoriented_edges.count > 0) {
-        return refuse(fmt::format("inconsistent orientation: {} edges are used twice in the same "
-                                  "direction{}{}",
-                                  r.misoriented_edges.count, where(r.misoriented_edges), hint));
+        return refuse(
+            fmt::format("inconsistent orientation: {} edges are used twice in the same "
+                        "direction{}{}",
+                        r.misoriented_edges.count, where(r.misoriented_edges), hint));
     }
     const double diag = core::norm(r.bounding_box.size());
     // A volume this small against the box means the triangles enclose nothing (a sheet,
     // a soup of loose faces).
     if (!(std::abs(r.volume_mm3) > 1e-9 * diag * diag * diag)) {
-        return refuse(fmt::format("the mesh encloses no volume ({} triangles, {} open edges): "
-                                  "it is a surface, not a solid",
-                                  r.triangles, r.boundary_edges.count));
+        return refuse(
+            fmt::format("the mesh encloses no volume ({} triangles, {} open edges): "
+                        "it is a surface, not a solid",
+                        r.triangles, r.boundary_edges.count));
     }
     if (r.volume_mm3 < 0.0) {
-        return refuse(fmt::format("the mesh is inside-out (volume {:.6g} mm3){}", r.volume_mm3,
-                                  hint));
+        return refuse(
+            fmt::format("the mesh is inside-out (volume {:.6g} mm3){}", r.volume_mm3, hint));
     }
     return {};
 }
@@ -110,9 +112,8 @@ core::Result<SliceStack> slice_part(const mesh::TriangleMesh& mesh, const SliceS
     stack.base = slice::base_frame(mesh, settings.direction);
     const auto [lo, hi] = slice::extent_along(mesh, stack.base);
     const std::vector<slice::LayerSpan> layers =
-        settings.layers.adaptive
-            ? slice::adaptive_layers(mesh, stack.base.normal, lo, hi, settings.layers)
-            : slice::uniform_layers(lo, hi, settings.layers.layer_mm);
+        settings.layers.adaptive ? slice::adaptive_layers(mesh, stack.base, lo, hi, settings.layers)
+                                 : slice::uniform_layers(lo, hi, settings.layers.layer_mm);
     if (layers.empty()) {
         return core::fail(core::ErrorCode::kInvalidInput,
                           fmt::format("the part has no extent along the slicing direction "

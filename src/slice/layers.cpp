@@ -50,7 +50,7 @@ std::vector<LayerSpan> uniform_layers(double from, double to, double layer_mm) {
     return out;
 }
 
-std::vector<LayerSpan> adaptive_layers(const mesh::TriangleMesh& mesh, const core::Vec3d& direction,
+std::vector<LayerSpan> adaptive_layers(const mesh::TriangleMesh& mesh, const PlaneFrame& base,
                                        double from, double to, const LayerSettings& s) {
     // Cusp height of a facet with unit normal n cut by layers of thickness h along d is
     // c = h |n . d| (METHOD.md section 2), so a facet allows h <= cusp / |n . d|. Facets are
@@ -61,11 +61,11 @@ std::vector<LayerSpan> adaptive_layers(const mesh::TriangleMesh& mesh, const cor
     std::vector<Facet> facets;
     std::vector<double> flats;  // heights of flat facets: good places for a layer boundary
     facets.reserve(mesh.triangles.size());
-    const core::Vec3d d = core::normalized(direction);
+    const core::Vec3d d = base.normal;
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
         const core::Vec3d a = mesh.corner(t, 0), b = mesh.corner(t, 1), c = mesh.corner(t, 2);
         const core::Vec3d n = core::normalized(core::cross(b - a, c - a));
-        const double ha = core::dot(a, d), hb = core::dot(b, d), hc = core::dot(c, d);
+        const double ha = base.height(a), hb = base.height(b), hc = base.height(c);
         const double cos = std::abs(core::dot(n, d));
         if (cos >= kFlatFacetCos) {
             flats.push_back(ha);
@@ -91,13 +91,26 @@ std::vector<LayerSpan> adaptive_layers(const mesh::TriangleMesh& mesh, const cor
             if (f.lo < z + h && f.cos > 0.0) h = std::min(h, s.cusp_mm / f.cos);
         }
         h = std::clamp(h, hmin, hmax);
-        // End the layer on a flat face inside it, so flat tops and steps are exact.
-        auto flat = std::upper_bound(flats.begin(), flats.end(), z + hmin);
-        if (flat != flats.end() && *flat < z + h) h = *flat - z;
-        // Do not leave a remainder thinner than h_min at the top: finish in one layer when
-        // that stays within h_max, else split what is left in two.
+        // A flat face inside the layer is a step the layer would blur by up to its whole
+        // thickness: end the layer on it when that leaves at least h_min, else keep the
+        // layer as thin as a facet with |n . d| = 1 allows.
+        auto flat = std::upper_bound(flats.begin(), flats.end(), z);
+        if (flat != flats.end() && *flat < z + h) {
+            h = *flat - z >= hmin ? *flat - z : std::min(h, std::max(hmin, s.cusp_mm));
+        }
+        // Do not leave a remainder thinner than h_min at the top: finish here when what is
+        // left fits, else stop h_min short of the top (thinner than the cusp bound allows,
+        // so still within it) and let the last layer be h_min.
         const double left = to - z;
-        if (left - h < hmin) h = left <= hmax ? left : std::max(hmin, 0.5 * left);
+        if (left <= h) {
+            h = left;
+        } else if (left - h < hmin) {
+            if (left >= 2.0 * hmin) {
+                h = left - hmin;
+            } else {
+                h = left <= hmax ? left : 0.5 * left;  // forced: [from, to] leaves no choice
+            }
+        }
         out.push_back(make_span(z, z + h));
         z += h;
     }

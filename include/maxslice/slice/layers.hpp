@@ -5,6 +5,7 @@
 #include "maxslice/core/result.hpp"
 #include "maxslice/core/vec3.hpp"
 #include "maxslice/mesh/triangle_mesh.hpp"
+#include "maxslice/slice/plane_frame.hpp"
 
 namespace maxslice::slice {
 
@@ -33,11 +34,13 @@ struct LayerSettings {
 /// (a remainder thinner than 1% of the layer is merged into the previous layer).
 [[nodiscard]] std::vector<LayerSpan> uniform_layers(double from, double to, double layer_mm);
 
-/// Adaptive layers along direction (unit) over the mesh's extent: each layer is as thick as
-/// the cusp bound allows for the facets it crosses (c = h |n . d|), clamped to
-/// [min_layer_mm, max_layer_mm]. Heights are measured from `base_height`.
+/// Adaptive layers along base.normal over heights [from, to] measured from the base plane
+/// (as extent_along gives them): each layer is as thick as the cusp bound allows for the
+/// facets it crosses (c = h |n . d|), clamped to [min_layer_mm, max_layer_mm], and ends on a
+/// flat face when one lies inside it. Only the last layer may be thinner than min_layer_mm,
+/// when [from, to] itself is.
 [[nodiscard]] std::vector<LayerSpan> adaptive_layers(const mesh::TriangleMesh& mesh,
-                                                     const core::Vec3d& direction, double from,
-                                                     double to, const LayerSettings& settings);
+                                                     const PlaneFrame& base, double from, double to,
+                                                     const LayerSettings& settings);
 
 }  // namespace maxslice::slice

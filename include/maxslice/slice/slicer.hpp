@@ -27,7 +27,8 @@ struct Slice {
 };
 
 /// Raw cut of a mesh by one plane: closed loops, oriented (solid on the left), before
-/// any union. `open_chains` counts chains that did not close by themselves.
+/// any union. `gaps_closed` counts gaps bridged in open chains (open meshes), `open_chains`
+/// the chains still open after bridging (they are dropped).
 struct PlaneCut {
     geom2d::Paths2 loops;
     int open_chains = 0;
@@ -53,7 +54,7 @@ struct PlaneCut {
                                                           const core::Progress* progress = nullptr);
 
 /// The base frame for slicing a mesh along direction: normal = direction, origin at the
-/// mesh's lowest point along it (so heights run from 0 to the part's extent).
+/// point d * (lowest height of the mesh along d), so heights run from 0 to the part's extent.
 [[nodiscard]] PlaneFrame base_frame(const mesh::TriangleMesh& mesh, const core::Vec3d& direction);
 /// The mesh's extent along the frame's normal: [min height, max height].
 [[nodiscard]] std::pair<double, double> extent_along(const mesh::TriangleMesh& mesh,

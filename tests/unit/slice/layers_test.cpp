@@ -134,7 +134,7 @@ AdaptiveCase adaptive_case(mesh::TriangleMesh m, const Vec3d& dir, const LayerSe
     AdaptiveCase c;
     c.base = base_frame(m, dir);
     std::tie(c.lo, c.hi) = extent_along(m, c.base);
-    c.layers = adaptive_layers(m, c.base.normal, c.lo, c.hi, s);
+    c.layers = adaptive_layers(m, c.base, c.lo, c.hi, s);
     c.mesh = std::move(m);
     return c;
 }

@@ -210,7 +210,7 @@ TEST_P(SliceFixture, AdaptiveLayersIntegrateToTheVolume) {
     ASSERT_TRUE(validate(s).has_value());
     const PlaneFrame base = base_frame(f.mesh, {0, 0, 1});
     const auto [lo, hi] = extent_along(f.mesh, base);
-    const auto layers = adaptive_layers(f.mesh, base.normal, lo, hi, s);
+    const auto layers = adaptive_layers(f.mesh, base, lo, hi, s);
     ASSERT_FALSE(layers.empty());
     EXPECT_EQ(layers.front().bottom, lo);
     EXPECT_EQ(layers.back().top, hi);
