@@ -1,0 +1,223 @@
+// A strict first look at OBJ text before assimp parses it. Assimp's number parser reads
+// "3.1+e2" as 3.1 and stops, and its index checks report no line; both would let a damaged
+// file through as a different shape or fail without saying where. This pass reads only
+// 'v', 'f', 'p' and 'l' statements, joins lines continued with a trailing backslash, and
+// leaves everything else (groups, materials, texture coordinates) to assimp.
+
+#include <fmt/format.h>
+
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <string>
+
+#include "readers.hpp"
+
+namespace maxslice::io::detail {
+namespace {
+
+bool is_blank(char c) {
+    return c == ' ' || c == '\t' || c == '\f' || c == '\v' || c == '\r';
+}
+
+// One logical OBJ statement: its text (continuations joined with a space) and first line.
+struct Statement {
+    std::string_view text;
+    std::string joined;  // only used when the statement was continued
+    std::size_t line = 0;
+};
+
+class StatementReader {
+public:
+    explicit StatementReader(std::string_view text) : text_(text) {}
+
+    bool next(Statement& st) {
+        if (pos_ >= text_.size()) return false;
+        st.line = line_;
+        st.joined.clear();
+        bool continued = false;
+        while (pos_ < text_.size()) {
+            std::size_t eol = text_.find('\n', pos_);
+            if (eol == std::string_view::npos) eol = text_.size();
+            std::string_view piece = text_.substr(pos_, eol - pos_);
+            pos_ = eol + 1;
+            ++line_;
+            while (!piece.empty() && is_blank(piece.back())) piece.remove_suffix(1);
+            if (!piece.empty() && piece.back() == '\\') {
+                piece.remove_suffix(1);
+                st.joined.append(piece);
+                st.joined.push_back(' ');
+                continued = true;
+                continue;
+            }
+            if (continued) {
+                st.joined.append(piece);
+                st.text = st.joined;
+            } else {
+                st.text = piece;
+            }
+            return true;
+        }
+        st.text = st.joined;  // the file ended on a continuation
+        return true;
+    }
+
+private:
+    std::string_view text_;
+    std::size_t pos_ = 0;
+    std::size_t line_ = 1;
+};
+
+// Splits a statement into its keyword and the whitespace-separated arguments.
+class Tokens {
+public:
+    explicit Tokens(std::string_view s) : s_(s) {}
+    std::string_view next() {
+        while (pos_ < s_.size() && (is_blank(s_[pos_]) || s_[pos_] == '\n')) ++pos_;
+        const std::size_t start = pos_;
+        while (pos_ < s_.size() && !is_blank(s_[pos_]) && s_[pos_] != '\n') ++pos_;
+        return s_.substr(start, pos_ - start);
+    }
+
+private:
+    std::string_view s_;
+    std::size_t pos_ = 0;
+};
+
+std::string shown(std::string_view token) {
+    std::string out = "'";
+    for (std::size_t i = 0; i < token.size() && i < 40; ++i) {
+        const auto c = static_cast<unsigned char>(token[i]);
+        out += (c >= 0x20 && c < 0x7F) ? std::string(1, static_cast<char>(c))
+                                       : fmt::format("\\x{:02X}", c);
+    }
+    return out + (token.size() > 40 ? "...'" : "'");
+}
+
+std::unexpected<core::Error> error_at(std::size_t line, const std::string& what) {
+    return core::fail(core::ErrorCode::kInvalidInput, fmt::format("line {}: {}", line, what));
+}
+
+// Vertex, texture and normal counts: the file's totals (positive indices may point
+// forward, as assimp resolves them after reading the whole file) and those read so far
+// (negative indices are relative to them).
+struct Counts {
+    std::size_t total[3] = {0, 0, 0};
+    std::size_t so_far[3] = {0, 0, 0};
+};
+
+constexpr const char* kKind[3] = {"vertex", "texture", "normal"};
+constexpr const char* kKinds[3] = {"vertices", "texture coordinates", "normals"};
+
+int kind_of(std::string_view keyword) {
+    if (keyword == "v") return 0;
+    if (keyword == "vt") return 1;
+    if (keyword == "vn") return 2;
+    return -1;
+}
+
+// One corner of a face, line or point: "7", "7/2", "7//3", "-1/-1/-1".
+core::Result<void> check_corner(std::string_view corner, const Counts& counts, std::size_t line) {
+    std::size_t begin = 0;
+    for (int part = 0; part < 3 && begin <= corner.size(); ++part) {
+        std::size_t end = corner.find('/', begin);
+        if (end == std::string_view::npos) end = corner.size();
+        const std::string_view text = corner.substr(begin, end - begin);
+        begin = end + 1;
+        if (text.empty() && part > 0) continue;  // "7//3" has no texture index
+        std::int64_t i = 0;
+        const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), i);
+        if (text.empty() || ec != std::errc{} || ptr != text.data() + text.size()) {
+            return error_at(line,
+                            fmt::format("face corner {} is not made of indices", shown(corner)));
+        }
+        const char* kind = kKind[part];
+        if (i == 0) {
+            return error_at(line, fmt::format("{} index 0 in {}: OBJ indices start at 1 (or -1 "
+                                              "for the last one)",
+                                              kind, shown(corner)));
+        }
+        if (i > 0 && static_cast<std::uint64_t>(i) > counts.total[part]) {
+            return error_at(line, fmt::format("{} index {} but the file has only {} {}", kind, i,
+                                              counts.total[part], kKinds[part]));
+        }
+        if (i < 0 && static_cast<std::uint64_t>(-(i + 1)) >= counts.so_far[part]) {
+            return error_at(line, fmt::format("relative {} index {} but only {} {} come before "
+                                              "this line",
+                                              kind, i, counts.so_far[part], kKinds[part]));
+        }
+        if (end == corner.size()) return {};
+    }
+    if (begin <= corner.size()) {
+        return error_at(line, fmt::format("face corner {} has more than 3 indices", shown(corner)));
+    }
+    return {};
+}
+
+}  // namespace
+
+core::Result<ObjScan> scan_obj(std::string_view text) {
+    ObjScan scan;
+    Counts counts;
+    {
+        StatementReader reader(text);
+        Statement st;
+        while (reader.next(st)) {
+            Tokens tokens(st.text);
+            const int kind = kind_of(tokens.next());
+            if (kind >= 0) ++counts.total[kind];
+        }
+    }
+    StatementReader reader(text);
+    Statement st;
+    while (reader.next(st)) {
+        Tokens tokens(st.text);
+        const std::string_view keyword = tokens.next();
+        const int kind = kind_of(keyword);
+        if (kind == 0) {
+            int numbers = 0;
+            for (std::string_view t = tokens.next(); !t.empty(); t = tokens.next()) {
+                double value = 0.0;
+                if (!parse_number(t, value)) {
+                    return error_at(st.line,
+                                    fmt::format("vertex coordinate {} is not a number", shown(t)));
+                }
+                if (!std::isfinite(value)) {
+                    return error_at(st.line,
+                                    fmt::format("vertex coordinate {} is not finite", shown(t)));
+                }
+                ++numbers;
+            }
+            if (numbers < 3) {
+                return error_at(st.line,
+                                fmt::format("a vertex needs 3 coordinates, found {}", numbers));
+            }
+        }
+        if (kind >= 0) {
+            ++counts.so_far[kind];
+            continue;
+        }
+        if (keyword == "f" || keyword == "p" || keyword == "l") {
+            std::size_t corners = 0;
+            for (std::string_view t = tokens.next(); !t.empty(); t = tokens.next()) {
+                if (auto ok = check_corner(t, counts, st.line); !ok) {
+                    return std::unexpected(ok.error());
+                }
+                ++corners;
+            }
+            if (keyword == "p") {
+                scan.points += corners;
+            } else if (keyword == "l") {
+                ++scan.lines;
+            } else if (corners < 3) {
+                if (scan.short_faces++ == 0) scan.first_short_face_line = st.line;
+            } else {
+                ++scan.faces;
+            }
+        }
+    }
+    scan.vertices = counts.total[0];
+    return scan;
+}
+
+}  // namespace maxslice::io::detail

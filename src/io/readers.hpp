@@ -1,0 +1,95 @@
+#pragma once
+
+// Private to src/io: the per-format readers behind read_mesh. No third-party header may be
+// included here; each library stays inside its own .cpp file.
+
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "maxslice/core/result.hpp"
+#include "maxslice/core/units.hpp"
+#include "maxslice/io/read_mesh.hpp"
+#include "maxslice/mesh/triangle_mesh.hpp"
+
+namespace maxslice::io::detail {
+
+/// What a format reader hands back. Errors from the readers carry no context; read_mesh
+/// adds "file <path>".
+struct RawImport {
+    mesh::TriangleMesh mesh;
+    Format format = Format::kStlBinary;
+    /// True when the library already converted the coordinates to mm from the declared unit
+    /// (Open CASCADE); false when the coordinates are the file's own numbers.
+    bool converted_to_mm = false;
+    /// The length unit the file declares, when it declares exactly one that maxslice knows.
+    std::optional<core::LengthUnit> declared_unit;
+    /// The declared unit as the file names it ("INCH", "millimetre", "inch,mm"), or empty.
+    std::string declared_unit_text;
+    std::size_t solids = 0;
+    std::vector<std::string> warnings;
+};
+
+/// A whole file in memory.
+struct FileBytes {
+    std::unique_ptr<char[]> data;
+    std::size_t size = 0;
+    [[nodiscard]] std::string_view view() const { return {data.get(), size}; }
+};
+
+/// Reads the whole file (kIo when it cannot be opened or read, or is not a regular file).
+[[nodiscard]] core::Result<FileBytes> read_file(const std::filesystem::path& path);
+/// Reads at most max_bytes from the start of the file and reports the file size.
+[[nodiscard]] core::Result<FileBytes> read_file_head(const std::filesystem::path& path,
+                                                     std::size_t max_bytes,
+                                                     std::uint64_t& file_size);
+
+/// The format from the first bytes of a file, its size and its extension.
+[[nodiscard]] core::Result<Format> sniff_format(std::string_view head, std::uint64_t file_size,
+                                                const std::filesystem::path& path);
+
+/// Binary or ASCII STL from the whole file (the two are told apart here, not by sniffing).
+[[nodiscard]] core::Result<RawImport> read_stl(std::string_view bytes);
+
+/// OBJ, PLY or OFF through assimp (triangulation only; indices and OBJ numbers checked here).
+[[nodiscard]] core::Result<RawImport> read_with_assimp(std::string_view bytes, Format format);
+
+/// 3MF through lib3mf: every build item with its transform and component transforms,
+/// in the model's unit.
+[[nodiscard]] core::Result<RawImport> read_3mf(const std::filesystem::path& path);
+
+/// STEP or IGES through Open CASCADE: solids only, tessellated with the options'
+/// deviations, in mm.
+[[nodiscard]] core::Result<RawImport> read_cad(const std::filesystem::path& path, Format format,
+                                               const ImportOptions& options);
+
+/// Checks an OBJ text before assimp sees it: every 'v' number parses, every face index
+/// points at a vertex. Counts faces with fewer than 3 corners and point/line elements.
+struct ObjScan {
+    std::size_t vertices = 0;
+    std::size_t faces = 0;
+    std::size_t short_faces = 0;  ///< 'f' with fewer than 3 corners
+    std::size_t first_short_face_line = 0;
+    std::size_t points = 0;  ///< 'p' elements
+    std::size_t lines = 0;   ///< 'l' elements
+};
+[[nodiscard]] core::Result<ObjScan> scan_obj(std::string_view text);
+
+/// UTF-16 text (with a byte order mark) as UTF-8; nullopt when there is no UTF-16 BOM.
+[[nodiscard]] std::optional<std::string> utf16_to_utf8(std::string_view bytes);
+
+/// "1 face", "3 faces" (plural_form defaults to singular + "s").
+[[nodiscard]] std::string count_of(std::size_t n, std::string_view singular,
+                                   std::string_view plural_form = {});
+
+/// Parses a decimal number the way from_chars does, also accepting a leading '+';
+/// the whole token must be the number.
+[[nodiscard]] bool parse_number(std::string_view token, double& value);
+[[nodiscard]] bool parse_number(std::string_view token, float& value);
+
+}  // namespace maxslice::io::detail

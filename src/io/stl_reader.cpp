@@ -1,0 +1,431 @@
+// STL, binary and ASCII. The whole file is in memory; numbers are read with from_chars and
+// corners go into one float soup that mesh::weld_exact turns into an indexed mesh.
+//
+// Binary or ASCII is decided from the content, never from the header alone: many binary
+// writers start the 80-byte header with "solid". A file is read as ASCII only when it
+// starts with "solid" (after an optional UTF-8 BOM and white space) and contains no binary
+// control bytes; everything else must have the binary layout 84 + 50 n bytes.
+//
+// Stored facet normals are ignored: the vertex order (counter-clockwise from outside)
+// defines the orientation. They are only compared with the winding to warn when many
+// point the other way, which usually means the winding is what is wrong.
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "readers.hpp"
+
+namespace maxslice::io::detail {
+namespace {
+
+constexpr std::size_t kHeaderBytes = 84;  // 80-byte header + uint32 triangle count
+constexpr std::size_t kRecordBytes = 50;  // normal, 3 corners (12 floats) + uint16 attribute
+// mesh::weld_exact indexes corners with uint32.
+constexpr std::uint64_t kMaxTriangles = 1'400'000'000;
+
+bool is_space(char c) {
+    return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\f' || c == '\v';
+}
+
+char lower(char c) {
+    return (c >= 'A' && c <= 'Z') ? static_cast<char>(c - 'A' + 'a') : c;
+}
+
+bool iequals(std::string_view a, std::string_view b) {
+    if (a.size() != b.size()) return false;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        if (lower(a[i]) != b[i]) return false;
+    }
+    return true;
+}
+
+std::string_view skip_bom(std::string_view s) {
+    if (s.size() >= 3 && s.substr(0, 3) == "\xEF\xBB\xBF") s.remove_prefix(3);
+    return s;
+}
+
+bool starts_with_solid(std::string_view s) {
+    s = skip_bom(s);
+    std::size_t i = 0;
+    while (i < s.size() && is_space(s[i])) ++i;
+    if (s.size() - i < 5 || !iequals(s.substr(i, 5), "solid")) return false;
+    return s.size() - i == 5 || is_space(s[i + 5]);
+}
+
+// ASCII STL never holds control bytes other than white space (0x1A is the old DOS
+// end-of-file mark); binary STL nearly always does, starting with the triangle count.
+bool looks_like_text(std::string_view s) {
+    for (const char ch : s) {
+        const auto c = static_cast<unsigned char>(ch);
+        if (c < 0x20 && c != '\t' && c != '\n' && c != '\r' && c != '\f' && c != '\v' &&
+            c != 0x1A) {
+            return false;
+        }
+    }
+    return true;
+}
+
+// A token for a message: at most 40 characters, non-printable bytes as \xNN.
+std::string quote(std::string_view token) {
+    std::string out = "'";
+    for (std::size_t i = 0; i < token.size() && i < 40; ++i) {
+        const auto c = static_cast<unsigned char>(token[i]);
+        if (c >= 0x20 && c < 0x7F) {
+            out.push_back(static_cast<char>(c));
+        } else {
+            out += fmt::format("\\x{:02X}", c);
+        }
+    }
+    if (token.size() > 40) out += "...";
+    return out + "'";
+}
+
+std::uint32_t load_u32_le(const char* p) {
+    std::uint32_t v;
+    std::memcpy(&v, p, 4);
+    if constexpr (std::endian::native == std::endian::big) v = std::byteswap(v);
+    return v;
+}
+
+// Counts stored normals that point against the winding normal. Zero, NaN or missing normals
+// say nothing and are not counted.
+bool normal_opposes_winding(const float* n, const float* c) {
+    const float ux = c[3] - c[0], uy = c[4] - c[1], uz = c[5] - c[2];
+    const float vx = c[6] - c[0], vy = c[7] - c[1], vz = c[8] - c[2];
+    const float wx = uy * vz - uz * vy, wy = uz * vx - ux * vz, wz = ux * vy - uy * vx;
+    return n[0] * wx + n[1] * wy + n[2] * wz < 0.0f;
+}
+
+void warn_opposite_normals(RawImport& out, std::size_t opposite, std::size_t total) {
+    if (opposite == 0) return;
+    out.warnings.push_back(fmt::format(
+        "{} of {} stored facet normals point against the vertex winding; stored normals are "
+        "ignored and the winding defines the outside{}",
+        opposite, total,
+        opposite * 2 > total ? " (most disagree: the part may come out inside-out)" : ""));
+}
+
+core::Result<RawImport> read_binary(std::string_view bytes, bool header_says_solid) {
+    const std::size_t size = bytes.size();
+    const std::string not_ascii =
+        header_says_solid ? "the header starts with 'solid' but the file holds binary bytes, so "
+                            "it is read as binary STL"
+                          : "the file does not start with 'solid', so it is read as binary STL";
+    if (size < kHeaderBytes) {
+        return core::fail(core::ErrorCode::kInvalidInput,
+                          fmt::format("not an STL file: {}, which needs at least 84 bytes, and "
+                                      "the file has {}",
+                                      not_ascii, size));
+    }
+    const std::uint64_t declared = load_u32_le(bytes.data() + 80);
+    const std::size_t body = size - kHeaderBytes;
+    if (body % kRecordBytes != 0) {
+        std::string msg = fmt::format(
+            "damaged binary STL: {} bytes is not 84 + 50 x n (the header says {} triangles = "
+            "{} bytes; {} bytes are left after the last whole 50-byte triangle record)",
+            size, declared, kHeaderBytes + declared * kRecordBytes, body % kRecordBytes);
+        if (bytes.find("\xEF\xBF\xBD") != std::string_view::npos) {
+            msg +=
+                "; it contains the bytes EF BF BD (the Unicode replacement character), the mark "
+                "of a binary file passed through a text conversion: export or copy it again in "
+                "binary mode";
+        } else {
+            msg += "; the file is truncated or has extra bytes: export it again";
+        }
+        if (header_says_solid) msg += " (" + not_ascii + ")";
+        return core::fail(core::ErrorCode::kInvalidInput, msg);
+    }
+    const std::size_t n = body / kRecordBytes;
+    RawImport out;
+    out.format = Format::kStlBinary;
+    out.solids = 1;
+    if (n != declared) {
+        out.warnings.push_back(
+            fmt::format("the binary STL header says {} triangles but the file holds {}; reading {}",
+                        declared, n, n));
+    }
+    if (n == 0) {
+        return core::fail(core::ErrorCode::kInvalidInput,
+                          "no triangles: the binary STL has a header and no triangle records");
+    }
+    if (n > kMaxTriangles) {
+        return core::fail(
+            core::ErrorCode::kInvalidInput,
+            fmt::format("{} triangles is more than the {} maxslice can index", n, kMaxTriangles));
+    }
+
+    std::vector<float> xyz(n * 9);
+    const char* rec = bytes.data() + kHeaderBytes;
+    std::uint32_t exponent_all_ones = 0;
+    std::size_t opposite = 0;
+    for (std::size_t t = 0; t < n; ++t, rec += kRecordBytes) {
+        float* c = xyz.data() + 9 * t;
+        std::memcpy(c, rec + 12, 36);
+        float normal[3];
+        std::memcpy(normal, rec, 12);
+        if constexpr (std::endian::native == std::endian::big) {
+            for (float* f : {c, normal}) {
+                for (int k = 0; k < (f == c ? 9 : 3); ++k) {
+                    f[k] = std::bit_cast<float>(std::byteswap(std::bit_cast<std::uint32_t>(f[k])));
+                }
+            }
+        }
+        for (int k = 0; k < 9; ++k) {
+            const auto bits = std::bit_cast<std::uint32_t>(c[k]);
+            exponent_all_ones |= static_cast<std::uint32_t>((bits & 0x7F800000u) == 0x7F800000u);
+        }
+        opposite += static_cast<std::size_t>(normal_opposes_winding(normal, c));
+    }
+    if (exponent_all_ones != 0) {
+        for (std::size_t t = 0; t < n; ++t) {
+            for (int k = 0; k < 9; ++k) {
+                if (!std::isfinite(xyz[9 * t + static_cast<std::size_t>(k)])) {
+                    return core::fail(
+                        core::ErrorCode::kInvalidInput,
+                        fmt::format("triangle {} (byte offset {}): vertex {} has a NaN or "
+                                    "infinite coordinate",
+                                    t + 1, kHeaderBytes + t * kRecordBytes + 12 + 12 * (k / 3),
+                                    k / 3 + 1));
+                }
+            }
+        }
+    }
+    warn_opposite_normals(out, opposite, n);
+    out.mesh = mesh::weld_exact(std::span<const float>(xyz));
+    return out;
+}
+
+// Whitespace-separated tokens with the line each starts on.
+class Lexer {
+public:
+    explicit Lexer(std::string_view text) : p_(text.data()), end_(text.data() + text.size()) {}
+
+    std::string_view next() {
+        skip_space();
+        token_line_ = line_;
+        const char* start = p_;
+        while (p_ < end_ && !is_space(*p_)) ++p_;
+        return {start, static_cast<std::size_t>(p_ - start)};
+    }
+    std::string_view peek() {
+        const char* p = p_;
+        const std::size_t line = line_;
+        const std::size_t token_line = token_line_;
+        const std::string_view t = next();
+        p_ = p;
+        line_ = line;
+        token_line_ = token_line;
+        return t;
+    }
+    /// The rest of the current line without surrounding white space (a solid's name).
+    std::string_view rest_of_line() {
+        while (p_ < end_ && (*p_ == ' ' || *p_ == '\t')) ++p_;
+        const char* start = p_;
+        while (p_ < end_ && *p_ != '\n') ++p_;
+        const char* stop = p_;
+        while (stop > start && is_space(stop[-1])) --stop;
+        return {start, static_cast<std::size_t>(stop - start)};
+    }
+    /// The line the last token started on (1-based).
+    [[nodiscard]] std::size_t line() const { return token_line_; }
+
+private:
+    void skip_space() {
+        while (p_ < end_ && is_space(*p_)) {
+            if (*p_ == '\n') ++line_;
+            ++p_;
+        }
+    }
+
+    const char* p_;
+    const char* end_;
+    std::size_t line_ = 1;
+    std::size_t token_line_ = 1;
+};
+
+class AsciiParser {
+public:
+    explicit AsciiParser(std::string_view text) : lex_(text) {
+        xyz_.reserve(std::min<std::size_t>(text.size() / 200 * 9, std::size_t{1} << 28));
+    }
+
+    core::Result<RawImport> parse() {
+        RawImport out;
+        out.format = Format::kStlAscii;
+        std::string_view tok = lex_.next();  // "solid": checked by the caller
+        lex_.rest_of_line();
+        std::size_t blocks = 1;
+        bool open_block = true;
+        bool missing_endsolid = false;
+        while (true) {
+            tok = lex_.next();
+            if (tok.empty()) {
+                missing_endsolid = missing_endsolid || open_block;
+                break;
+            }
+            if (iequals(tok, "facet")) {
+                if (!open_block) {
+                    return error(lex_.line(), "'facet' after 'endsolid' without a new 'solid'");
+                }
+                if (auto ok = parse_facet(); !ok) return std::unexpected(ok.error());
+            } else if (iequals(tok, "endsolid")) {
+                if (!open_block) return error(lex_.line(), "'endsolid' without 'solid'");
+                lex_.rest_of_line();  // the name need not match the 'solid' line's
+                open_block = false;
+            } else if (iequals(tok, "solid")) {
+                missing_endsolid = missing_endsolid || open_block;
+                ++blocks;
+                open_block = true;
+                lex_.rest_of_line();
+            } else {
+                return error(lex_.line(),
+                             fmt::format("expected 'facet' or 'endsolid', found {}", quote(tok)));
+            }
+        }
+        const std::size_t triangles = xyz_.size() / 9;
+        if (triangles == 0) {
+            return core::fail(core::ErrorCode::kInvalidInput,
+                              "no triangles: the ASCII STL has no facets");
+        }
+        out.solids = blocks;
+        if (blocks > 1) {
+            out.warnings.push_back(fmt::format(
+                "{} 'solid' blocks in one ASCII STL; all their triangles are read as one part",
+                blocks));
+        }
+        if (missing_endsolid) {
+            out.warnings.push_back(
+                "the ASCII STL has no 'endsolid' after its last facet; the file may be "
+                "truncated");
+        }
+        warn_opposite_normals(out, opposite_normals_, triangles);
+        out.mesh = mesh::weld_exact(std::span<const float>(xyz_));
+        return out;
+    }
+
+private:
+    std::unexpected<core::Error> error(std::size_t line, const std::string& what) const {
+        return core::fail(core::ErrorCode::kInvalidInput, fmt::format("line {}: {}", line, what));
+    }
+
+    core::Result<void> expect(std::string_view keyword, std::string_view after) {
+        const std::string_view tok = lex_.next();
+        if (iequals(tok, keyword)) return {};
+        return error(lex_.line(),
+                     fmt::format("expected '{}' after '{}', found {}", keyword, after,
+                                 tok.empty() ? std::string("the end of the file") : quote(tok)));
+    }
+
+    core::Result<void> parse_facet() {
+        const std::size_t facet_line = lex_.line();
+        float normal[3] = {0.0f, 0.0f, 0.0f};
+        std::string_view tok = lex_.next();
+        if (iequals(tok, "normal")) {
+            // Up to three numbers; missing, NaN or zero components are accepted (normals
+            // are ignored), text that is not a number is not.
+            for (int k = 0; k < 3; ++k) {
+                const std::string_view t = lex_.peek();
+                if (t.empty() || iequals(t, "outer") || iequals(t, "vertex") ||
+                    iequals(t, "endfacet")) {
+                    break;
+                }
+                lex_.next();
+                float v = 0.0f;
+                if (!parse_number(t, v)) {
+                    return error(
+                        lex_.line(),
+                        fmt::format("facet normal component {} is not a number", quote(t)));
+                }
+                normal[k] = v;
+            }
+            tok = lex_.next();
+        }
+        if (!iequals(tok, "outer")) {
+            return error(lex_.line(), fmt::format("expected 'outer loop' in the facet at line "
+                                                  "{}, found {}",
+                                                  facet_line,
+                                                  tok.empty() ? std::string("the end of the file")
+                                                              : quote(tok)));
+        }
+        if (auto ok = expect("loop", "outer"); !ok) return ok;
+        float corners[9];
+        std::size_t count = 0;
+        while (true) {
+            tok = lex_.next();
+            if (iequals(tok, "vertex")) {
+                const std::size_t vertex_line = lex_.line();
+                float c[3];
+                for (float& v : c) {
+                    const std::string_view t = lex_.next();
+                    if (t.empty() || !parse_number(t, v)) {
+                        return error(
+                            vertex_line,
+                            fmt::format("a vertex needs 3 numbers; found {}",
+                                        t.empty() ? std::string("the end of the file") : quote(t)));
+                    }
+                    if (!std::isfinite(v)) {
+                        return error(vertex_line,
+                                     fmt::format("vertex coordinate {} is not finite", quote(t)));
+                    }
+                }
+                if (count < 3) std::copy(c, c + 3, corners + 3 * count);
+                ++count;
+            } else if (iequals(tok, "endloop")) {
+                break;
+            } else if (tok.empty()) {
+                return error(lex_.line(), fmt::format("the file ends inside the facet that "
+                                                      "starts at line {}",
+                                                      facet_line));
+            } else {
+                return error(lex_.line(),
+                             fmt::format("expected 'vertex' or 'endloop', found {}", quote(tok)));
+            }
+        }
+        if (count != 3) {
+            return error(facet_line,
+                         fmt::format("facet has {} vertices; STL facets must be triangles (3 "
+                                     "vertices)",
+                                     count));
+        }
+        if (auto ok = expect("endfacet", "endloop"); !ok) return ok;
+        xyz_.insert(xyz_.end(), corners, corners + 9);
+        opposite_normals_ += static_cast<std::size_t>(normal_opposes_winding(normal, corners));
+        return {};
+    }
+
+    Lexer lex_;
+    std::vector<float> xyz_;
+    std::size_t opposite_normals_ = 0;
+};
+
+}  // namespace
+
+core::Result<RawImport> read_stl(std::string_view bytes) {
+    if (bytes.empty()) {
+        return core::fail(core::ErrorCode::kInvalidInput, "the file is empty (0 bytes)");
+    }
+    const bool solid = starts_with_solid(bytes);
+    if (solid && looks_like_text(bytes)) {
+        try {
+            return AsciiParser(skip_bom(bytes)).parse();
+        } catch (const std::bad_alloc&) {
+            return core::fail(core::ErrorCode::kInvalidInput, "not enough memory for the mesh");
+        }
+    }
+    try {
+        return read_binary(bytes, solid);
+    } catch (const std::bad_alloc&) {
+        return core::fail(core::ErrorCode::kInvalidInput, "not enough memory for the mesh");
+    }
+}
+
+}  // namespace maxslice::io::detail
