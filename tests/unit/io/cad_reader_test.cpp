@@ -1,0 +1,86 @@
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "io_test_support.hpp"
+#include "maxslice/io/read_mesh.hpp"
+
+namespace maxslice::io {
+namespace {
+
+using test::contains;
+using test::joined;
+using test::testdata;
+
+TEST(Cad, FinerTessellationGivesMoreTrianglesAndCloserVolume) {
+    const auto path = testdata("step/nist/nist_ftc_11_asme1_rb.stp");
+    ImportOptions coarse;
+    coarse.chord_deviation_mm = 0.5;
+    coarse.angular_deviation_deg = 30.0;
+    ImportOptions fine;
+    fine.chord_deviation_mm = 0.01;
+    fine.angular_deviation_deg = 5.0;
+    auto a = read_mesh(path, coarse);
+    auto b = read_mesh(path, fine);
+    ASSERT_TRUE(a && b);
+    EXPECT_LT(a->mesh.triangles.size(), b->mesh.triangles.size());
+    const double brep = 5129.39;  // MANIFEST, Open CASCADE vprops
+    EXPECT_LT(std::abs(mesh::signed_volume(b->mesh) - brep),
+              std::abs(mesh::signed_volume(a->mesh) - brep));
+}
+
+TEST(Cad, SameFileTwiceGivesIdenticalMeshes) {
+    const auto path = testdata("step/trimesh/box_sides.STEP");
+    auto a = read_mesh(path);
+    auto b = read_mesh(path);
+    ASSERT_TRUE(a && b);
+    EXPECT_EQ(a->mesh.vertices, b->mesh.vertices);
+    EXPECT_EQ(a->mesh.triangles, b->mesh.triangles);
+}
+
+TEST(Cad, ReversedFacesKeepTheOutsideOut) {
+    // Most faces of a machined part are reversed in their shell (holes, pockets); if their
+    // triangles were not flipped the volume would be far off or negative.
+    auto r = read_mesh(testdata("step/nist/nist_ctc_01_asme1_rd.stp"));
+    ASSERT_TRUE(r) << r.error().describe();
+    EXPECT_NEAR(mesh::signed_volume(r->mesh) / 1.46428e7, 1.0, 0.01);
+}
+
+TEST(Cad, IgesSurfacesWithoutSolidAreRefused) {
+    auto r = read_mesh(test::local_data("box_faces_mm.igs"));
+    ASSERT_FALSE(r);
+    EXPECT_EQ(r.error().code, core::ErrorCode::kInvalidInput);
+    EXPECT_TRUE(contains(r.error().message, "no solid: the IGES file holds 6 faces"))
+        << r.error().describe();
+}
+
+TEST(Cad, IgesFromOpenCascadeSamples) {
+    // Debian's occt-misc ships two IGES surface models (no solids).
+    const std::filesystem::path bearing = "/usr/share/opencascade/data/iges/bearing.iges";
+    if (!std::filesystem::exists(bearing)) GTEST_SKIP() << "occt-misc not installed";
+    auto r = read_mesh(bearing);
+    ASSERT_FALSE(r);
+    EXPECT_TRUE(contains(r.error().message, "no solid")) << r.error().describe();
+}
+
+TEST(Cad, GarbageAfterStepSignatureIsRefused) {
+    test::ScratchDir dir;
+    auto r = read_mesh(dir.write("x.step", "ISO-10303-21;\nHEADER;\nthis is not step\n"));
+    ASSERT_FALSE(r);
+    EXPECT_EQ(r.error().code, core::ErrorCode::kInvalidInput);
+    EXPECT_TRUE(contains(r.error().message, "STEP")) << r.error().describe();
+}
+
+TEST(Cad, NotAZipIsRefusedAs3mf) {
+    test::ScratchDir dir;
+    auto r = read_mesh(dir.write("x.3mf", "this is not a zip file"));
+    ASSERT_FALSE(r);
+    EXPECT_EQ(r.error().code, core::ErrorCode::kInvalidInput);
+    EXPECT_TRUE(contains(r.error().message, "3MF")) << r.error().describe();
+    r = read_mesh(dir.write("y.3mf", std::string("PK\x03\x04", 4) + std::string(100, '\0')));
+    ASSERT_FALSE(r);
+    EXPECT_TRUE(contains(r.error().message, "3MF")) << r.error().describe();
+}
+
+}  // namespace
+}  // namespace maxslice::io
