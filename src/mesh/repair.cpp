@@ -60,15 +60,18 @@ std::vector<std::uint8_t> used_vertices(const TriangleMesh& mesh) {
     return used;
 }
 
-// Near weld. Points go into a hash grid of cells 2d wide; every point within d of p then lies
-// in the 2 x 2 x 2 block of cells on the side of p's cell centre that p is on, so eight
-// lookups find all candidates. The cell map is open addressing (cell -> first vertex) with
-// the vertices of a cell chained through `next`. The clusters are the connected components of
-// the "closer than d" graph, which do not depend on the processing order; union-find makes the
-// lowest index of each the representative. Returns the number of vertices merged.
+// Near weld. Points go into a hash grid of cells kCellsPerDistance * d wide. A point closer
+// than d to p lies in p's cell, or in the neighbour across a cell face that p is within d
+// of; as cells are much wider than d, most points need only their own cell (found again
+// through the slot remembered from insertion), and a few look at up to seven neighbours. The
+// cell map is open addressing (cell -> last vertex inserted) with the vertices of a cell
+// chained through `next`. The clusters are the connected components of the "closer than d"
+// graph, which do not depend on the processing order; union-find makes the lowest index of
+// each the representative. Returns the number of vertices merged.
 std::size_t weld_near(TriangleMesh& mesh, double d, const std::vector<std::uint8_t>& used) {
+    constexpr double kCellsPerDistance = 16.0;
     const std::size_t nv = mesh.vertices.size();
-    const double cell = 2.0 * d;
+    const double cell = kCellsPerDistance * d;
     // Beyond this many cells from the origin the cell index would overflow; such vertices
     // (garbage coordinates, or a weld distance absurdly small for the part) are not welded.
     constexpr double kMaxCell = 4e18;
@@ -76,30 +79,34 @@ std::size_t weld_near(TriangleMesh& mesh, double d, const std::vector<std::uint8
         std::int64_t key[3];
         std::uint32_t head;  // kNone when the slot is free
     };
-    auto cell_of = [&](const core::Vec3d& p, std::int64_t(&key)[3], bool(&upper)[3]) {
+    auto cell_of = [&](const core::Vec3d& p, std::int64_t(&key)[3], int(&side)[3]) {
         for (int a = 0; a < 3; ++a) {
             const double c = p[a] / cell;
             const double f = std::floor(c);
             if (!(std::fabs(f) < kMaxCell)) return false;
             key[a] = static_cast<std::int64_t>(f);
-            upper[a] = c - f >= 0.5;
+            const double within = (c - f) * cell;  // distance from the lower face
+            side[a] = within <= d ? -1 : (cell - within <= d ? 1 : 0);
         }
         return true;
     };
     auto hash = [](const std::int64_t(&key)[3]) {
         std::uint64_t h = static_cast<std::uint64_t>(key[0]) * 0x9e3779b97f4a7c15ULL;
-        h ^= static_cast<std::uint64_t>(key[1]) * 0xc2b2ae3d27d4eb4fULL + (h >> 29);
-        h ^= static_cast<std::uint64_t>(key[2]) * 0x165667b19e3779f9ULL + (h >> 32);
-        h ^= h >> 31;
+        h = (h ^ (h >> 32)) + static_cast<std::uint64_t>(key[1]) * 0xc2b2ae3d27d4eb4fULL;
+        h = (h ^ (h >> 29)) + static_cast<std::uint64_t>(key[2]) * 0x165667b19e3779f9ULL;
+        h ^= h >> 32;
         h *= 0xbf58476d1ce4e5b9ULL;
         return h ^ (h >> 29);
     };
 
+    std::size_t points = 0;
+    for (std::size_t v = 0; v < nv; ++v) points += used[v];
     std::vector<std::uint32_t> next(nv, kNone);
-    const std::size_t capacity = std::bit_ceil(std::max<std::size_t>(16, 2 * nv));
+    std::vector<std::uint32_t> slot_of_vertex(nv, kNone);
+    const std::size_t capacity = std::bit_ceil(std::max<std::size_t>(16, 2 * points));
     const std::size_t mask = capacity - 1;
     std::vector<Cell> cells(capacity, Cell{{0, 0, 0}, kNone});
-    auto slot_of = [&](const std::int64_t(&key)[3]) {
+    auto find_slot = [&](const std::int64_t(&key)[3]) {
         std::size_t i = hash(key) & mask;
         while (cells[i].head != kNone && (cells[i].key[0] != key[0] || cells[i].key[1] != key[1] ||
                                           cells[i].key[2] != key[2])) {
@@ -108,39 +115,48 @@ std::size_t weld_near(TriangleMesh& mesh, double d, const std::vector<std::uint8
         return i;
     };
 
-    std::vector<std::uint8_t> gridded(nv, 0);
     for (std::size_t v = 0; v < nv; ++v) {
         if (!used[v] || !core::is_finite(mesh.vertices[v])) continue;
         std::int64_t key[3] = {0, 0, 0};
-        bool upper[3] = {false, false, false};
-        if (!cell_of(mesh.vertices[v], key, upper)) continue;
-        Cell& c = cells[slot_of(key)];
+        int side[3] = {0, 0, 0};
+        if (!cell_of(mesh.vertices[v], key, side)) continue;
+        const std::size_t slot = find_slot(key);
+        Cell& c = cells[slot];
         if (c.head == kNone) std::copy(key, key + 3, c.key);
         next[v] = c.head;
         c.head = static_cast<std::uint32_t>(v);
-        gridded[v] = 1;
+        slot_of_vertex[v] = static_cast<std::uint32_t>(slot);
     }
 
     UnionFind clusters(nv);
     const double d2 = d * d;
-    for (std::size_t v = 0; v < nv; ++v) {
-        if (!gridded[v]) continue;
+    auto compare_with_cell = [&](std::uint32_t head, std::uint32_t v) {
         const core::Vec3d& p = mesh.vertices[v];
+        for (std::uint32_t u = head; u != kNone; u = next[u]) {
+            if (u >= v) continue;  // each pair once
+            const core::Vec3d diff = mesh.vertices[u] - p;
+            if (core::dot(diff, diff) <= d2) clusters.unite(u, v);
+        }
+    };
+    for (std::size_t v = 0; v < nv; ++v) {
+        if (slot_of_vertex[v] == kNone) continue;
+        const auto vi = static_cast<std::uint32_t>(v);
+        compare_with_cell(cells[slot_of_vertex[v]].head, vi);
         std::int64_t key[3] = {0, 0, 0};
-        bool upper[3] = {false, false, false};
-        if (!cell_of(p, key, upper)) continue;
-        for (int corner = 0; corner < 8; ++corner) {
+        int side[3] = {0, 0, 0};
+        cell_of(mesh.vertices[v], key, side);
+        if (side[0] == 0 && side[1] == 0 && side[2] == 0) continue;
+        for (int corner = 1; corner < 8; ++corner) {
             std::int64_t probe[3];
+            bool valid = true;
             for (int a = 0; a < 3; ++a) {
-                const std::int64_t step = ((corner >> a) & 1) == 0 ? 0 : (upper[a] ? 1 : -1);
-                probe[a] = key[a] + step;
+                const bool step = ((corner >> a) & 1) != 0;
+                if (step && side[a] == 0) valid = false;
+                probe[a] = key[a] + (step ? side[a] : 0);
             }
-            const Cell& c = cells[slot_of(probe)];
-            for (std::uint32_t u = c.head; u != kNone; u = next[u]) {
-                if (u >= v) continue;  // each pair once
-                const core::Vec3d diff = mesh.vertices[u] - p;
-                if (core::dot(diff, diff) <= d2) clusters.unite(u, static_cast<std::uint32_t>(v));
-            }
+            if (!valid) continue;
+            const Cell& c = cells[find_slot(probe)];
+            if (c.head != kNone) compare_with_cell(c.head, vi);
         }
     }
 
@@ -423,7 +439,6 @@ void orient(TriangleMesh& mesh, RepairReport& report) {
         if (2 * flipped > shell.triangles.size()) {
             for (std::uint32_t t : shell.triangles) flip[t] ^= 1;
         }
-        std::sort(shell.triangles.begin(), shell.triangles.end());
         shells.push_back(std::move(shell));
     }
     for (std::size_t t = 0; t < nt; ++t) {
