@@ -2,9 +2,12 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
+#include <cstdint>
 #include <cstring>
 #include <new>
+#include <string>
 
 #include "readers.hpp"
 
@@ -91,6 +94,33 @@ core::Result<FileBytes> read_prefix(const std::filesystem::path& path, std::uint
 }
 
 }  // namespace
+
+core::Result<SequentialFile> SequentialFile::open(const std::filesystem::path& path) {
+    std::uint64_t size = 0;
+    auto fd = open_regular(path, size);
+    if (!fd) return std::unexpected(fd.error());
+    return SequentialFile(*fd);
+}
+
+SequentialFile::~SequentialFile() {
+    if (fd_ >= 0) ::close(fd_);
+}
+
+core::Result<std::size_t> SequentialFile::read_at(std::uint64_t offset, char* out,
+                                                  std::size_t bytes) const {
+    std::size_t got = 0;
+    while (got < bytes) {
+        const ssize_t n = ::pread(fd_, out + got, bytes - got, static_cast<off_t>(offset + got));
+        if (n < 0) {
+            if (errno == EINTR) continue;
+            const int err = errno;
+            return core::fail(core::ErrorCode::kIo, "read failed: " + errno_text(err));
+        }
+        if (n == 0) break;
+        got += static_cast<std::size_t>(n);
+    }
+    return got;
+}
 
 core::Result<FileBytes> read_file(const std::filesystem::path& path) {
     std::uint64_t size = 0;

@@ -140,14 +140,20 @@ core::Result<ImportedMesh> finish(detail::RawImport raw, const ImportOptions& op
     out.mesh = std::move(raw.mesh);
     if (scale != 1.0) mesh::scale(out.mesh, scale);
 
+    // Every vertex of a welded mesh is used by a triangle, so the vertex box is the part's.
+    core::Vec3d lo{INFINITY, INFINITY, INFINITY};
+    core::Vec3d hi{-INFINITY, -INFINITY, -INFINITY};
+    bool finite = true;
     for (const core::Vec3d& v : out.mesh.vertices) {
-        if (!core::is_finite(v)) {
-            return core::fail(core::ErrorCode::kInvalidInput,
-                              "a vertex coordinate is not finite once converted to mm");
-        }
+        finite = finite && core::is_finite(v);
+        lo = {std::min(lo.x, v.x), std::min(lo.y, v.y), std::min(lo.z, v.z)};
+        hi = {std::max(hi.x, v.x), std::max(hi.y, v.y), std::max(hi.z, v.z)};
     }
-    const core::Vec3d size = mesh::bounding_box(out.mesh).size();
-    const double extent = std::max({size.x, size.y, size.z});
+    if (!finite) {
+        return core::fail(core::ErrorCode::kInvalidInput,
+                          "a vertex coordinate is not finite once converted to mm");
+    }
+    const double extent = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z, 0.0});
     const std::string unit_hint =
         options.units ? fmt::format("it was read with --units {}; check that unit",
                                     core::unit_name(*options.units))
@@ -177,14 +183,13 @@ core::Result<ImportedMesh> read_impl(const std::filesystem::path& path,
     core::Result<detail::RawImport> raw = core::fail(core::ErrorCode::kInternal, "unread");
     switch (*format) {
         case Format::kStlBinary:
-        case Format::kStlAscii:
+        case Format::kStlAscii: raw = detail::read_stl_file(path, head->view(), size); break;
         case Format::kObj:
         case Format::kPly:
         case Format::kOff: {
             auto bytes = size <= kSniffBytes ? std::move(head) : detail::read_file(path);
             if (!bytes) return std::unexpected(bytes.error());
-            raw = is_stl(*format) ? detail::read_stl(bytes->view())
-                                  : detail::read_with_assimp(bytes->view(), *format);
+            raw = detail::read_with_assimp(bytes->view(), *format);
             break;
         }
         case Format::k3mf: raw = detail::read_3mf(path); break;

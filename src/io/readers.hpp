@@ -49,12 +49,33 @@ struct FileBytes {
                                                      std::size_t max_bytes,
                                                      std::uint64_t& file_size);
 
+/// A file read in blocks at given offsets (pread), for readers that stream.
+class SequentialFile {
+public:
+    [[nodiscard]] static core::Result<SequentialFile> open(const std::filesystem::path& path);
+    SequentialFile(SequentialFile&& other) noexcept : fd_(other.fd_) { other.fd_ = -1; }
+    SequentialFile& operator=(SequentialFile&&) = delete;
+    SequentialFile(const SequentialFile&) = delete;
+    ~SequentialFile();
+    /// Reads up to `bytes` bytes at `offset`; fewer only at the end of the file.
+    [[nodiscard]] core::Result<std::size_t> read_at(std::uint64_t offset, char* out,
+                                                    std::size_t bytes) const;
+
+private:
+    explicit SequentialFile(int fd) : fd_(fd) {}
+    int fd_;
+};
+
 /// The format from the first bytes of a file, its size and its extension.
 [[nodiscard]] core::Result<Format> sniff_format(std::string_view head, std::uint64_t file_size,
                                                 const std::filesystem::path& path);
 
 /// Binary or ASCII STL from the whole file (the two are told apart here, not by sniffing).
 [[nodiscard]] core::Result<RawImport> read_stl(std::string_view bytes);
+/// The same from a file whose first bytes (head) and size are known: ASCII is read whole,
+/// binary records are streamed in blocks into the corner array.
+[[nodiscard]] core::Result<RawImport> read_stl_file(const std::filesystem::path& path,
+                                                    std::string_view head, std::uint64_t size);
 
 /// OBJ, PLY or OFF through assimp (triangulation only; indices and OBJ numbers checked here).
 [[nodiscard]] core::Result<RawImport> read_with_assimp(std::string_view bytes, Format format);

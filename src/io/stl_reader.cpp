@@ -114,26 +114,32 @@ void warn_opposite_normals(RawImport& out, std::size_t opposite, std::size_t tot
         opposite * 2 > total ? " (most disagree: the part may come out inside-out)" : ""));
 }
 
-core::Result<RawImport> read_binary(std::string_view bytes, bool header_says_solid) {
-    const std::size_t size = bytes.size();
+// The binary layout check and the record loop, for records that are either in memory or
+// read from the file in blocks: fetch(first, count) returns count records from record
+// `first` on (always called in order), has_replacement_char() looks for EF BF BD in the
+// whole file (only on the error path).
+template <class Fetch, class HasReplacementChar>
+core::Result<RawImport> read_binary(std::uint64_t size, std::string_view header,
+                                    bool header_says_solid, Fetch&& fetch,
+                                    HasReplacementChar&& has_replacement_char) {
     const std::string not_ascii =
         header_says_solid ? "the header starts with 'solid' but the file holds binary bytes, so "
                             "it is read as binary STL"
                           : "the file does not start with 'solid', so it is read as binary STL";
-    if (size < kHeaderBytes) {
+    if (size < kHeaderBytes || header.size() < kHeaderBytes) {
         return core::fail(core::ErrorCode::kInvalidInput,
                           fmt::format("not an STL file: {}, which needs at least 84 bytes, and "
                                       "the file has {}",
                                       not_ascii, size));
     }
-    const std::uint64_t declared = load_u32_le(bytes.data() + 80);
-    const std::size_t body = size - kHeaderBytes;
+    const std::uint64_t declared = load_u32_le(header.data() + 80);
+    const std::uint64_t body = size - kHeaderBytes;
     if (body % kRecordBytes != 0) {
         std::string msg = fmt::format(
             "damaged binary STL: {} bytes is not 84 + 50 x n (the header says {} triangles = "
             "{} bytes; {} bytes are left after the last whole 50-byte triangle record)",
             size, declared, kHeaderBytes + declared * kRecordBytes, body % kRecordBytes);
-        if (bytes.find("\xEF\xBF\xBD") != std::string_view::npos) {
+        if (has_replacement_char()) {
             msg +=
                 "; it contains the bytes EF BF BD (the Unicode replacement character), the mark "
                 "of a binary file passed through a text conversion: export or copy it again in "
@@ -144,51 +150,61 @@ core::Result<RawImport> read_binary(std::string_view bytes, bool header_says_sol
         if (header_says_solid) msg += " (" + not_ascii + ")";
         return core::fail(core::ErrorCode::kInvalidInput, msg);
     }
-    const std::size_t n = body / kRecordBytes;
+    const std::uint64_t records = body / kRecordBytes;
     RawImport out;
     out.format = Format::kStlBinary;
     out.solids = 1;
-    if (n != declared) {
+    if (records != declared) {
         out.warnings.push_back(
             fmt::format("the binary STL header says {} triangles but the file holds {}; reading {}",
-                        declared, n, n));
+                        declared, records, records));
     }
-    if (n == 0) {
+    if (records == 0) {
         return core::fail(core::ErrorCode::kInvalidInput,
                           "no triangles: the binary STL has a header and no triangle records");
     }
-    if (n > kMaxTriangles) {
-        return core::fail(
-            core::ErrorCode::kInvalidInput,
-            fmt::format("{} triangles is more than the {} maxslice can index", n, kMaxTriangles));
+    if (records > kMaxTriangles) {
+        return core::fail(core::ErrorCode::kInvalidInput,
+                          fmt::format("{} triangles is more than the {} maxslice can index",
+                                      records, kMaxTriangles));
     }
+    const auto n = static_cast<std::size_t>(records);
 
-    std::vector<float> xyz(n * 9);
-    const char* rec = bytes.data() + kHeaderBytes;
+    // Written in full below: no need to zero it first.
+    const auto xyz = std::make_unique_for_overwrite<float[]>(n * 9);
     std::uint32_t exponent_all_ones = 0;
     std::size_t opposite = 0;
-    for (std::size_t t = 0; t < n; ++t, rec += kRecordBytes) {
-        float* c = xyz.data() + 9 * t;
-        std::memcpy(c, rec + 12, 36);
-        float normal[3];
-        std::memcpy(normal, rec, 12);
-        if constexpr (std::endian::native == std::endian::big) {
-            for (float* f : {c, normal}) {
-                for (int k = 0; k < (f == c ? 9 : 3); ++k) {
-                    f[k] = std::bit_cast<float>(std::byteswap(std::bit_cast<std::uint32_t>(f[k])));
+    constexpr std::size_t kBlock = 1u << 16;  // records per fetch (3.2 MB)
+    for (std::size_t first = 0; first < n; first += kBlock) {
+        const std::size_t count = std::min(kBlock, n - first);
+        auto block = fetch(first, count);
+        if (!block) return std::unexpected(block.error());
+        const char* rec = *block;
+        for (std::size_t t = first; t < first + count; ++t, rec += kRecordBytes) {
+            float* c = xyz.get() + 9 * t;
+            std::memcpy(c, rec + 12, 36);
+            float normal[3];
+            std::memcpy(normal, rec, 12);
+            if constexpr (std::endian::native == std::endian::big) {
+                for (int k = 0; k < 9; ++k) {
+                    c[k] = std::bit_cast<float>(std::byteswap(std::bit_cast<std::uint32_t>(c[k])));
+                }
+                for (float& f : normal) {
+                    f = std::bit_cast<float>(std::byteswap(std::bit_cast<std::uint32_t>(f)));
                 }
             }
+            for (int k = 0; k < 9; ++k) {
+                const auto bits = std::bit_cast<std::uint32_t>(c[k]);
+                exponent_all_ones |=
+                    static_cast<std::uint32_t>((bits & 0x7F800000u) == 0x7F800000u);
+            }
+            opposite += static_cast<std::size_t>(normal_opposes_winding(normal, c));
         }
-        for (int k = 0; k < 9; ++k) {
-            const auto bits = std::bit_cast<std::uint32_t>(c[k]);
-            exponent_all_ones |= static_cast<std::uint32_t>((bits & 0x7F800000u) == 0x7F800000u);
-        }
-        opposite += static_cast<std::size_t>(normal_opposes_winding(normal, c));
     }
     if (exponent_all_ones != 0) {
         for (std::size_t t = 0; t < n; ++t) {
-            for (int k = 0; k < 9; ++k) {
-                if (!std::isfinite(xyz[9 * t + static_cast<std::size_t>(k)])) {
+            for (std::size_t k = 0; k < 9; ++k) {
+                if (!std::isfinite(xyz[9 * t + k])) {
                     return core::fail(
                         core::ErrorCode::kInvalidInput,
                         fmt::format("triangle {} (byte offset {}): vertex {} has a NaN or "
@@ -200,8 +216,17 @@ core::Result<RawImport> read_binary(std::string_view bytes, bool header_says_sol
         }
     }
     warn_opposite_normals(out, opposite, n);
-    out.mesh = mesh::weld_exact(std::span<const float>(xyz));
+    out.mesh = mesh::weld_exact(std::span<const float>(xyz.get(), n * 9));
     return out;
+}
+
+core::Result<RawImport> read_binary_in_memory(std::string_view bytes, bool header_says_solid) {
+    return read_binary(
+        bytes.size(), bytes.substr(0, std::min(bytes.size(), kHeaderBytes)), header_says_solid,
+        [&](std::size_t first, std::size_t) -> core::Result<const char*> {
+            return bytes.data() + kHeaderBytes + first * kRecordBytes;
+        },
+        [&] { return bytes.find("\xEF\xBF\xBD") != std::string_view::npos; });
 }
 
 // Whitespace-separated tokens with the line each starts on.
@@ -414,15 +439,53 @@ core::Result<RawImport> read_stl(std::string_view bytes) {
         return core::fail(core::ErrorCode::kInvalidInput, "the file is empty (0 bytes)");
     }
     const bool solid = starts_with_solid(bytes);
-    if (solid && looks_like_text(bytes)) {
-        try {
-            return AsciiParser(skip_bom(bytes)).parse();
-        } catch (const std::bad_alloc&) {
-            return core::fail(core::ErrorCode::kInvalidInput, "not enough memory for the mesh");
-        }
-    }
     try {
-        return read_binary(bytes, solid);
+        if (solid && looks_like_text(bytes)) return AsciiParser(skip_bom(bytes)).parse();
+        return read_binary_in_memory(bytes, solid);
+    } catch (const std::bad_alloc&) {
+        return core::fail(core::ErrorCode::kInvalidInput, "not enough memory for the mesh");
+    }
+}
+
+core::Result<RawImport> read_stl_file(const std::filesystem::path& path, std::string_view head,
+                                      std::uint64_t size) {
+    const bool solid = starts_with_solid(head);
+    if (size <= head.size() || (solid && looks_like_text(head))) {
+        // Small files and (probable) ASCII: the whole text in memory; read_stl checks again
+        // that all of it is text.
+        if (size <= head.size()) return read_stl(head);
+        auto bytes = read_file(path);
+        if (!bytes) return std::unexpected(bytes.error());
+        return read_stl(bytes->view());
+    }
+    // Binary: the records are read in blocks straight into the corner array, so a large file
+    // is never held in memory twice.
+    auto file = SequentialFile::open(path);
+    if (!file) return std::unexpected(file.error());
+    std::vector<char> block;
+    std::uint64_t expected_offset = kHeaderBytes;
+    try {
+        return read_binary(
+            size, head.substr(0, std::min(head.size(), kHeaderBytes)), solid,
+            [&](std::size_t first, std::size_t count) -> core::Result<const char*> {
+                const std::uint64_t offset = kHeaderBytes + std::uint64_t{first} * kRecordBytes;
+                if (offset != expected_offset) {
+                    return core::fail(core::ErrorCode::kInternal, "STL blocks out of order");
+                }
+                block.resize(count * kRecordBytes);
+                auto got = file->read_at(offset, block.data(), block.size());
+                if (!got) return std::unexpected(got.error());
+                if (*got != block.size()) {
+                    return core::fail(core::ErrorCode::kIo,
+                                      "the file got shorter while it was read");
+                }
+                expected_offset = offset + block.size();
+                return block.data();
+            },
+            [&] {
+                auto whole = read_file(path);
+                return whole && whole->view().find("\xEF\xBF\xBD") != std::string_view::npos;
+            });
     } catch (const std::bad_alloc&) {
         return core::fail(core::ErrorCode::kInvalidInput, "not enough memory for the mesh");
     }
