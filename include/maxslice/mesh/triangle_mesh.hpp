@@ -42,9 +42,10 @@ void transform(TriangleMesh& mesh, const std::array<double, 12>& affine);
 void append(TriangleMesh& a, const TriangleMesh& b);
 
 /// Builds an indexed mesh from a triangle soup (9 coordinates per triangle, corners in
-/// order), merging corners with bit-identical coordinates. Linear expected time.
-/// The first occurrence of a position fixes its vertex index, so the result is
-/// deterministic.
+/// order), merging corners with bit-identical coordinates (-0.0 counts as 0.0). Linear
+/// expected time. The first occurrence of a position fixes its vertex index, so the result is
+/// deterministic. Every triangle is kept, also one whose corners merge (validate() reports
+/// it, repair() removes it); numbers after the last whole triangle are ignored.
 [[nodiscard]] TriangleMesh weld_exact(std::span<const float> xyz);
 [[nodiscard]] TriangleMesh weld_exact(std::span<const double> xyz);
 
