@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <limits>
+#include <new>
 #include <utility>
 
 #include "maxslice/core/assert.hpp"
@@ -40,11 +41,14 @@ template <class T>
 class HugeArray {
 public:
     explicit HugeArray(std::size_t n) : n_(n) {
-        constexpr std::size_t kAlign = 2u << 20;
-        const std::size_t bytes = (n * sizeof(T) + kAlign - 1) / kAlign * kAlign;
-        data_ = static_cast<T*>(std::aligned_alloc(kAlign, bytes));
-        MAXSLICE_ASSERT(data_ != nullptr);
-        advise_huge_pages(data_, bytes);
+        // Small tables (most meshes) stay small: huge-page alignment only pays from 2 MiB.
+        constexpr std::size_t kHuge = 2u << 20;
+        const std::size_t wanted = std::max<std::size_t>(n * sizeof(T), 64);
+        const std::size_t align = wanted >= kHuge ? kHuge : 64;
+        const std::size_t bytes = (wanted + align - 1) / align * align;
+        data_ = static_cast<T*>(std::aligned_alloc(align, bytes));
+        if (data_ == nullptr) throw std::bad_alloc();  // as std::vector would
+        if (align == kHuge) advise_huge_pages(data_, bytes);
         std::memset(static_cast<void*>(data_), 0, bytes);
     }
     HugeArray(const HugeArray&) = delete;

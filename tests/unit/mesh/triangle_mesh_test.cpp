@@ -86,6 +86,27 @@ TEST(WeldExact, ManyTrianglesGrowTheTableAndStayExact) {
     EXPECT_EQ(m.vertices.size(), static_cast<std::size_t>((n + 1) * (n + 1)));
 }
 
+TEST(WeldExact, AllDistinctCornersGrowTheTable) {
+    // A soup of 30000 triangles with no shared corner: the table, sized for a closed mesh,
+    // has to grow several times, and every corner must keep its own position.
+    std::vector<double> soup;
+    for (int i = 0; i < 3 * 30000; ++i) {
+        soup.insert(soup.end(), {0.5 * i, std::sqrt(static_cast<double>(i)), -1.0 * (i % 7)});
+    }
+    const TriangleMesh m = weld_exact(std::span<const double>(soup));
+    ASSERT_EQ(m.vertices.size(), 90000u);
+    for (std::size_t c = 0; c < 90000; ++c) {
+        EXPECT_EQ(m.triangles[c / 3][c % 3], c);
+        EXPECT_EQ(m.vertices[c].y, soup[3 * c + 1]);
+    }
+    // Welding the same soup twice over gives the same vertices, each used twice.
+    std::vector<double> twice = soup;
+    twice.insert(twice.end(), soup.begin(), soup.end());
+    const TriangleMesh m2 = weld_exact(std::span<const double>(twice));
+    EXPECT_EQ(m2.vertices, m.vertices);
+    EXPECT_EQ(m2.triangles[30000], m2.triangles[0]);
+}
+
 TEST(Measures, UnitCubeVolumeAreaAndBox) {
     const TriangleMesh m = test::unit_cube();
     EXPECT_NEAR(signed_volume(m), 1.0, 1e-12);
