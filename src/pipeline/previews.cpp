@@ -15,7 +15,9 @@ namespace {
 
 using nlohmann::ordered_json;
 
-ordered_json vec(const core::Vec3d& v) { return ordered_json::array({v.x, v.y, v.z}); }
+ordered_json vec(const core::Vec3d& v) {
+    return ordered_json::array({v.x, v.y, v.z});
+}
 
 ordered_json box_json(const core::Box3d& b) {
     if (b.empty()) return nullptr;
@@ -121,8 +123,8 @@ std::string info_text(const PreparedPart& part) {
     fmt::format_to(it, "format      {} (units: {}{})\n", io::format_name(part.imported.format),
                    core::unit_name(part.imported.source_unit),
                    part.imported.unit_declared ? ", declared in the file" : "");
-    fmt::format_to(it, "triangles   {}\nvertices    {}\nbodies      {}\n", r.triangles,
-                   r.vertices, r.bodies);
+    fmt::format_to(it, "triangles   {}\nvertices    {}\nbodies      {}\n", r.triangles, r.vertices,
+                   r.bodies);
     if (!b.empty()) {
         fmt::format_to(it, "bounding    ({:.4f}, {:.4f}, {:.4f}) - ({:.4f}, {:.4f}, {:.4f}) mm\n",
                        b.min.x, b.min.y, b.min.z, b.max.x, b.max.y, b.max.z);
@@ -138,10 +140,10 @@ std::string info_text(const PreparedPart& part) {
     for (const auto& d : part.repairs) fmt::format_to(it, "  repaired  {}\n", d);
     if (part.repaired_report) {
         const auto& a = *part.repaired_report;
-        fmt::format_to(it, "after repair: {} triangles, {} bodies, volume {:.6g} mm3, {}\n",
-                       a.triangles, a.bodies, a.volume_mm3,
-                       a.defects().empty() ? "valid" : fmt::format("{} defects remain",
-                                                                   a.defects().size()));
+        fmt::format_to(
+            it, "after repair: {} triangles, {} bodies, volume {:.6g} mm3, {}\n", a.triangles,
+            a.bodies, a.volume_mm3,
+            a.defects().empty() ? "valid" : fmt::format("{} defects remain", a.defects().size()));
     }
     for (const auto& w : part.imported.warnings) fmt::format_to(it, "  warning   {}\n", w);
     return fmt::to_string(out);
@@ -175,18 +177,19 @@ core::Result<void> write_slices_json(const std::filesystem::path& file, const Sl
         }
         const double area = s.area_mm2();
         volume += area * s.thickness();
-        layers.push_back({{"index", s.index},
-                          {"bottom_mm", s.span.bottom},
-                          {"top_mm", s.span.top},
-                          {"cut_mm", s.span.cut},
-                          {"thickness_mm", s.thickness()},
-                          {"plane", {{"origin", vec(s.plane.origin)}, {"normal", vec(s.plane.normal)}}},
-                          {"area_mm2", area},
-                          {"outers", s.wires.outer_count()},
-                          {"holes", s.wires.hole_count()},
-                          {"gaps_closed", s.gaps_closed},
-                          {"roots", s.wires.roots},
-                          {"tree", std::move(tree)}});
+        layers.push_back(
+            {{"index", s.index},
+             {"bottom_mm", s.span.bottom},
+             {"top_mm", s.span.top},
+             {"cut_mm", s.span.cut},
+             {"thickness_mm", s.thickness()},
+             {"plane", {{"origin", vec(s.plane.origin)}, {"normal", vec(s.plane.normal)}}},
+             {"area_mm2", area},
+             {"outers", s.wires.outer_count()},
+             {"holes", s.wires.hole_count()},
+             {"gaps_closed", s.gaps_closed},
+             {"roots", s.wires.roots},
+             {"tree", std::move(tree)}});
     }
     j["layer_count"] = stack.slices.size();
     j["sliced_volume_mm3"] = volume;
@@ -223,8 +226,7 @@ core::Result<void> write_layer_svgs(const std::filesystem::path& dir, const Slic
     return {};
 }
 
-core::Result<void> write_contact_sheet(const std::filesystem::path& file,
-                                       const SliceStack& stack) {
+core::Result<void> write_contact_sheet(const std::filesystem::path& file, const SliceStack& stack) {
     const Bounds2 b = stack_bounds(stack);
     const double margin = 2.0;
     const double cw = core::um_to_mm(static_cast<std::int64_t>(b.x1 - b.x0)) + 2 * margin;
@@ -239,7 +241,8 @@ core::Result<void> write_contact_sheet(const std::filesystem::path& file,
                    "width=\"1600\" height=\"{:.0f}\">\n<rect width=\"100%\" height=\"100%\" "
                    "fill=\"white\"/>\n",
                    cw * static_cast<double>(cols), ch * static_cast<double>(rows),
-                   1600.0 * static_cast<double>(rows) / static_cast<double>(std::max<std::size_t>(cols, 1)) * ch / cw);
+                   1600.0 * static_cast<double>(rows) /
+                       static_cast<double>(std::max<std::size_t>(cols, 1)) * ch / cw);
     for (std::size_t i = 0; i < n; ++i) {
         const auto& s = stack.slices[i];
         const double ox = cw * static_cast<double>(i % cols);
