@@ -15,7 +15,7 @@
 namespace maxslice::test {
 
 struct CliRun {
-    int exit_code = -1;    ///< the process's exit status, or 128 + signal number
+    int exit_code = -1;  ///< the process's exit status, or 128 + signal number
     std::string out;
     std::string err;
 };
@@ -37,7 +37,8 @@ inline std::string slurp(const std::filesystem::path& p) {
 inline CliRun run_cli(const std::vector<std::string>& args, int timeout_s = 300) {
     static int counter = 0;
     const auto dir = std::filesystem::temp_directory_path();
-    const auto stem = "maxslice_cli_" + std::to_string(::getpid()) + "_" + std::to_string(counter++);
+    const auto stem =
+        "maxslice_cli_" + std::to_string(::getpid()) + "_" + std::to_string(counter++);
     const auto out_file = dir / (stem + ".out");
     const auto err_file = dir / (stem + ".err");
     std::string cmd = "timeout " + std::to_string(timeout_s) + " " + shell_quote(MAXSLICE_CLI);

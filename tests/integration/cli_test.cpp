@@ -40,8 +40,8 @@ std::vector<fs::path> files_under(const fs::path& dir) {
 
 // A failed run must say why in exactly one line on stderr, and nothing must have crashed.
 void expect_clean_outcome(const CliRun& r, const std::string& what) {
-    EXPECT_TRUE(r.exit_code == 0 || r.exit_code == 2)
-        << what << ": exit " << r.exit_code << "\n" << r.err;
+    EXPECT_TRUE(r.exit_code == 0 || r.exit_code == 2) << what << ": exit " << r.exit_code << "\n"
+                                                      << r.err;
     EXPECT_EQ(r.err.find("AddressSanitizer"), std::string::npos) << what << "\n" << r.err;
     EXPECT_EQ(r.err.find("runtime error"), std::string::npos) << what << "\n" << r.err;
     if (r.exit_code == 2) {
@@ -56,7 +56,7 @@ void expect_clean_outcome(const CliRun& r, const std::string& what) {
 }  // namespace
 
 TEST(Cli, HelpOnEveryCommand) {
-    for (const std::vector<std::string> args :
+    for (const std::vector<std::string>& args :
          {std::vector<std::string>{"--help"}, {"info", "--help"}, {"slice", "--help"}}) {
         const CliRun r = run_cli(args);
         EXPECT_EQ(r.exit_code, 0) << args[0];
@@ -100,9 +100,9 @@ TEST(Cli, InfoReportsTheExamplePart) {
 
 TEST(Cli, SliceWritesJsonAndSvgsThatAgreeWithThePart) {
     const fs::path dir = temp_dir("slice");
-    const CliRun r = run_cli({"slice", kExample.string(), "--layer", "0.5", "--json",
-                              (dir / "s.json").string(), "--svg", (dir / "svg").string(),
-                              "--contact-sheet", (dir / "sheet.svg").string()});
+    const CliRun r =
+        run_cli({"slice", kExample.string(), "--layer", "0.5", "--json", (dir / "s.json").string(),
+                 "--svg", (dir / "svg").string(), "--contact-sheet", (dir / "sheet.svg").string()});
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const auto j = nlohmann::json::parse(slurp(dir / "s.json"));
     ASSERT_EQ(j["layer_count"].get<int>(), 60);
@@ -152,11 +152,10 @@ TEST(Cli, EveryMalformedFileIsHandledCleanly) {
 
 TEST(Cli, MalformedFilesThatMustBeRefused) {
     // Files whose defect makes slicing meaningless: refusing them is the only honest answer.
-    for (const char* name : {"stl-models/empty.stl", "stl-models/faceless.ascii.stl",
-                             "trimesh/stl_empty_bin.stl", "assimp/empty.obj",
-                             "assimp/testpoints.obj", "stl-models/singleFace.ascii.stl",
-                             "trimesh/soup.stl", "dodgy-step-files/Tsh001.stp",
-                             "dodgy-step-files/Ad005.stp"}) {
+    for (const char* name :
+         {"stl-models/empty.stl", "stl-models/faceless.ascii.stl", "trimesh/stl_empty_bin.stl",
+          "assimp/empty.obj", "assimp/testpoints.obj", "stl-models/singleFace.ascii.stl",
+          "trimesh/soup.stl", "dodgy-step-files/Tsh001.stp", "dodgy-step-files/Ad005.stp"}) {
         const CliRun r = run_cli({"slice", (kTestData / "malformed" / name).string()}, 120);
         EXPECT_EQ(r.exit_code, 2) << name << "\n" << r.err;
         expect_clean_outcome(r, name);
