@@ -1,14 +1,15 @@
 // The maxslice command line: parse, call the library, map errors to exit codes.
 // Exit codes: 0 success, 2 bad input (unreadable, invalid, unsliceable, bad options),
 // 1 internal error.
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
 #include <tbb/global_control.h>
 #include <unistd.h>
+#include <CLI/CLI.hpp>
 
 #include <cstdio>
 #include <exception>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -91,8 +92,8 @@ std::unique_ptr<core::Progress> make_progress() {
         const int pct = static_cast<int>(f * 100.0);
         if (pct == last) return;
         last = pct;
-        std::fprintf(stderr, "\r%-10.*s %3d%%%s", static_cast<int>(stage.size()), stage.data(),
-                     pct, pct >= 100 ? "\r                \r" : "");
+        std::fprintf(stderr, "\r%-10.*s %3d%%%s", static_cast<int>(stage.size()), stage.data(), pct,
+                     pct >= 100 ? "\r                \r" : "");
     });
 }
 
@@ -128,6 +129,7 @@ int run_slice(const PartOptions& opt, const SliceOptions& so) {
     ss.layers.cusp_mm = so.cusp;
     ss.layers.min_layer_mm = so.min_layer.value_or(so.layer * 0.4);
     ss.layers.max_layer_mm = so.max_layer.value_or(so.layer);
+    if (opt.repair) ss.max_gap_mm = std::numeric_limits<double>::infinity();
     if (auto ok = pipeline::validate(ss); !ok) return report_error(ok.error());
 
     pipeline::StageTimes times;

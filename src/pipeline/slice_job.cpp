@@ -120,7 +120,7 @@ core::Result<SliceStack> slice_part(const mesh::TriangleMesh& mesh, const SliceS
                                       "({:.6g} mm)",
                                       hi - lo));
     }
-    auto slices = slice::slice_mesh(mesh, stack.base, layers, progress);
+    auto slices = slice::slice_mesh(mesh, stack.base, layers, progress, settings.max_gap_mm);
     if (!slices) return std::unexpected(slices.error());
     stack.slices = std::move(*slices);
     const slice::Slice* first_open = nullptr;
@@ -133,10 +133,11 @@ core::Result<SliceStack> slice_part(const mesh::TriangleMesh& mesh, const SliceS
     if (first_open != nullptr) {
         return core::fail(
             core::ErrorCode::kInvalidInput,
-            fmt::format("{} contour(s) could not be closed (a hole in the surface wider than "
-                        "{} mm); {} layers are affected: close the mesh's holes and retry",
-                        first_open->open_chains, core::kSliceGapCloseMm,
-                        stack.layers_with_open_chains),
+            fmt::format(
+                "{} contour(s) could not be closed (a hole in the surface wider than "
+                "{} mm); {} layers are affected: close the mesh's holes, or rerun with --repair "
+                "to bridge every gap",
+                first_open->open_chains, settings.max_gap_mm, stack.layers_with_open_chains),
             fmt::format("layer {} at {:.3f} mm", first_open->index + 1, first_open->span.cut));
     }
     if (times != nullptr) times->slice_s = seconds_since(t0);

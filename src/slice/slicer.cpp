@@ -259,8 +259,8 @@ std::vector<Path2> join_exact(std::vector<Path2>& open, PlaneCut& cut) {
 // Closes open chains (from open meshes: holes in scans, cracks) end to start when the gap is
 // below the closing tolerance, nearest first; chains that cannot be closed are dropped and
 // counted.
-void close_open_chains(std::vector<Path2>& open, PlaneCut& cut) {
-    const double tol = core::kSliceGapCloseMm * core::kMicronsPerMm;
+void close_open_chains(std::vector<Path2>& open, double max_gap_mm, PlaneCut& cut) {
+    const double tol = max_gap_mm * core::kMicronsPerMm;
     std::vector<char> taken(open.size(), 0);
     for (std::size_t i = 0; i < open.size(); ++i) {
         if (taken[i]) continue;
@@ -294,7 +294,7 @@ void close_open_chains(std::vector<Path2>& open, PlaneCut& cut) {
     }
 }
 
-PlaneCut cut_plane(const CutContext& ctx, std::size_t k) {
+PlaneCut cut_plane(const CutContext& ctx, std::size_t k, double max_gap_mm) {
     const double h = ctx.sorted_heights[k];
     const auto& tris = ctx.mesh->triangles;
     std::vector<Segment> segs;
@@ -357,7 +357,7 @@ PlaneCut cut_plane(const CutContext& ctx, std::size_t k) {
     }
     if (!open.empty()) {
         std::vector<Path2> runs = join_exact(open, cut);
-        close_open_chains(runs, cut);
+        close_open_chains(runs, max_gap_mm, cut);
     }
     return cut;
 }
@@ -374,7 +374,7 @@ core::Result<std::vector<std::size_t>> plane_order(std::span<const double> heigh
 
 core::Result<std::vector<PlaneCut>> cut_mesh(const mesh::TriangleMesh& mesh, const PlaneFrame& base,
                                              std::span<const double> heights,
-                                             const core::Progress* progress) {
+                                             const core::Progress* progress, double max_gap_mm) {
     auto ctx = prepare(mesh, base, heights);
     if (!ctx) return std::unexpected(ctx.error());
     auto order = plane_order(heights);
@@ -382,7 +382,7 @@ core::Result<std::vector<PlaneCut>> cut_mesh(const mesh::TriangleMesh& mesh, con
     std::atomic<std::size_t> done{0};
     tbb::parallel_for(std::size_t{0}, heights.size(), [&](std::size_t k) {
         if (progress != nullptr && progress->cancelled()) return;
-        out[(*order)[k]] = cut_plane(*ctx, k);
+        out[(*order)[k]] = cut_plane(*ctx, k, max_gap_mm);
         if (progress != nullptr) {
             progress->report("slicing",
                              static_cast<double>(++done) / static_cast<double>(heights.size()));
@@ -396,7 +396,7 @@ core::Result<std::vector<PlaneCut>> cut_mesh(const mesh::TriangleMesh& mesh, con
 
 core::Result<std::vector<Slice>> slice_mesh(const mesh::TriangleMesh& mesh, const PlaneFrame& base,
                                             std::span<const LayerSpan> layers,
-                                            const core::Progress* progress) {
+                                            const core::Progress* progress, double max_gap_mm) {
     std::vector<double> heights(layers.size());
     for (std::size_t i = 0; i < layers.size(); ++i) heights[i] = layers[i].cut;
     auto ctx = prepare(mesh, base, heights);
@@ -407,7 +407,7 @@ core::Result<std::vector<Slice>> slice_mesh(const mesh::TriangleMesh& mesh, cons
     tbb::parallel_for(std::size_t{0}, layers.size(), [&](std::size_t k) {
         if (progress != nullptr && progress->cancelled()) return;
         const std::size_t i = (*order)[k];
-        PlaneCut cut = cut_plane(*ctx, k);
+        PlaneCut cut = cut_plane(*ctx, k, max_gap_mm);
         Slice& s = out[i];
         s.index = static_cast<int>(i);
         s.span = layers[i];

@@ -7,6 +7,7 @@
 
 #include "maxslice/core/progress.hpp"
 #include "maxslice/core/result.hpp"
+#include "maxslice/core/tolerances.hpp"
 #include "maxslice/io/read_mesh.hpp"
 #include "maxslice/mesh/validation.hpp"
 #include "maxslice/slice/layers.hpp"
@@ -24,9 +25,9 @@ struct StageTimes {
 /// A part read, checked and (with repair) mended: the input of every later stage.
 struct PreparedPart {
     io::ImportedMesh imported;
-    mesh::ValidationReport report;       ///< of the mesh as read
-    std::vector<std::string> repairs;    ///< what --repair changed, one line each
-    std::vector<std::string> warnings;   ///< import warnings and accepted defects
+    mesh::ValidationReport report;      ///< of the mesh as read
+    std::vector<std::string> repairs;   ///< what --repair changed, one line each
+    std::vector<std::string> warnings;  ///< import warnings and accepted defects
     std::optional<mesh::ValidationReport> repaired_report;  ///< after --repair
 };
 
@@ -42,9 +43,9 @@ struct PrepareSettings {
                                                    const PrepareSettings& settings,
                                                    StageTimes* times = nullptr);
 
-/// Reads, validates and (optionally) repairs a part (read_part), then refuses (kInvalidInput) a mesh that
-/// cannot be sliced: no triangles, non-finite coordinates, no enclosed volume, and without
-/// repair an inside-out or inconsistently oriented mesh; the message names the defect, its
+/// Reads, validates and (optionally) repairs a part (read_part), then refuses (kInvalidInput) a
+/// mesh that cannot be sliced: no triangles, non-finite coordinates, no enclosed volume, and
+/// without repair an inside-out or inconsistently oriented mesh; the message names the defect, its
 /// count and a coordinate, and says whether --repair would help.
 [[nodiscard]] core::Result<PreparedPart> prepare_part(const std::filesystem::path& path,
                                                       const PrepareSettings& settings,
@@ -54,6 +55,9 @@ struct PrepareSettings {
 struct SliceSettings {
     core::Vec3d direction{0.0, 0.0, 1.0};
     slice::LayerSettings layers;
+    /// Widest gap (mm) in an open surface's section that the slicer bridges; the CLI lifts
+    /// the limit with --repair (every gap bridged, nearest first, and reported).
+    double max_gap_mm = core::kSliceGapCloseMm;
 };
 
 /// Checks the settings (direction non-zero and finite, layer ranges).

@@ -6,6 +6,7 @@
 
 #include "maxslice/core/progress.hpp"
 #include "maxslice/core/result.hpp"
+#include "maxslice/core/tolerances.hpp"
 #include "maxslice/geom2d/wire_tree.hpp"
 #include "maxslice/mesh/triangle_mesh.hpp"
 #include "maxslice/slice/layers.hpp"
@@ -39,19 +40,19 @@ struct PlaneCut {
 /// returns the raw loops, one PlaneCut per height in the order given. A plane through a
 /// vertex, edge or face cuts the solid just above it (symbolic perturbation), so a cube cut
 /// at its bottom face yields its full square and at its top face yields nothing.
-/// Work: O(n log n + k) for n triangles and k triangle-plane crossings; parallel over
-/// planes, identical results for any thread count.
+/// Open chains (open meshes) are bridged end to start, nearest first, across gaps up to
+/// max_gap_mm (infinity bridges every gap). Work: O(n log n + k) for n triangles and k
+/// triangle-plane crossings; parallel over planes, identical results for any thread count.
 [[nodiscard]] core::Result<std::vector<PlaneCut>> cut_mesh(
     const mesh::TriangleMesh& mesh, const PlaneFrame& base, std::span<const double> heights,
-    const core::Progress* progress = nullptr);
+    const core::Progress* progress = nullptr, double max_gap_mm = core::kSliceGapCloseMm);
 
 /// Slices the mesh into the given layers along base.normal and builds each slice's wire
 /// tree (union of the oriented loops with the positive fill rule, so overlapping bodies
 /// merge). Errors name the layer when a slice cannot be built.
-[[nodiscard]] core::Result<std::vector<Slice>> slice_mesh(const mesh::TriangleMesh& mesh,
-                                                          const PlaneFrame& base,
-                                                          std::span<const LayerSpan> layers,
-                                                          const core::Progress* progress = nullptr);
+[[nodiscard]] core::Result<std::vector<Slice>> slice_mesh(
+    const mesh::TriangleMesh& mesh, const PlaneFrame& base, std::span<const LayerSpan> layers,
+    const core::Progress* progress = nullptr, double max_gap_mm = core::kSliceGapCloseMm);
 
 /// The base frame for slicing a mesh along direction: normal = direction, origin at the
 /// point d * (lowest height of the mesh along d), so heights run from 0 to the part's extent.
