@@ -1,0 +1,54 @@
+#pragma once
+
+#include <optional>
+#include <vector>
+
+#include "maxslice/core/result.hpp"
+#include "maxslice/geom2d/polygon.hpp"
+#include "maxslice/geom2d/wire_tree.hpp"
+
+namespace maxslice::path {
+
+/// Settings of the toolpath stage (METHOD.md section 9), in mm unless stated.
+struct PathSettings {
+    double track_width_mm = 2.5;  ///< bead width
+    double overlap = 0.3;         ///< share of a track the next one overlaps, in [0, 1)
+    int contour_passes = 1;       ///< passes along the wires before the fill (0 = fill only)
+    /// Fill direction in degrees from the plane's u axis; unset = along the long side of the
+    /// orientation whose bounding box has the largest long/short ratio.
+    std::optional<double> raster_angle_deg;
+};
+
+/// Checks ranges (width > 0, 0 <= overlap < 1, passes >= 0); errors name the setting.
+[[nodiscard]] core::Result<void> validate(const PathSettings& settings);
+
+/// What a stroke deposits.
+enum class StrokeKind { kContour, kFill };
+
+/// A polyline deposited with the laser on from its first point to its last (a contour
+/// repeats its first point at the end). Between strokes the head travels with the laser off
+/// in a straight line from one stroke's last point to the next one's first.
+struct Stroke {
+    StrokeKind kind = StrokeKind::kFill;
+    geom2d::Path2 points;  ///< in the layer plane's (u, v) frame, micrometres
+};
+
+/// The toolpath of one layer, in deposition order.
+struct LayerToolpath {
+    std::vector<Stroke> strokes;
+    double raster_angle_deg = 0.0;  ///< the fill direction used
+    double uncovered_mm2 = 0.0;     ///< area of the region no track covers (gaps < a track)
+    double deposit_length_mm = 0.0;
+    double travel_length_mm = 0.0;  ///< between strokes, from `start` to the last stroke
+};
+
+/// Plans the tracks of one layer's region: contour passes (the wires offset inward by half a
+/// track, then by one pitch per further pass), then a zigzag fill of what is left at a pitch
+/// of width x (1 - overlap), neighbouring lines linked along the boundary while the link
+/// stays inside (laser on), islands and strokes ordered to keep idle travel short starting
+/// from `start`. Holes are deposited around, never filled. Deterministic.
+[[nodiscard]] core::Result<LayerToolpath> plan_layer(const geom2d::WireTree& region,
+                                                     const PathSettings& settings,
+                                                     geom2d::Point2 start);
+
+}  // namespace maxslice::path

@@ -1,0 +1,1 @@
+#include "maxslice/machine/program.hpp"

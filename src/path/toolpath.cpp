@@ -1,0 +1,1 @@
+#include "maxslice/path/toolpath.hpp"
