@@ -132,23 +132,25 @@ Paths2 union_of(const Paths2& a, FillRule rule) {
     return from_clipper(out);
 }
 
-Paths2 intersection_of(const Paths2& a, const Paths2& b) {
+namespace {
+
+Paths2 boolean(const Paths2& a, const Paths2& b, ClipperLib::ClipType op) {
     ClipperLib::Clipper clipper;
     clipper.AddPaths(to_clipper(a), ClipperLib::ptSubject, true);
     clipper.AddPaths(to_clipper(b), ClipperLib::ptClip, true);
     ClipperLib::Paths out;
-    clipper.Execute(ClipperLib::ctIntersection, out, ClipperLib::pftNonZero,
-                    ClipperLib::pftNonZero);
+    clipper.Execute(op, out, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
     return from_clipper(out);
 }
 
+}  // namespace
+
+Paths2 intersection_of(const Paths2& a, const Paths2& b) {
+    return boolean(a, b, ClipperLib::ctIntersection);
+}
+
 Paths2 difference_of(const Paths2& a, const Paths2& b) {
-    ClipperLib::Clipper clipper;
-    clipper.AddPaths(to_clipper(a), ClipperLib::ptSubject, true);
-    clipper.AddPaths(to_clipper(b), ClipperLib::ptClip, true);
-    ClipperLib::Paths out;
-    clipper.Execute(ClipperLib::ctDifference, out, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
-    return from_clipper(out);
+    return boolean(a, b, ClipperLib::ctDifference);
 }
 
 Paths2 offset_of(const Paths2& region, std::int64_t delta_um) {
@@ -160,3 +162,43 @@ Paths2 offset_of(const Paths2& region, std::int64_t delta_um) {
 }
 
 }  // namespace maxslice::geom2d
+
+namespace {
+
+// Open polylines keep every point count (a closed path needs 3, a polyline 1).
+ClipperLib::Paths polylines_to_clipper(const Paths2& polylines) {
+    ClipperLib::Paths out;
+    out.reserve(polylines.size());
+    for (const Path2& p : polylines) {
+        if (!p.empty()) out.push_back(to_clipper(p));
+    }
+    return out;
+}
+
+}  // namespace
+
+Paths2 sweep_polylines(const Paths2& polylines, std::int64_t half_width_um) {
+    if (half_width_um <= 0) return {};
+    const double radius = static_cast<double>(half_width_um);
+    ClipperLib::ClipperOffset offset(2.0, std::max(1.0, 0.01 * radius));
+    offset.AddPaths(polylines_to_clipper(polylines), ClipperLib::jtRound,
+                    ClipperLib::etOpenRound);
+    ClipperLib::Paths out;
+    offset.Execute(out, radius);
+    return from_clipper(out);
+}
+
+Paths2 clip_polylines(const Paths2& polylines, const Paths2& region) {
+    ClipperLib::Clipper clipper;
+    for (const Path2& p : polylines) {
+        // Clipper refuses open paths of fewer than two distinct points.
+        if (p.size() >= 2) clipper.AddPath(to_clipper(p), ClipperLib::ptSubject, false);
+    }
+    clipper.AddPaths(to_clipper(region), ClipperLib::ptClip, true);
+    ClipperLib::PolyTree tree;
+    clipper.Execute(ClipperLib::ctIntersection, tree, ClipperLib::pftNonZero,
+                    ClipperLib::pftNonZero);
+    ClipperLib::Paths open;
+    ClipperLib::OpenPathsFromPolyTree(tree, open);
+    return from_clipper(open);
+}

@@ -372,17 +372,21 @@ core::Result<std::vector<std::size_t>> plane_order(std::span<const double> heigh
 
 }  // namespace
 
-core::Result<std::vector<PlaneCut>> cut_mesh(const mesh::TriangleMesh& mesh, const PlaneFrame& base,
-                                             std::span<const double> heights,
-                                             const core::Progress* progress, double max_gap_mm) {
+namespace {
+
+// Cuts every plane in parallel; emit(k_sorted, input_index, cut) stores the result. Each
+// plane writes only its own slot, so the result does not depend on the thread count.
+template <class Emit>
+core::Result<void> cut_all(const mesh::TriangleMesh& mesh, const PlaneFrame& base,
+                           std::span<const double> heights, const core::Progress* progress,
+                           double max_gap_mm, Emit&& emit) {
     auto ctx = prepare(mesh, base, heights);
     if (!ctx) return std::unexpected(ctx.error());
     auto order = plane_order(heights);
-    std::vector<PlaneCut> out(heights.size());
     std::atomic<std::size_t> done{0};
     tbb::parallel_for(std::size_t{0}, heights.size(), [&](std::size_t k) {
         if (progress != nullptr && progress->cancelled()) return;
-        out[(*order)[k]] = cut_plane(*ctx, k, max_gap_mm);
+        emit((*order)[k], cut_plane(*ctx, k, max_gap_mm));
         if (progress != nullptr) {
             progress->report("slicing",
                              static_cast<double>(++done) / static_cast<double>(heights.size()));
@@ -391,6 +395,18 @@ core::Result<std::vector<PlaneCut>> cut_mesh(const mesh::TriangleMesh& mesh, con
     if (progress != nullptr && progress->cancelled()) {
         return core::fail(core::ErrorCode::kCancelled, "cancelled", "slicing");
     }
+    return {};
+}
+
+}  // namespace
+
+core::Result<std::vector<PlaneCut>> cut_mesh(const mesh::TriangleMesh& mesh, const PlaneFrame& base,
+                                             std::span<const double> heights,
+                                             const core::Progress* progress, double max_gap_mm) {
+    std::vector<PlaneCut> out(heights.size());
+    auto ok = cut_all(mesh, base, heights, progress, max_gap_mm,
+                      [&](std::size_t i, PlaneCut cut) { out[i] = std::move(cut); });
+    if (!ok) return std::unexpected(ok.error());
     return out;
 }
 
@@ -399,15 +415,8 @@ core::Result<std::vector<Slice>> slice_mesh(const mesh::TriangleMesh& mesh, cons
                                             const core::Progress* progress, double max_gap_mm) {
     std::vector<double> heights(layers.size());
     for (std::size_t i = 0; i < layers.size(); ++i) heights[i] = layers[i].cut;
-    auto ctx = prepare(mesh, base, heights);
-    if (!ctx) return std::unexpected(ctx.error());
-    auto order = plane_order(heights);
     std::vector<Slice> out(layers.size());
-    std::atomic<std::size_t> done{0};
-    tbb::parallel_for(std::size_t{0}, layers.size(), [&](std::size_t k) {
-        if (progress != nullptr && progress->cancelled()) return;
-        const std::size_t i = (*order)[k];
-        PlaneCut cut = cut_plane(*ctx, k, max_gap_mm);
+    auto ok = cut_all(mesh, base, heights, progress, max_gap_mm, [&](std::size_t i, PlaneCut cut) {
         Slice& s = out[i];
         s.index = static_cast<int>(i);
         s.span = layers[i];
@@ -415,14 +424,8 @@ core::Result<std::vector<Slice>> slice_mesh(const mesh::TriangleMesh& mesh, cons
         s.gaps_closed = cut.gaps_closed;
         s.open_chains = cut.open_chains;
         s.wires = geom2d::build_wire_tree(cut.loops, geom2d::FillRule::kPositive);
-        if (progress != nullptr) {
-            progress->report("slicing",
-                             static_cast<double>(++done) / static_cast<double>(layers.size()));
-        }
     });
-    if (progress != nullptr && progress->cancelled()) {
-        return core::fail(core::ErrorCode::kCancelled, "cancelled", "slicing");
-    }
+    if (!ok) return std::unexpected(ok.error());
     return out;
 }
 
