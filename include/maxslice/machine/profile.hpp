@@ -1,0 +1,138 @@
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "maxslice/core/result.hpp"
+
+namespace maxslice::machine {
+
+/// The deposition process (METHOD.md, reference process): what the bead needs, independent of
+/// the machine that lays it. Lengths in mm, feeds in mm/min, powder in g/min, power in W.
+/// TOML keys are the member names (table `[process]`); see docs/profiles.md.
+struct ProcessProfile {
+    double track_width_mm = 2.5;             ///< bead width, (0, 50]
+    double layer_height_mm = 0.5;            ///< nominal layer height, in [h_min, h_max]
+    double h_min_mm = 0.3;                   ///< thinnest layer (adaptive / wedge layers)
+    double h_max_mm = 0.7;                   ///< thickest layer
+    double overlap = 0.3;                    ///< share of a track the next one covers, [0, 1)
+    int contour_passes = 1;                  ///< passes along the wires before the fill, >= 0
+    double laser_power_w = 700.0;            ///< while depositing, > 0
+    double laser_power_off_w = 0.0;          ///< written while the laser is off, < laser_power_w
+    double powder_feed_g_min = 8.0;          ///< while depositing (0 = no powder, e.g. dry run)
+    double deposition_feed_mm_min = 381.0;   ///< nominal feed with the laser on
+    double travel_feed_mm_min = 2540.0;      ///< feed of idle moves (laser off)
+    double dwell_after_laser_on_ms = 0.0;    ///< wait after switching on, for the powder stream
+    double self_supporting_angle_deg = 0.0;  ///< slope the process holds by itself, [0, 90)
+    /// Share of the delivered powder that ends up in the bead, (0, 1]; unset = unknown, and
+    /// the summary then reports only the powder delivered.
+    std::optional<double> powder_catch_efficiency;
+};
+
+/// How machine axes follow from part coordinates. Only a Cartesian machine for now; the
+/// tilting-rotary tables of METHOD.md section 11 come later.
+enum class Kinematics { kXyz };
+
+/// Output dialect of the program writer.
+enum class Dialect {
+    kGm,        ///< the reference lab's format: power and powder columns, then a G-code block
+    kLinuxCnc,  ///< RS-274 as LinuxCNC's interpreter reads it
+};
+
+/// Travel limits of one axis in program coordinates: mm for X, Y, Z (degrees for A, B, C
+/// once rotary kinematics exist).
+struct AxisLimits {
+    std::string name;  ///< "X", "Y", "Z"
+    double min = 0.0;
+    double max = 0.0;
+};
+
+/// An M-code (or any block) template: one or more blocks, one output line each. Placeholders
+/// `{power}` (W), `{power_pct}` (percent of the machine's laser_power_max_w) and `{powder}`
+/// (g/min) are replaced by the value with 2 decimals. No blocks = nothing is written.
+struct CodeTemplate {
+    std::vector<std::string> blocks;
+};
+
+/// The blocks a machine uses to switch laser and powder, and optional extra blocks written
+/// after the header and before the program end.
+struct MachineCodes {
+    CodeTemplate laser_on;
+    CodeTemplate laser_off;
+    CodeTemplate powder_on;
+    CodeTemplate powder_off;
+    CodeTemplate program_start;
+    CodeTemplate program_end;
+};
+
+/// A machine: kinematics, axis limits, accepted feed and power ranges, dialect and codes.
+/// TOML table `[machine]`; see docs/profiles.md.
+struct MachineProfile {
+    std::string name;
+    Kinematics kinematics = Kinematics::kXyz;
+    Dialect dialect = Dialect::kGm;
+    std::vector<AxisLimits> axes;         ///< X, Y, Z in that order for kXyz
+    double feed_min_mm_min = 1.0;         ///< slowest feed the machine accepts, > 0
+    double feed_max_mm_min = 10000.0;     ///< fastest feed, >= feed_min
+    double laser_power_min_w = 0.0;       ///< lowest power when on (0 W = off is always fine)
+    double laser_power_max_w = 1000.0;    ///< highest power, > 0
+    double powder_feed_max_g_min = 50.0;  ///< highest powder feed, >= 0
+    MachineCodes codes;
+
+    /// The limits of the named axis, or nullptr when the machine has no such axis.
+    [[nodiscard]] const AxisLimits* find_axis(std::string_view axis_name) const;
+};
+
+/// What one profile file holds: a `[machine]` table, a `[process]` table, or both.
+struct ProfileFile {
+    std::optional<MachineProfile> machine;
+    std::optional<ProcessProfile> process;
+};
+
+/// A complete, cross-checked pair.
+struct Profiles {
+    MachineProfile machine;
+    ProcessProfile process;
+};
+
+/// Checks every range and cross-check of a process profile (h_min <= layer <= h_max, layer
+/// <= track width, 0 <= overlap < 1, positive widths and feeds ...). Errors (kInvalidInput)
+/// name the key as in the TOML file ("process.track_width_mm"), the value and the range.
+[[nodiscard]] core::Result<void> validate(const ProcessProfile& process);
+
+/// Checks a machine profile: axes present with min < max, ranges, templates (known
+/// placeholders only, one line per block). Errors name the key ("machine.axes.X.min").
+[[nodiscard]] core::Result<void> validate(const MachineProfile& machine);
+
+/// Checks that a machine can run a process: the process's feeds, laser power and powder feed
+/// lie in the machine's ranges. Errors name both keys.
+[[nodiscard]] core::Result<void> check_compatible(const MachineProfile& machine,
+                                                  const ProcessProfile& process);
+
+/// Parses profile TOML text (`source` names it in errors). Each present table is read
+/// completely and validated: missing keys, unknown keys (with a suggestion for a likely
+/// typo), wrong types and out-of-range values are refused, naming the key. A file with
+/// neither table is refused. Errors: kInvalidInput with context "profile SOURCE".
+[[nodiscard]] core::Result<ProfileFile> parse_profile(std::string_view toml_text,
+                                                      std::string_view source);
+
+/// Reads and parses one profile file (kIo when it cannot be read).
+[[nodiscard]] core::Result<ProfileFile> read_profile(const std::filesystem::path& file);
+
+/// Reads one file holding both tables, or several files that together hold each table exactly
+/// once (e.g. a machine file and a process file), and checks the pair is compatible.
+[[nodiscard]] core::Result<Profiles> load_profiles(std::span<const std::filesystem::path> files);
+
+/// "gm" / "linuxcnc".
+[[nodiscard]] std::string_view dialect_name(Dialect dialect);
+
+/// The text of a template block with its placeholders replaced (2 decimals each).
+/// `power_max_w` scales `{power_pct}`. Blocks were checked by validate(MachineProfile).
+[[nodiscard]] std::string expand_block(std::string_view block, double power_w, double powder_g_min,
+                                       double power_max_w);
+
+}  // namespace maxslice::machine

@@ -1,0 +1,810 @@
+#include "maxslice/machine/profile.hpp"
+
+#include <fmt/format.h>
+
+#include <toml++/toml.h>
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+namespace maxslice::machine {
+namespace {
+
+using core::ErrorCode;
+
+// Profiles are the edge where people type numbers: every value is range-checked here, with
+// ranges wide enough for any DED cell and narrow enough to catch a unit mistake (a track
+// width in micrometres, a feed in mm/s scaled wrongly by 1000).
+
+struct Range {
+    double lo = 0.0;
+    double hi = 0.0;
+    bool lo_open = false;  // lo itself is excluded
+    bool hi_open = false;
+    std::string_view unit;
+};
+
+bool in_range(double v, const Range& r) {
+    if (!std::isfinite(v)) return false;
+    if (r.lo_open ? !(v > r.lo) : !(v >= r.lo)) return false;
+    if (r.hi_open ? !(v < r.hi) : !(v <= r.hi)) return false;
+    return true;
+}
+
+std::string range_text(const Range& r) {
+    return fmt::format("{}{}, {}{}{}{}", r.lo_open ? '(' : '[', r.lo, r.hi, r.hi_open ? ')' : ']',
+                       r.unit.empty() ? "" : " ", r.unit);
+}
+
+core::Result<void> check_range(std::string_view key, double value, const Range& r) {
+    if (!std::isfinite(value)) {
+        return core::fail(
+            ErrorCode::kInvalidInput,
+            fmt::format("{} = {} is not a finite number (allowed: {})", key, value, range_text(r)));
+    }
+    if (!in_range(value, r)) {
+        return core::fail(
+            ErrorCode::kInvalidInput,
+            fmt::format("{} = {} is out of range (allowed: {})", key, value, range_text(r)));
+    }
+    return {};
+}
+
+constexpr double kMaxFeedMmMin = 100000.0;  // 1.7 m/s: beyond any DED feed
+constexpr double kMaxPowerW = 100000.0;     // 100 kW
+constexpr double kMaxPowderGMin = 1000.0;
+constexpr double kMaxAxisTravelMm = 100000.0;  // 100 m from the program origin
+constexpr double kMaxDwellMs = 60000.0;
+constexpr std::size_t kMaxBlockChars = 120;  // keeps written lines short
+
+struct ProcessNumber {
+    std::string_view key;
+    double ProcessProfile::*member;
+    Range range;
+};
+
+constexpr std::array<ProcessNumber, 12> kProcessNumbers{{
+    {"track_width_mm", &ProcessProfile::track_width_mm, {0.0, 50.0, true, false, "mm"}},
+    {"layer_height_mm", &ProcessProfile::layer_height_mm, {0.0, 20.0, true, false, "mm"}},
+    {"h_min_mm", &ProcessProfile::h_min_mm, {0.0, 20.0, true, false, "mm"}},
+    {"h_max_mm", &ProcessProfile::h_max_mm, {0.0, 20.0, true, false, "mm"}},
+    {"overlap", &ProcessProfile::overlap, {0.0, 1.0, false, true, ""}},
+    {"laser_power_w", &ProcessProfile::laser_power_w, {0.0, kMaxPowerW, true, false, "W"}},
+    {"laser_power_off_w", &ProcessProfile::laser_power_off_w, {0.0, kMaxPowerW, false, false, "W"}},
+    {"powder_feed_g_min",
+     &ProcessProfile::powder_feed_g_min,
+     {0.0, kMaxPowderGMin, false, false, "g/min"}},
+    {"deposition_feed_mm_min",
+     &ProcessProfile::deposition_feed_mm_min,
+     {0.0, kMaxFeedMmMin, true, false, "mm/min"}},
+    {"travel_feed_mm_min",
+     &ProcessProfile::travel_feed_mm_min,
+     {0.0, kMaxFeedMmMin, true, false, "mm/min"}},
+    {"dwell_after_laser_on_ms",
+     &ProcessProfile::dwell_after_laser_on_ms,
+     {0.0, kMaxDwellMs, false, false, "ms"}},
+    {"self_supporting_angle_deg",
+     &ProcessProfile::self_supporting_angle_deg,
+     {0.0, 90.0, false, true, "deg"}},
+}};
+constexpr std::string_view kContourPassesKey = "contour_passes";
+constexpr Range kContourPassesRange{0.0, 100.0, false, false, ""};
+constexpr std::string_view kCatchEfficiencyKey = "powder_catch_efficiency";
+constexpr Range kCatchEfficiencyRange{0.0, 1.0, true, false, ""};
+
+struct MachineNumber {
+    std::string_view key;
+    double MachineProfile::*member;
+    Range range;
+};
+
+constexpr std::array<MachineNumber, 5> kMachineNumbers{{
+    {"feed_min_mm_min",
+     &MachineProfile::feed_min_mm_min,
+     {0.0, kMaxFeedMmMin, true, false, "mm/min"}},
+    {"feed_max_mm_min",
+     &MachineProfile::feed_max_mm_min,
+     {0.0, kMaxFeedMmMin, true, false, "mm/min"}},
+    {"laser_power_min_w", &MachineProfile::laser_power_min_w, {0.0, kMaxPowerW, false, false, "W"}},
+    {"laser_power_max_w", &MachineProfile::laser_power_max_w, {0.0, kMaxPowerW, true, false, "W"}},
+    {"powder_feed_max_g_min",
+     &MachineProfile::powder_feed_max_g_min,
+     {0.0, kMaxPowderGMin, false, false, "g/min"}},
+}};
+constexpr Range kAxisRange{-kMaxAxisTravelMm, kMaxAxisTravelMm, false, false, "mm"};
+
+constexpr std::array<std::string_view, 3> kXyzAxes{"X", "Y", "Z"};
+constexpr std::array<std::string_view, 3> kRotaryAxes{"A", "B", "C"};
+
+struct CodeKey {
+    std::string_view key;
+    CodeTemplate MachineCodes::*member;
+    bool required;
+};
+constexpr std::array<CodeKey, 6> kCodeKeys{{
+    {"laser_on", &MachineCodes::laser_on, true},
+    {"laser_off", &MachineCodes::laser_off, true},
+    {"powder_on", &MachineCodes::powder_on, true},
+    {"powder_off", &MachineCodes::powder_off, true},
+    {"program_start", &MachineCodes::program_start, false},
+    {"program_end", &MachineCodes::program_end, false},
+}};
+constexpr std::array<std::string_view, 3> kPlaceholders{"power", "power_pct", "powder"};
+
+std::string key_path(std::string_view prefix, std::string_view key) {
+    return fmt::format("{}.{}", prefix, key);
+}
+
+std::string lower(std::string_view s) {
+    std::string out(s);
+    for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return out;
+}
+
+// Levenshtein distance on lower-case names: a typo is usually one or two edits away.
+std::size_t edit_distance(std::string_view a_in, std::string_view b_in) {
+    const std::string a = lower(a_in);
+    const std::string b = lower(b_in);
+    std::vector<std::size_t> row(b.size() + 1);
+    for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+    for (std::size_t i = 1; i <= a.size(); ++i) {
+        std::size_t diag = row[0];
+        row[0] = i;
+        for (std::size_t j = 1; j <= b.size(); ++j) {
+            const std::size_t up = row[j];
+            row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0 : 1)});
+            diag = up;
+        }
+    }
+    return row[b.size()];
+}
+
+std::string suggestion(std::string_view key, std::span<const std::string_view> known) {
+    std::string_view best;
+    std::size_t best_distance = std::max<std::size_t>(2, key.size() / 4) + 1;
+    for (std::string_view k : known) {
+        const std::size_t d = edit_distance(key, k);
+        if (d < best_distance) {
+            best_distance = d;
+            best = k;
+        }
+    }
+    if (best.empty()) {
+        // "maximum" for "max": one name starts with the other.
+        const std::string k = lower(key);
+        for (std::string_view candidate : known) {
+            const std::string c = lower(candidate);
+            if (std::min(k.size(), c.size()) >= 3 && (k.starts_with(c) || c.starts_with(k))) {
+                best = candidate;
+                break;
+            }
+        }
+    }
+    return best.empty() ? std::string{} : fmt::format(" (did you mean `{}`?)", best);
+}
+
+std::string_view type_name(const toml::node& node) {
+    switch (node.type()) {
+        case toml::node_type::table: return "a table";
+        case toml::node_type::array: return "an array";
+        case toml::node_type::string: return "a string";
+        case toml::node_type::integer: return "an integer";
+        case toml::node_type::floating_point: return "a number";
+        case toml::node_type::boolean: return "a boolean";
+        case toml::node_type::date:
+        case toml::node_type::time:
+        case toml::node_type::date_time: return "a date/time";
+        case toml::node_type::none: break;
+    }
+    return "nothing";
+}
+
+// Reads the keys of one TOML table; every error names the full key path.
+class TableReader {
+public:
+    TableReader(const toml::table& table, std::string prefix)
+        : table_(table), prefix_(std::move(prefix)) {}
+
+    [[nodiscard]] std::string path(std::string_view key) const { return key_path(prefix_, key); }
+
+    // Refuses keys outside `known`; checked before anything else so that a misspelt key is
+    // reported as such rather than as the key it was meant to be going missing.
+    [[nodiscard]] core::Result<void> only(std::span<const std::string_view> known) const {
+        for (auto&& [k, node] : table_) {
+            const std::string_view name = k.str();
+            if (std::find(known.begin(), known.end(), name) != known.end()) continue;
+            const std::string hint = suggestion(name, known);
+            if (!hint.empty()) {
+                return core::fail(ErrorCode::kInvalidInput,
+                                  fmt::format("unknown key `{}`{}", path(name), hint));
+            }
+            std::string allowed;
+            for (std::string_view a : known) {
+                allowed += allowed.empty() ? "" : ", ";
+                allowed += a;
+            }
+            return core::fail(
+                ErrorCode::kInvalidInput,
+                fmt::format("unknown key `{}`; allowed in [{}]: {}", path(name), prefix_, allowed));
+        }
+        return {};
+    }
+
+    [[nodiscard]] core::Result<const toml::node*> required(std::string_view key,
+                                                           std::string_view expected) const {
+        const toml::node* node = table_.get(key);
+        if (node == nullptr) {
+            return core::fail(ErrorCode::kInvalidInput,
+                              fmt::format("missing key `{}` ({})", path(key), expected));
+        }
+        return node;
+    }
+
+    [[nodiscard]] core::Result<double> number(std::string_view key, const Range& range) const {
+        const auto node = required(key, fmt::format("a number in {}", range_text(range)));
+        if (!node) return std::unexpected(node.error());
+        return as_number(key, **node, range);
+    }
+
+    [[nodiscard]] core::Result<std::optional<double>> optional_number(std::string_view key,
+                                                                      const Range& range) const {
+        const toml::node* node = table_.get(key);
+        if (node == nullptr) return std::optional<double>{};
+        const auto v = as_number(key, *node, range);
+        if (!v) return std::unexpected(v.error());
+        return std::optional<double>{*v};
+    }
+
+    [[nodiscard]] core::Result<std::int64_t> integer(std::string_view key,
+                                                     const Range& range) const {
+        const auto node = required(key, fmt::format("an integer in {}", range_text(range)));
+        if (!node) return std::unexpected(node.error());
+        if (const auto* v = (*node)->as_integer()) return v->get();
+        return core::fail(ErrorCode::kInvalidInput,
+                          fmt::format("`{}` must be an integer in {}, got {}", path(key),
+                                      range_text(range), describe(**node)));
+    }
+
+    [[nodiscard]] core::Result<std::string> string(std::string_view key,
+                                                   std::string_view expected) const {
+        const auto node = required(key, expected);
+        if (!node) return std::unexpected(node.error());
+        if (const auto* v = (*node)->as_string()) return v->get();
+        return core::fail(
+            ErrorCode::kInvalidInput,
+            fmt::format("`{}` must be {}, got {}", path(key), expected, describe(**node)));
+    }
+
+    [[nodiscard]] core::Result<const toml::table*> table(std::string_view key,
+                                                         std::string_view expected) const {
+        const auto node = required(key, expected);
+        if (!node) return std::unexpected(node.error());
+        if (const auto* t = (*node)->as_table()) return t;
+        return core::fail(
+            ErrorCode::kInvalidInput,
+            fmt::format("`{}` must be {}, got {}", path(key), expected, describe(**node)));
+    }
+
+    // A template is a string (one block, "" for none) or an array of strings (one block each).
+    [[nodiscard]] core::Result<CodeTemplate> code(std::string_view key, bool is_required) const {
+        constexpr std::string_view kExpected = "a string or an array of strings";
+        const toml::node* node = table_.get(key);
+        if (node == nullptr) {
+            if (!is_required) return CodeTemplate{};
+            return core::fail(
+                ErrorCode::kInvalidInput,
+                fmt::format("missing key `{}` ({}; \"\" for none)", path(key), kExpected));
+        }
+        CodeTemplate out;
+        if (const auto* s = node->as_string()) {
+            if (!s->get().empty()) out.blocks.push_back(s->get());
+            return out;
+        }
+        if (const auto* a = node->as_array()) {
+            for (std::size_t i = 0; i < a->size(); ++i) {
+                const auto* s = a->get(i)->as_string();
+                if (s == nullptr) {
+                    return core::fail(ErrorCode::kInvalidInput,
+                                      fmt::format("`{}[{}]` must be a string, got {}", path(key), i,
+                                                  describe(*a->get(i))));
+                }
+                out.blocks.push_back(s->get());
+            }
+            return out;
+        }
+        return core::fail(
+            ErrorCode::kInvalidInput,
+            fmt::format("`{}` must be {}, got {}", path(key), kExpected, describe(*node)));
+    }
+
+private:
+    [[nodiscard]] static std::string describe(const toml::node& node) {
+        if (const auto* s = node.as_string()) return fmt::format("\"{}\"", s->get());
+        if (const auto* b = node.as_boolean()) return b->get() ? "true" : "false";
+        return std::string(type_name(node));
+    }
+
+    [[nodiscard]] core::Result<double> as_number(std::string_view key, const toml::node& node,
+                                                 const Range& range) const {
+        // Integers are fine where a number is expected (`track_width_mm = 3`).
+        if (const auto* f = node.as_floating_point()) return f->get();
+        if (const auto* i = node.as_integer()) return static_cast<double>(i->get());
+        return core::fail(ErrorCode::kInvalidInput,
+                          fmt::format("`{}` must be a number in {}, got {}", path(key),
+                                      range_text(range), describe(node)));
+    }
+
+    const toml::table& table_;
+    std::string prefix_;
+};
+
+template <class T>
+std::unexpected<core::Error> pass(const core::Result<T>& r) {
+    return std::unexpected(r.error());
+}
+
+core::Result<ProcessProfile> read_process(const toml::table& table) {
+    const TableReader reader(table, "process");
+    std::vector<std::string_view> known;
+    for (const auto& f : kProcessNumbers) known.push_back(f.key);
+    known.push_back(kContourPassesKey);
+    known.push_back(kCatchEfficiencyKey);
+    if (auto ok = reader.only(known); !ok) return pass(ok);
+
+    ProcessProfile p;
+    for (const auto& f : kProcessNumbers) {
+        const auto v = reader.number(f.key, f.range);
+        if (!v) return pass(v);
+        p.*f.member = *v;
+    }
+    const auto passes = reader.integer(kContourPassesKey, kContourPassesRange);
+    if (!passes) return pass(passes);
+    if (!in_range(static_cast<double>(*passes), kContourPassesRange)) {
+        return core::fail(ErrorCode::kInvalidInput,
+                          fmt::format("process.{} = {} is out of range (allowed: {})",
+                                      kContourPassesKey, *passes, range_text(kContourPassesRange)));
+    }
+    p.contour_passes = static_cast<int>(*passes);
+    const auto efficiency = reader.optional_number(kCatchEfficiencyKey, kCatchEfficiencyRange);
+    if (!efficiency) return pass(efficiency);
+    p.powder_catch_efficiency = *efficiency;
+
+    if (auto ok = validate(p); !ok) return pass(ok);
+    return p;
+}
+
+core::Result<std::vector<AxisLimits>> read_axes(const TableReader& machine) {
+    const auto table = machine.table("axes", "a table of axes, e.g. X = { min = 0, max = 500 }");
+    if (!table) return pass(table);
+    const TableReader axes(**table, machine.path("axes"));
+    for (auto&& [k, node] : **table) {
+        const std::string_view name = k.str();
+        if (std::find(kRotaryAxes.begin(), kRotaryAxes.end(), name) != kRotaryAxes.end()) {
+            return core::fail(ErrorCode::kInvalidInput,
+                              fmt::format("`{}`: rotary axes need tilting-rotary table "
+                                          "kinematics, which come later; kinematics \"xyz\" "
+                                          "takes X, Y and Z",
+                                          axes.path(name)));
+        }
+    }
+    if (auto ok = axes.only(kXyzAxes); !ok) return pass(ok);
+
+    std::vector<AxisLimits> out;
+    constexpr std::array<std::string_view, 2> kLimitKeys{"min", "max"};
+    for (std::string_view name : kXyzAxes) {
+        const auto axis = axes.table(name, "a table { min = ..., max = ... } in mm");
+        if (!axis) return pass(axis);
+        const TableReader limits(**axis, axes.path(name));
+        if (auto ok = limits.only(kLimitKeys); !ok) return pass(ok);
+        const auto lo = limits.number("min", kAxisRange);
+        if (!lo) return pass(lo);
+        const auto hi = limits.number("max", kAxisRange);
+        if (!hi) return pass(hi);
+        out.push_back({std::string(name), *lo, *hi});
+    }
+    return out;
+}
+
+core::Result<MachineProfile> read_machine(const toml::table& table) {
+    const TableReader reader(table, "machine");
+    std::vector<std::string_view> known{"name", "kinematics", "dialect", "axes", "codes"};
+    for (const auto& f : kMachineNumbers) known.push_back(f.key);
+    if (auto ok = reader.only(known); !ok) return pass(ok);
+
+    MachineProfile m;
+    const auto name = reader.string("name", "a string naming the machine");
+    if (!name) return pass(name);
+    m.name = *name;
+
+    const auto kinematics = reader.string("kinematics", "\"xyz\"");
+    if (!kinematics) return pass(kinematics);
+    if (*kinematics != "xyz") {
+        return core::fail(ErrorCode::kInvalidInput,
+                          fmt::format("machine.kinematics = \"{}\" is not supported: only \"xyz\" "
+                                      "for now (tilting-rotary table kinematics come later)",
+                                      *kinematics));
+    }
+    m.kinematics = Kinematics::kXyz;
+
+    const auto dialect = reader.string("dialect", "\"gm\" or \"linuxcnc\"");
+    if (!dialect) return pass(dialect);
+    if (*dialect == "gm") {
+        m.dialect = Dialect::kGm;
+    } else if (*dialect == "linuxcnc") {
+        m.dialect = Dialect::kLinuxCnc;
+    } else {
+        return core::fail(ErrorCode::kInvalidInput,
+                          fmt::format("machine.dialect = \"{}\" is unknown (allowed: \"gm\", "
+                                      "\"linuxcnc\")",
+                                      *dialect));
+    }
+
+    const auto axes = read_axes(reader);
+    if (!axes) return pass(axes);
+    m.axes = *axes;
+
+    for (const auto& f : kMachineNumbers) {
+        const auto v = reader.number(f.key, f.range);
+        if (!v) return pass(v);
+        m.*f.member = *v;
+    }
+
+    const auto codes = reader.table("codes", "a table of M-code templates");
+    if (!codes) return pass(codes);
+    const TableReader code_reader(**codes, reader.path("codes"));
+    std::vector<std::string_view> code_keys;
+    for (const auto& c : kCodeKeys) code_keys.push_back(c.key);
+    if (auto ok = code_reader.only(code_keys); !ok) return pass(ok);
+    for (const auto& c : kCodeKeys) {
+        const auto t = code_reader.code(c.key, c.required);
+        if (!t) return pass(t);
+        m.codes.*c.member = *t;
+    }
+
+    if (auto ok = validate(m); !ok) return pass(ok);
+    return m;
+}
+
+core::Result<void> check_block(std::string_view key, std::size_t index, std::string_view block) {
+    const std::string where = fmt::format("machine.codes.{}[{}] = \"{}\"", key, index, block);
+    if (block.empty()) {
+        return core::fail(ErrorCode::kInvalidInput, where + " is an empty block");
+    }
+    if (block.size() > kMaxBlockChars) {
+        return core::fail(ErrorCode::kInvalidInput,
+                          fmt::format("{} is longer than {} characters", where, kMaxBlockChars));
+    }
+    for (char c : block) {
+        if (c < 0x20 || c > 0x7e) {
+            return core::fail(ErrorCode::kInvalidInput,
+                              where +
+                                  " holds a tab, line break or non-ASCII character (one "
+                                  "block per line: use an array for several)");
+        }
+    }
+    for (std::size_t i = 0; i < block.size(); ++i) {
+        if (block[i] == '}') {
+            return core::fail(ErrorCode::kInvalidInput, where + " has a `}` without `{`");
+        }
+        if (block[i] != '{') continue;
+        const std::size_t close = block.find('}', i);
+        if (close == std::string_view::npos) {
+            return core::fail(ErrorCode::kInvalidInput, where + " has a `{` without `}`");
+        }
+        const std::string_view name = block.substr(i + 1, close - i - 1);
+        if (std::find(kPlaceholders.begin(), kPlaceholders.end(), name) == kPlaceholders.end()) {
+            return core::fail(ErrorCode::kInvalidInput,
+                              fmt::format("{} has an unknown placeholder {{{}}} (allowed: "
+                                          "{{power}}, {{power_pct}}, {{powder}})",
+                                          where, name));
+        }
+        i = close;
+    }
+    return {};
+}
+
+core::Result<ProfileFile> parse_document(const toml::table& doc) {
+    constexpr std::array<std::string_view, 2> kSections{"machine", "process"};
+    for (auto&& [k, node] : doc) {
+        const std::string_view name = k.str();
+        if (std::find(kSections.begin(), kSections.end(), name) == kSections.end()) {
+            return core::fail(ErrorCode::kInvalidInput,
+                              fmt::format("unknown key `{}`{}; a profile holds the tables "
+                                          "[machine] and/or [process]",
+                                          name, suggestion(name, kSections)));
+        }
+        if (!node.is_table()) {
+            return core::fail(
+                ErrorCode::kInvalidInput,
+                fmt::format("`{}` must be a table ([{}]), got {}", name, name, type_name(node)));
+        }
+    }
+    ProfileFile out;
+    if (const auto* t = doc["machine"].as_table()) {
+        auto m = read_machine(*t);
+        if (!m) return pass(m);
+        out.machine = std::move(*m);
+    }
+    if (const auto* t = doc["process"].as_table()) {
+        auto p = read_process(*t);
+        if (!p) return pass(p);
+        out.process = std::move(*p);
+    }
+    if (!out.machine && !out.process) {
+        return core::fail(ErrorCode::kInvalidInput,
+                          "the profile holds neither a [machine] nor a [process] table");
+    }
+    return out;
+}
+
+std::string format_value(double v) {
+    // Fixed decimals, and never "-0.00".
+    const double r = std::round(v * 100.0) / 100.0;
+    return fmt::format("{:.2f}", r == 0.0 ? 0.0 : r);
+}
+
+}  // namespace
+
+const AxisLimits* MachineProfile::find_axis(std::string_view axis_name) const {
+    for (const auto& a : axes) {
+        if (a.name == axis_name) return &a;
+    }
+    return nullptr;
+}
+
+core::Result<void> validate(const ProcessProfile& p) {
+    for (const auto& f : kProcessNumbers) {
+        if (auto ok = check_range(key_path("process", f.key), p.*f.member, f.range); !ok) {
+            return ok;
+        }
+    }
+    if (!in_range(static_cast<double>(p.contour_passes), kContourPassesRange)) {
+        return core::fail(
+            ErrorCode::kInvalidInput,
+            fmt::format("process.{} = {} is out of range (allowed: {})", kContourPassesKey,
+                        p.contour_passes, range_text(kContourPassesRange)));
+    }
+    if (p.powder_catch_efficiency) {
+        if (auto ok = check_range(key_path("process", kCatchEfficiencyKey),
+                                  *p.powder_catch_efficiency, kCatchEfficiencyRange);
+            !ok) {
+            return ok;
+        }
+    }
+    if (p.h_min_mm > p.h_max_mm) {
+        return core::fail(ErrorCode::kInvalidInput,
+                          fmt::format("process.h_min_mm = {} is above process.h_max_mm = {} "
+                                      "(need h_min_mm <= layer_height_mm <= h_max_mm)",
+                                      p.h_min_mm, p.h_max_mm));
+    }
+    if (p.layer_height_mm < p.h_min_mm || p.layer_height_mm > p.h_max_mm) {
+        return core::fail(ErrorCode::kInvalidInput,
+                          fmt::format("process.layer_height_mm = {} is outside [process.h_min_mm, "
+                                      "process.h_max_mm] = [{}, {}] mm",
+                                      p.layer_height_mm, p.h_min_mm, p.h_max_mm));
+    }
+    if (p.layer_height_mm > p.track_width_mm) {
+        return core::fail(
+            ErrorCode::kInvalidInput,
+            fmt::format("process.layer_height_mm = {} is above process.track_width_mm "
+                        "= {} (a bead is wider than it is high)",
+                        p.layer_height_mm, p.track_width_mm));
+    }
+    if (p.laser_power_off_w >= p.laser_power_w) {
+        return core::fail(ErrorCode::kInvalidInput,
+                          fmt::format("process.laser_power_off_w = {} must be below "
+                                      "process.laser_power_w = {}",
+                                      p.laser_power_off_w, p.laser_power_w));
+    }
+    return {};
+}
+
+core::Result<void> validate(const MachineProfile& m) {
+    if (m.name.empty()) {
+        return core::fail(ErrorCode::kInvalidInput, "machine.name is empty (name the machine)");
+    }
+    if (m.kinematics == Kinematics::kXyz) {
+        if (m.axes.size() != kXyzAxes.size()) {
+            return core::fail(ErrorCode::kInvalidInput,
+                              fmt::format("machine.axes has {} axes; kinematics \"xyz\" needs X, "
+                                          "Y and Z",
+                                          m.axes.size()));
+        }
+        for (std::size_t i = 0; i < kXyzAxes.size(); ++i) {
+            const AxisLimits& a = m.axes[i];
+            if (a.name != kXyzAxes[i]) {
+                return core::fail(ErrorCode::kInvalidInput,
+                                  fmt::format("machine.axes: axis {} is \"{}\", expected \"{}\"", i,
+                                              a.name, kXyzAxes[i]));
+            }
+            const std::string prefix = fmt::format("machine.axes.{}", a.name);
+            if (auto ok = check_range(prefix + ".min", a.min, kAxisRange); !ok) return ok;
+            if (auto ok = check_range(prefix + ".max", a.max, kAxisRange); !ok) return ok;
+            if (!(a.min < a.max)) {
+                return core::fail(ErrorCode::kInvalidInput,
+                                  fmt::format("{}.min = {} must be below {}.max = {}", prefix,
+                                              a.min, prefix, a.max));
+            }
+        }
+    }
+    for (const auto& f : kMachineNumbers) {
+        if (auto ok = check_range(key_path("machine", f.key), m.*f.member, f.range); !ok) {
+            return ok;
+        }
+    }
+    if (m.feed_min_mm_min > m.feed_max_mm_min) {
+        return core::fail(ErrorCode::kInvalidInput,
+                          fmt::format("machine.feed_min_mm_min = {} is above "
+                                      "machine.feed_max_mm_min = {}",
+                                      m.feed_min_mm_min, m.feed_max_mm_min));
+    }
+    if (m.laser_power_min_w > m.laser_power_max_w) {
+        return core::fail(ErrorCode::kInvalidInput,
+                          fmt::format("machine.laser_power_min_w = {} is above "
+                                      "machine.laser_power_max_w = {}",
+                                      m.laser_power_min_w, m.laser_power_max_w));
+    }
+    for (const auto& c : kCodeKeys) {
+        const CodeTemplate& t = m.codes.*c.member;
+        for (std::size_t i = 0; i < t.blocks.size(); ++i) {
+            if (auto ok = check_block(c.key, i, t.blocks[i]); !ok) return ok;
+        }
+    }
+    // LinuxCNC has no power column: without codes the laser would never switch.
+    if (m.dialect == Dialect::kLinuxCnc) {
+        if (m.codes.laser_on.blocks.empty() || m.codes.laser_off.blocks.empty()) {
+            return core::fail(ErrorCode::kInvalidInput,
+                              "machine.codes.laser_on and machine.codes.laser_off must not be "
+                              "empty for dialect \"linuxcnc\" (nothing else switches the laser)");
+        }
+    }
+    return {};
+}
+
+core::Result<void> check_compatible(const MachineProfile& m, const ProcessProfile& p) {
+    const auto feed = [&](std::string_view key, double value) -> core::Result<void> {
+        if (value >= m.feed_min_mm_min && value <= m.feed_max_mm_min) return {};
+        return core::fail(ErrorCode::kInvalidInput,
+                          fmt::format("process.{} = {} is outside the machine's feed range "
+                                      "[machine.feed_min_mm_min, machine.feed_max_mm_min] = "
+                                      "[{}, {}] mm/min",
+                                      key, value, m.feed_min_mm_min, m.feed_max_mm_min));
+    };
+    if (auto ok = feed("deposition_feed_mm_min", p.deposition_feed_mm_min); !ok) return ok;
+    if (auto ok = feed("travel_feed_mm_min", p.travel_feed_mm_min); !ok) return ok;
+    const auto power = [&](std::string_view key, double value) -> core::Result<void> {
+        if (value == 0.0 || (value >= m.laser_power_min_w && value <= m.laser_power_max_w)) {
+            return {};
+        }
+        return core::fail(ErrorCode::kInvalidInput,
+                          fmt::format("process.{} = {} is outside the machine's power range "
+                                      "[machine.laser_power_min_w, machine.laser_power_max_w] = "
+                                      "[{}, {}] W (or 0)",
+                                      key, value, m.laser_power_min_w, m.laser_power_max_w));
+    };
+    if (auto ok = power("laser_power_w", p.laser_power_w); !ok) return ok;
+    if (auto ok = power("laser_power_off_w", p.laser_power_off_w); !ok) return ok;
+    if (p.powder_feed_g_min > m.powder_feed_max_g_min) {
+        return core::fail(ErrorCode::kInvalidInput,
+                          fmt::format("process.powder_feed_g_min = {} is above "
+                                      "machine.powder_feed_max_g_min = {}",
+                                      p.powder_feed_g_min, m.powder_feed_max_g_min));
+    }
+    return {};
+}
+
+core::Result<ProfileFile> parse_profile(std::string_view toml_text, std::string_view source) {
+    const std::string context = fmt::format("profile {}", source);
+    toml::table doc;
+    try {
+        doc = toml::parse(toml_text, source);
+    } catch (const toml::parse_error& e) {
+        return core::fail(ErrorCode::kInvalidInput,
+                          fmt::format("line {}, column {}: {}", e.source().begin.line,
+                                      e.source().begin.column, e.description()),
+                          context);
+    }
+    auto out = parse_document(doc);
+    if (!out) return std::unexpected(core::with_context(out.error(), context));
+    return out;
+}
+
+core::Result<ProfileFile> read_profile(const std::filesystem::path& file) {
+    std::ifstream in(file, std::ios::binary);
+    if (!in) {
+        return core::fail(ErrorCode::kIo, "cannot open the file", "profile " + file.string());
+    }
+    std::ostringstream text;
+    text << in.rdbuf();
+    if (in.bad()) {
+        return core::fail(ErrorCode::kIo, "cannot read the file", "profile " + file.string());
+    }
+    return parse_profile(text.str(), file.string());
+}
+
+core::Result<Profiles> load_profiles(std::span<const std::filesystem::path> files) {
+    if (files.empty()) {
+        return core::fail(ErrorCode::kInvalidInput, "no profile file given");
+    }
+    std::optional<MachineProfile> machine;
+    std::optional<ProcessProfile> process;
+    std::string machine_file;
+    std::string process_file;
+    std::string names;
+    for (const auto& file : files) {
+        names += names.empty() ? "" : " + ";
+        names += file.string();
+        auto f = read_profile(file);
+        if (!f) return std::unexpected(f.error());
+        if (f->machine) {
+            if (machine) {
+                return core::fail(ErrorCode::kInvalidInput,
+                                  fmt::format("[machine] is given in both {} and {}", machine_file,
+                                              file.string()));
+            }
+            machine = std::move(f->machine);
+            machine_file = file.string();
+        }
+        if (f->process) {
+            if (process) {
+                return core::fail(ErrorCode::kInvalidInput,
+                                  fmt::format("[process] is given in both {} and {}", process_file,
+                                              file.string()));
+            }
+            process = std::move(f->process);
+            process_file = file.string();
+        }
+    }
+    if (!machine || !process) {
+        return core::fail(
+            ErrorCode::kInvalidInput,
+            fmt::format("no [{}] table in the profiles given", machine ? "process" : "machine"),
+            "profiles " + names);
+    }
+    if (auto ok = check_compatible(*machine, *process); !ok) {
+        return std::unexpected(core::with_context(ok.error(), "profiles " + names));
+    }
+    return Profiles{std::move(*machine), std::move(*process)};
+}
+
+std::string_view dialect_name(Dialect dialect) {
+    switch (dialect) {
+        case Dialect::kGm: return "gm";
+        case Dialect::kLinuxCnc: return "linuxcnc";
+    }
+    return "gm";
+}
+
+std::string expand_block(std::string_view block, double power_w, double powder_g_min,
+                         double power_max_w) {
+    std::string out;
+    out.reserve(block.size() + 8);
+    for (std::size_t i = 0; i < block.size(); ++i) {
+        if (block[i] != '{') {
+            out += block[i];
+            continue;
+        }
+        const std::size_t close = block.find('}', i);
+        if (close == std::string_view::npos) {
+            out += block.substr(i);
+            break;
+        }
+        const std::string_view name = block.substr(i + 1, close - i - 1);
+        if (name == "power") {
+            out += format_value(power_w);
+        } else if (name == "power_pct") {
+            out += format_value(power_max_w > 0.0 ? 100.0 * power_w / power_max_w : 0.0);
+        } else if (name == "powder") {
+            out += format_value(powder_g_min);
+        } else {
+            out += block.substr(i, close - i + 1);
+        }
+        i = close;
+    }
+    return out;
+}
+
+}  // namespace maxslice::machine
