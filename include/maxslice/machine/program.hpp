@@ -9,10 +9,10 @@ namespace maxslice::machine {
 
 /// What a move does.
 enum class MoveKind {
-    kTravel,     ///< rapid or feed move with the laser off
-    kLaserOn,    ///< switch laser and powder on at the current position, then dwell
-    kDeposit,    ///< feed move with the laser on, depositing a bead
-    kLaserOff,   ///< switch laser and powder off at the current position
+    kTravel,    ///< feed move with the laser off (written as G1 at its feed, never a rapid)
+    kLaserOn,   ///< switch laser and powder on at the current position, then dwell
+    kDeposit,   ///< feed move with the laser on, depositing a bead
+    kLaserOff,  ///< switch laser and powder off at the current position
 };
 
 /// One step of a program, in part coordinates (mm), with the tool direction (unit vector

@@ -1,0 +1,24 @@
+#pragma once
+
+#include <span>
+
+#include "maxslice/core/vec3.hpp"
+#include "maxslice/machine/profile.hpp"
+#include "maxslice/machine/program.hpp"
+
+namespace maxslice::machine {
+
+/// Appends a travel move to `to` (part coordinates, mm) with the laser at the process's off
+/// power, no powder, at the process's travel feed.
+void append_travel(Program& program, const core::Vec3d& to, const ProcessProfile& process,
+                   int layer, int region = 0, const core::Vec3d& direction = {0.0, 0.0, 1.0});
+
+/// Appends one deposited wire with the process's nominal values: a travel to the first point
+/// (left out when the head is already there), laser-on there with the process's dwell, a
+/// deposit move to each further point at the deposition feed, power and powder feed, and
+/// laser-off at the last point. A wire of fewer than 2 points appends nothing.
+void append_wire(Program& program, std::span<const core::Vec3d> points,
+                 const ProcessProfile& process, int layer, int region = 0,
+                 const core::Vec3d& direction = {0.0, 0.0, 1.0});
+
+}  // namespace maxslice::machine
