@@ -1,0 +1,340 @@
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "maxslice/machine/profile.hpp"
+
+namespace maxslice::machine {
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kProfilesDir = fs::path(MAXSLICE_SOURCE_DIR) / "examples" / "profiles";
+
+constexpr std::string_view kMachine = R"(
+[machine]
+name = "test"
+kinematics = "xyz"
+dialect = "gm"
+feed_min_mm_min = 1.0
+feed_max_mm_min = 5000.0
+laser_power_min_w = 0.0
+laser_power_max_w = 1000.0
+powder_feed_max_g_min = 20.0
+
+[machine.axes]
+X = { min = -100.0, max = 100.0 }
+Y = { min = -100.0, max = 100.0 }
+Z = { min = 0.0, max = 200.0 }
+
+[machine.codes]
+laser_on = "M8"
+laser_off = "M9"
+powder_on = ""
+powder_off = ""
+)";
+
+constexpr std::string_view kProcess = R"(
+[process]
+track_width_mm = 2.5
+layer_height_mm = 0.5
+h_min_mm = 0.3
+h_max_mm = 0.7
+overlap = 0.3
+contour_passes = 1
+laser_power_w = 700.0
+laser_power_off_w = 0.0
+powder_feed_g_min = 8.0
+deposition_feed_mm_min = 381.0
+travel_feed_mm_min = 2540.0
+dwell_after_laser_on_ms = 500.0
+self_supporting_angle_deg = 20.0
+)";
+
+std::string base() {
+    return std::string(kMachine) + std::string(kProcess);
+}
+
+// The base text with one line replaced (the whole line starting with `key =`).
+std::string with(std::string text, const std::string& key, const std::string& line) {
+    const std::size_t at = text.find("\n" + key + " = ");
+    EXPECT_NE(at, std::string::npos) << key;
+    const std::size_t end = text.find('\n', at + 1);
+    return text.replace(at + 1, end - at - 1, line);
+}
+
+std::string without(const std::string& text, const std::string& key) {
+    std::string out = with(text, key, "");
+    return out;
+}
+
+// Parses the text and expects an kInvalidInput error whose message holds every fragment.
+void expect_refused(const std::string& text, const std::vector<std::string>& fragments) {
+    const auto r = parse_profile(text, "test.toml");
+    ASSERT_FALSE(r.has_value()) << "accepted, expected an error with " << fragments.front();
+    EXPECT_EQ(r.error().code, core::ErrorCode::kInvalidInput);
+    EXPECT_EQ(r.error().context, "profile test.toml");
+    for (const auto& f : fragments) {
+        EXPECT_NE(r.error().message.find(f), std::string::npos)
+            << "`" << f << "` not in: " << r.error().describe();
+    }
+}
+
+TEST(Profile, ReferenceExampleHasTheReferenceProcess) {
+    const fs::path file = kProfilesDir / "reference_lmd.toml";
+    const auto r = load_profiles(std::span(&file, 1));
+    ASSERT_TRUE(r.has_value()) << r.error().describe();
+    const ProcessProfile& p = r->process;
+    EXPECT_DOUBLE_EQ(p.laser_power_w, 700.0);
+    EXPECT_DOUBLE_EQ(p.laser_power_off_w, 0.0);
+    EXPECT_DOUBLE_EQ(p.powder_feed_g_min, 8.0);
+    EXPECT_DOUBLE_EQ(p.deposition_feed_mm_min, 381.0);
+    EXPECT_DOUBLE_EQ(p.travel_feed_mm_min, 2540.0);
+    EXPECT_DOUBLE_EQ(p.track_width_mm, 2.5);
+    EXPECT_DOUBLE_EQ(p.layer_height_mm, 0.5);
+    EXPECT_LE(p.h_min_mm, p.layer_height_mm);
+    EXPECT_GE(p.h_max_mm, p.layer_height_mm);
+    EXPECT_FALSE(p.powder_catch_efficiency.has_value());
+    const MachineProfile& m = r->machine;
+    EXPECT_EQ(m.dialect, Dialect::kGm);
+    EXPECT_EQ(m.kinematics, Kinematics::kXyz);
+    ASSERT_EQ(m.axes.size(), 3u);
+    for (const char* axis : {"X", "Y", "Z"}) {
+        const AxisLimits* a = m.find_axis(axis);
+        ASSERT_NE(a, nullptr) << axis;
+        EXPECT_GE(a->max - a->min, 500.0) << axis;
+    }
+    EXPECT_EQ(m.find_axis("A"), nullptr);
+    EXPECT_EQ(m.codes.laser_on.blocks, std::vector<std::string>{"M8"});
+    EXPECT_EQ(m.codes.laser_off.blocks, std::vector<std::string>{"M9"});
+    EXPECT_TRUE(m.codes.powder_on.blocks.empty());
+}
+
+TEST(Profile, LinuxCncExampleUsesDigitalOutputs) {
+    const auto r = read_profile(kProfilesDir / "linuxcnc_generic.toml");
+    ASSERT_TRUE(r.has_value()) << r.error().describe();
+    ASSERT_TRUE(r->machine && r->process);
+    EXPECT_EQ(r->machine->dialect, Dialect::kLinuxCnc);
+    const auto& c = r->machine->codes;
+    const auto has = [](const CodeTemplate& t, const std::string& block) {
+        return std::find(t.blocks.begin(), t.blocks.end(), block) != t.blocks.end();
+    };
+    EXPECT_TRUE(has(c.laser_on, "M64 P0"));
+    EXPECT_TRUE(has(c.laser_off, "M65 P0"));
+    EXPECT_TRUE(has(c.powder_on, "M64 P1"));
+    EXPECT_TRUE(has(c.powder_off, "M65 P1"));
+    EXPECT_TRUE(check_compatible(*r->machine, *r->process).has_value());
+}
+
+TEST(Profile, BaseTextIsValid) {
+    const auto r = parse_profile(base(), "test.toml");
+    ASSERT_TRUE(r.has_value()) << r.error().describe();
+    EXPECT_TRUE(r->machine.has_value());
+    EXPECT_TRUE(r->process.has_value());
+}
+
+TEST(Profile, IntegersAreAcceptedForNumbers) {
+    const auto r = parse_profile(with(base(), "track_width_mm", "track_width_mm = 3"), "t");
+    ASSERT_TRUE(r.has_value()) << r.error().describe();
+    EXPECT_DOUBLE_EQ(r->process->track_width_mm, 3.0);
+}
+
+TEST(Profile, CatchEfficiencyIsOptional) {
+    const auto r = parse_profile(base() + "powder_catch_efficiency = 0.6\n", "test.toml");
+    ASSERT_TRUE(r.has_value()) << r.error().describe();
+    ASSERT_TRUE(r->process->powder_catch_efficiency.has_value());
+    EXPECT_DOUBLE_EQ(*r->process->powder_catch_efficiency, 0.6);
+    expect_refused(base() + "powder_catch_efficiency = 1.5\n",
+                   {"process.powder_catch_efficiency = 1.5", "(0, 1]"});
+}
+
+TEST(Profile, MissingKeyIsNamed) {
+    expect_refused(without(base(), "track_width_mm"),
+                   {"missing key", "process.track_width_mm", "(0, 50] mm"});
+    expect_refused(without(base(), "dialect"), {"missing key", "machine.dialect"});
+    expect_refused(without(base(), "laser_on"), {"missing key", "machine.codes.laser_on"});
+    expect_refused(without(base(), "Z"), {"missing key", "machine.axes.Z"});
+}
+
+TEST(Profile, NegativeWidthIsRefused) {
+    expect_refused(with(base(), "track_width_mm", "track_width_mm = -2.5"),
+                   {"process.track_width_mm = -2.5", "out of range", "(0, 50] mm"});
+}
+
+TEST(Profile, OverlapOfOneIsRefused) {
+    expect_refused(with(base(), "overlap", "overlap = 1.0"), {"process.overlap = 1", "[0, 1)"});
+    expect_refused(with(base(), "overlap", "overlap = -0.1"), {"process.overlap = -0.1"});
+}
+
+TEST(Profile, UnknownDialectIsRefused) {
+    expect_refused(with(base(), "dialect", "dialect = \"fanuc\""),
+                   {"machine.dialect = \"fanuc\"", "\"gm\"", "\"linuxcnc\""});
+}
+
+TEST(Profile, LayerAboveTrackWidthIsRefused) {
+    std::string text = with(base(), "h_max_mm", "h_max_mm = 4.0");
+    text = with(text, "layer_height_mm", "layer_height_mm = 3.0");
+    expect_refused(text, {"process.layer_height_mm = 3", "process.track_width_mm = 2.5"});
+}
+
+TEST(Profile, UnknownKeyIsNamedWithASuggestion) {
+    expect_refused(with(base(), "track_width_mm", "trak_width_mm = 2.5"),
+                   {"unknown key `process.trak_width_mm`", "did you mean `track_width_mm`"});
+    expect_refused(base() + "colour = \"red\"\n", {"unknown key `process.colour`"});
+    expect_refused(with(base(), "name", "nmae = \"x\""), {"machine.nmae", "did you mean `name`"});
+    expect_refused(base() + "[proces]\n", {"unknown key `proces`", "did you mean `process`"});
+    expect_refused(with(base(), "X", "X = { min = -100.0, maximum = 100.0 }"),
+                   {"machine.axes.X.maximum", "did you mean `max`"});
+    expect_refused(with(base(), "laser_on", "laser_onn = \"M8\""),
+                   {"machine.codes.laser_onn", "did you mean `laser_on`"});
+}
+
+TEST(Profile, HMinAboveHMaxIsRefused) {
+    expect_refused(with(base(), "h_min_mm", "h_min_mm = 0.8"),
+                   {"process.h_min_mm = 0.8", "process.h_max_mm = 0.7"});
+}
+
+TEST(Profile, LayerOutsideHRangeIsRefused) {
+    expect_refused(with(base(), "layer_height_mm", "layer_height_mm = 0.2"),
+                   {"process.layer_height_mm = 0.2", "process.h_min_mm"});
+}
+
+TEST(Profile, OtherRangesAndTypes) {
+    expect_refused(with(base(), "deposition_feed_mm_min", "deposition_feed_mm_min = 0"),
+                   {"process.deposition_feed_mm_min = 0", "mm/min"});
+    expect_refused(with(base(), "travel_feed_mm_min", "travel_feed_mm_min = \"fast\""),
+                   {"process.travel_feed_mm_min", "must be a number", "\"fast\""});
+    expect_refused(with(base(), "laser_power_w", "laser_power_w = nan"),
+                   {"process.laser_power_w = nan", "not a finite number"});
+    expect_refused(with(base(), "contour_passes", "contour_passes = 1.5"),
+                   {"process.contour_passes", "must be an integer"});
+    expect_refused(with(base(), "contour_passes", "contour_passes = -1"),
+                   {"process.contour_passes = -1"});
+    expect_refused(with(base(), "self_supporting_angle_deg", "self_supporting_angle_deg = 90"),
+                   {"process.self_supporting_angle_deg = 90", "[0, 90) deg"});
+    expect_refused(with(base(), "laser_power_off_w", "laser_power_off_w = 800"),
+                   {"process.laser_power_off_w = 800", "process.laser_power_w = 700"});
+    expect_refused(with(base(), "feed_min_mm_min", "feed_min_mm_min = 6000"),
+                   {"machine.feed_min_mm_min = 6000", "machine.feed_max_mm_min = 5000"});
+    expect_refused(with(base(), "name", "name = \"\""), {"machine.name"});
+}
+
+TEST(Profile, OtherKinematicsComeLater) {
+    expect_refused(with(base(), "kinematics", "kinematics = \"table_ac\""),
+                   {"machine.kinematics = \"table_ac\"", "only \"xyz\"", "later"});
+    expect_refused(base() + "\n[machine.axes.A]\nmin = -30\nmax = 120\n",
+                   {"machine.axes.A", "rotary", "later"});
+}
+
+TEST(Profile, AxisLimitsAreChecked) {
+    expect_refused(with(base(), "Y", "Y = { min = 50.0, max = -50.0 }"),
+                   {"machine.axes.Y.min = 50", "machine.axes.Y.max = -50"});
+    expect_refused(with(base(), "Y", "Y = { min = -50.0 }"), {"missing key", "machine.axes.Y.max"});
+    expect_refused(with(base(), "Y", "Y = 3"), {"machine.axes.Y", "must be a table"});
+}
+
+TEST(Profile, TemplatesAreChecked) {
+    expect_refused(with(base(), "laser_on", "laser_on = \"M3 S{pwr}\""),
+                   {"machine.codes.laser_on[0]", "unknown placeholder {pwr}"});
+    expect_refused(with(base(), "laser_on", "laser_on = \"M3 S{power\""),
+                   {"machine.codes.laser_on[0]", "without"});
+    expect_refused(with(base(), "laser_on", "laser_on = [\"M8\", 3]"),
+                   {"machine.codes.laser_on[1]", "must be a string"});
+    expect_refused(with(base(), "laser_on", "laser_on = \"M8\\nM3\""),
+                   {"machine.codes.laser_on[0]", "line break"});
+    expect_refused(with(base(), "laser_on", "laser_on = [\"M8\", \"\"]"),
+                   {"machine.codes.laser_on[1]", "empty block"});
+    const auto ok = parse_profile(
+        with(base(), "laser_on", "laser_on = [\"M3 S{power}\", \"M201 (LASER ON {power_pct})\"]"),
+        "t");
+    ASSERT_TRUE(ok.has_value()) << ok.error().describe();
+    EXPECT_EQ(ok->machine->codes.laser_on.blocks.size(), 2u);
+}
+
+TEST(Profile, LinuxCncNeedsLaserCodes) {
+    std::string text = with(base(), "dialect", "dialect = \"linuxcnc\"");
+    text = with(text, "laser_on", "laser_on = \"\"");
+    expect_refused(text, {"machine.codes.laser_on", "linuxcnc"});
+}
+
+TEST(Profile, SyntaxErrorsNameTheLine) {
+    expect_refused(base() + "oops = = 3\n", {"line "});
+    expect_refused("", {"neither"});
+    expect_refused("machine = 3\n", {"`machine` must be a table"});
+}
+
+TEST(Profile, ExpandBlock) {
+    EXPECT_EQ(expand_block("M3 S{power}", 700.0, 8.0, 1000.0), "M3 S700.00");
+    EXPECT_EQ(expand_block("M201 (LASER ON {power_pct})", 700.0, 8.0, 1000.0),
+              "M201 (LASER ON 70.00)");
+    EXPECT_EQ(expand_block("M68 E1 Q{powder}", 700.0, 8.0, 1000.0), "M68 E1 Q8.00");
+    EXPECT_EQ(expand_block("M64 P0", 700.0, 8.0, 1000.0), "M64 P0");
+}
+
+class ProfileFiles : public ::testing::Test {
+protected:
+    void SetUp() override {
+        dir_ = fs::path(::testing::TempDir()) /
+               ("maxslice_profile_" +
+                std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+        fs::create_directories(dir_);
+    }
+    void TearDown() override { fs::remove_all(dir_); }
+    fs::path write(const std::string& name, std::string_view text) {
+        const fs::path p = dir_ / name;
+        std::ofstream(p) << text;
+        return p;
+    }
+    fs::path dir_;
+};
+
+TEST_F(ProfileFiles, MachineAndProcessInSeparateFiles) {
+    const std::vector<fs::path> files{write("m.toml", kMachine), write("p.toml", kProcess)};
+    const auto r = load_profiles(files);
+    ASSERT_TRUE(r.has_value()) << r.error().describe();
+    EXPECT_EQ(r->machine.name, "test");
+    EXPECT_DOUBLE_EQ(r->process.laser_power_w, 700.0);
+    const std::vector<fs::path> reversed{files[1], files[0]};
+    EXPECT_TRUE(load_profiles(reversed).has_value());
+}
+
+TEST_F(ProfileFiles, EachTableExactlyOnce) {
+    const std::vector<fs::path> only_machine{write("m.toml", kMachine)};
+    const auto missing = load_profiles(only_machine);
+    ASSERT_FALSE(missing.has_value());
+    EXPECT_NE(missing.error().message.find("no [process]"), std::string::npos);
+
+    const std::vector<fs::path> twice{write("both.toml", base()), write("p.toml", kProcess)};
+    const auto dup = load_profiles(twice);
+    ASSERT_FALSE(dup.has_value());
+    EXPECT_NE(dup.error().message.find("[process] is given in both"), std::string::npos);
+}
+
+TEST_F(ProfileFiles, IncompatiblePairIsRefused) {
+    const std::string text = with(base(), "feed_max_mm_min", "feed_max_mm_min = 2000.0");
+    const std::vector<fs::path> files{write("slow.toml", text)};
+    const auto r = load_profiles(files);
+    ASSERT_FALSE(r.has_value());
+    EXPECT_NE(r.error().message.find("process.travel_feed_mm_min = 2540"), std::string::npos)
+        << r.error().describe();
+    EXPECT_NE(r.error().message.find("machine.feed_max_mm_min"), std::string::npos);
+}
+
+TEST_F(ProfileFiles, MissingFileIsAnIoError) {
+    const auto r = read_profile(dir_ / "nope.toml");
+    ASSERT_FALSE(r.has_value());
+    EXPECT_EQ(r.error().code, core::ErrorCode::kIo);
+}
+
+TEST_F(ProfileFiles, ErrorsNameTheFile) {
+    const fs::path file = write("bad.toml", with(base(), "overlap", "overlap = 1.0"));
+    const auto r = read_profile(file);
+    ASSERT_FALSE(r.has_value());
+    EXPECT_EQ(r.error().context, "profile " + file.string());
+}
+
+}  // namespace
+}  // namespace maxslice::machine

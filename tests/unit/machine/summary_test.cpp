@@ -1,0 +1,68 @@
+#include <gtest/gtest.h>
+
+#include "machine_fixtures.hpp"
+#include "maxslice/machine/summary.hpp"
+
+namespace maxslice::machine {
+namespace {
+
+using testing::reference_process;
+
+TEST(Summary, TwoWires) {
+    const ProcessProfile process = reference_process();
+    Program p;
+    append_travel(p, {0.0, 0.0, 10.0}, process, -1);
+    append_wire(p, testing::square(0.0, 0.0, 10.0, 0.5), process, 0);  // travel 9.5, dep. 40
+    const std::vector<core::Vec3d> line{{0.0, 10.0, 1.0}, {30.0, 10.0, 1.0}};
+    append_wire(p, line, process, 1);  // travel sqrt(100 + 0.25), deposit 30
+
+    const auto s = summarize(p, process);
+    ASSERT_TRUE(s.has_value()) << s.error().describe();
+    const double travel = 9.5 + std::sqrt(100.25);
+    EXPECT_NEAR(s->deposit_length_mm, 70.0, 1e-9);
+    EXPECT_NEAR(s->travel_length_mm, travel, 1e-9);
+    EXPECT_NEAR(s->deposit_time_s, 70.0 / 381.0 * 60.0, 1e-9);
+    EXPECT_NEAR(s->travel_time_s, travel / 2540.0 * 60.0, 1e-9);
+    EXPECT_NEAR(s->dwell_time_s, 1.0, 1e-12);
+    EXPECT_NEAR(s->build_time_s, s->deposit_time_s + s->travel_time_s + 1.0, 1e-9);
+    EXPECT_NEAR(s->powder_delivered_g, 8.0 * 70.0 / 381.0, 1e-9);
+    EXPECT_NEAR(s->powder_total_g, s->powder_delivered_g + 2 * 8.0 * 0.5 / 60.0, 1e-9);
+    EXPECT_FALSE(s->deposited_mass_g.has_value());
+    EXPECT_EQ(s->layer_count, 2);
+    EXPECT_EQ(s->laser_on_count, 2);
+    EXPECT_EQ(s->move_count, p.moves.size());
+
+    ProcessProfile with_efficiency = process;
+    with_efficiency.powder_catch_efficiency = 0.5;
+    const auto e = summarize(p, with_efficiency);
+    ASSERT_TRUE(e.has_value() && e->deposited_mass_g.has_value());
+    EXPECT_NEAR(*e->deposited_mass_g, 0.5 * s->powder_delivered_g, 1e-12);
+}
+
+TEST(Summary, PlanarBlockCounts) {
+    const ProcessProfile process = reference_process();
+    const auto s = summarize(testing::planar_block(process, 5), process);
+    ASSERT_TRUE(s.has_value());
+    EXPECT_EQ(s->layer_count, 5);
+    EXPECT_GT(s->laser_on_count, 5);
+    EXPECT_GT(s->deposit_length_mm, 5 * 80.0);
+}
+
+TEST(Summary, Empty) {
+    const auto s = summarize(Program{}, reference_process());
+    ASSERT_TRUE(s.has_value());
+    EXPECT_EQ(s->build_time_s, 0.0);
+    EXPECT_EQ(s->layer_count, 0);
+}
+
+TEST(Summary, RefusesBrokenMoves) {
+    const ProcessProfile process = reference_process();
+    Program p = testing::planar_block(process, 1);
+    p.moves[3].feed_mm_min = 0.0;
+    EXPECT_FALSE(summarize(p, process).has_value());
+    p.moves[3].feed_mm_min = NAN;
+    EXPECT_FALSE(summarize(p, process).has_value());
+}
+
+}  // namespace
+}  // namespace maxslice::machine
