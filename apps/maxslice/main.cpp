@@ -16,8 +16,12 @@
 #include <vector>
 
 #include "maxslice/core/units.hpp"
+#include "maxslice/machine/profile.hpp"
+#include "maxslice/machine/writer.hpp"
 #include "maxslice/pipeline/previews.hpp"
+#include "maxslice/pipeline/program_job.hpp"
 #include "maxslice/pipeline/slice_job.hpp"
+#include "reference_profile.hpp"
 
 namespace {
 
@@ -112,12 +116,61 @@ int run_info(const PartOptions& opt, bool json) {
 
 struct SliceOptions {
     double layer = 0.5;
+    bool layer_given = false;
+    std::vector<std::string> profiles;
+    std::string output;
+    std::string dialect;
     std::vector<double> direction{0.0, 0.0, 1.0};
     bool adaptive = false;
     double cusp = 0.1;
     std::optional<double> min_layer, max_layer;
     std::string svg_dir, contact_sheet, json_file;
 };
+
+// The profiles for a program: the files given, or the built-in reference cell, with the
+// command line's overrides applied and checked again.
+core::Result<machine::Profiles> load_profiles(const SliceOptions& so) {
+    machine::Profiles profiles;
+    if (so.profiles.empty()) {
+        auto file = machine::parse_profile(kReferenceProfileToml, "built-in reference_lmd.toml");
+        if (!file) return std::unexpected(file.error());
+        profiles = {*file->machine, *file->process};
+    } else {
+        std::vector<std::filesystem::path> files(so.profiles.begin(), so.profiles.end());
+        auto loaded = machine::load_profiles(files);
+        if (!loaded) return loaded;
+        profiles = *loaded;
+    }
+    if (so.layer_given) {
+        profiles.process.layer_height_mm = so.layer;
+        if (auto ok = machine::validate(profiles.process); !ok) {
+            return std::unexpected(core::with_context(ok.error(), "--layer"));
+        }
+    }
+    if (!so.dialect.empty()) {
+        if (so.dialect == "gm") {
+            profiles.machine.dialect = machine::Dialect::kGm;
+        } else if (so.dialect == "linuxcnc") {
+            profiles.machine.dialect = machine::Dialect::kLinuxCnc;
+        } else {
+            return core::fail(core::ErrorCode::kInvalidInput,
+                              "unknown dialect '" + so.dialect + "' (use gm or linuxcnc)",
+                              "--dialect");
+        }
+    }
+    return profiles;
+}
+
+int write_text_file(const std::string& file, const std::string& text) {
+    std::FILE* f = std::fopen(file.c_str(), "wb");
+    if (f == nullptr) {
+        return report_error({core::ErrorCode::kIo, "cannot open for writing", file});
+    }
+    const bool ok = std::fwrite(text.data(), 1, text.size(), f) == text.size();
+    if (std::fclose(f) != 0 || !ok)
+        return report_error({core::ErrorCode::kIo, "write failed", file});
+    return kExitOk;
+}
 
 int run_slice(const PartOptions& opt, const SliceOptions& so) {
     auto settings = opt.settings();
@@ -132,13 +185,44 @@ int run_slice(const PartOptions& opt, const SliceOptions& so) {
     if (opt.repair) ss.max_gap_mm = std::numeric_limits<double>::infinity();
     if (auto ok = pipeline::validate(ss); !ok) return report_error(ok.error());
 
+    // A program is written for the profile's process: its layer height (unless --layer),
+    // its h_min / h_max for adaptive layers, with the part standing on the plate.
+    const bool program_mode = !so.output.empty();
+    std::optional<machine::Profiles> profiles;
+    if (program_mode || !so.profiles.empty()) {
+        auto loaded = load_profiles(so);
+        if (!loaded) return report_error(loaded.error());
+        profiles = *loaded;
+        ss.layers.layer_mm = profiles->process.layer_height_mm;
+        ss.layers.min_layer_mm = so.min_layer.value_or(profiles->process.h_min_mm);
+        ss.layers.max_layer_mm = so.max_layer.value_or(
+            so.adaptive ? profiles->process.h_max_mm : profiles->process.layer_height_mm);
+        if (auto ok = pipeline::validate(ss); !ok) return report_error(ok.error());
+    }
+
     pipeline::StageTimes times;
     auto part = pipeline::prepare_part(opt.path, *settings, &times);
     if (!part) return report_error(part.error());
     print_warnings(*part);
+    if (program_mode) {
+        part->imported.mesh =
+            pipeline::place_on_plate(std::move(part->imported.mesh), ss.direction);
+        ss.direction = {0.0, 0.0, 1.0};
+    }
     const auto progress = make_progress();
     auto stack = pipeline::slice_part(part->imported.mesh, ss, progress.get(), &times);
     if (!stack) return report_error(stack.error());
+
+    std::optional<pipeline::PlannedProgram> planned;
+    if (program_mode) {
+        const std::string name = std::filesystem::path(opt.path).filename().string();
+        auto p = pipeline::plan_program(*stack, *profiles, name, progress.get());
+        if (!p) return report_error(p.error());
+        auto text = machine::write_program(p->program, profiles->machine, profiles->process);
+        if (!text) return report_error(text.error());
+        if (const int rc = write_text_file(so.output, *text); rc != kExitOk) return rc;
+        planned = std::move(*p);
+    }
 
     double volume = 0.0, hmin = 1e300, hmax = 0.0;
     std::size_t outers = 0, holes = 0;
@@ -157,7 +241,10 @@ int run_slice(const PartOptions& opt, const SliceOptions& so) {
         }
     }
     if (!so.svg_dir.empty()) {
-        if (auto ok = pipeline::write_layer_svgs(so.svg_dir, *stack); !ok) {
+        if (auto ok = pipeline::write_layer_svgs(so.svg_dir, *stack,
+                                                 planned ? &planned->toolpaths : nullptr,
+                                                 profiles ? profiles->process.track_width_mm : 0.0);
+            !ok) {
             return report_error(ok.error());
         }
     }
@@ -177,6 +264,25 @@ int run_slice(const PartOptions& opt, const SliceOptions& so) {
                     ? 100.0 * (volume - part->report.volume_mm3) / part->report.volume_mm3
                     : 0.0);
     if (gaps > 0) std::printf("gaps closed     %d (open mesh)\n", gaps);
+    if (planned) {
+        const auto& sum = planned->summary;
+        std::printf("program         %s (%s, %zu moves)\n", so.output.c_str(),
+                    std::string(machine::dialect_name(profiles->machine.dialect)).c_str(),
+                    sum.move_count);
+        std::printf("deposition      %.1f mm in %d wires\n", sum.deposit_length_mm,
+                    sum.laser_on_count);
+        std::printf("idle travel     %.1f mm\n", sum.travel_length_mm);
+        std::printf("build time      %.1f min (deposit %.1f, travel %.1f, dwell %.1f)\n",
+                    sum.build_time_s / 60.0, sum.deposit_time_s / 60.0, sum.travel_time_s / 60.0,
+                    sum.dwell_time_s / 60.0);
+        std::printf("powder          %.1f g delivered while depositing%s\n", sum.powder_delivered_g,
+                    sum.deposited_mass_g
+                        ? fmt::format(", {:.1f} g deposited", *sum.deposited_mass_g).c_str()
+                        : "");
+        std::printf("uncovered       %.2f mm2 of %.1f mm2 (%d layers over 1%%)\n",
+                    planned->uncovered_mm2, planned->region_area_mm2,
+                    planned->layers_with_uncovered);
+    }
     if (opt.timings) print_timings(times);
     return kExitOk;
 }
@@ -196,8 +302,17 @@ int run(int argc, char** argv) {
     SliceOptions so;
     CLI::App* slice = app.add_subcommand("slice", "Slice a part into layers along a direction");
     slice_opt.add_to(*slice);
-    slice->add_option("--layer", so.layer, "Layer thickness in mm (h_max when adaptive)")
-        ->check(CLI::PositiveNumber);
+    CLI::Option* layer_opt =
+        slice->add_option("--layer", so.layer, "Layer thickness in mm (default: the profile's)")
+            ->check(CLI::PositiveNumber);
+    slice->add_option("-o,--output", so.output,
+                      "Write the deposition program to this file (part placed on the plate)");
+    slice->add_option("--profile", so.profiles,
+                      "Machine/process profile TOML file(s) (default: the built-in reference "
+                      "LMD cell, examples/profiles/reference_lmd.toml)");
+    slice->add_option("--dialect", so.dialect,
+                      "Program dialect: gm or linuxcnc (default: the "
+                      "machine profile's)");
     slice->add_option("--direction", so.direction, "Slicing (build) direction X,Y,Z")
         ->delimiter(',')
         ->expected(3);
@@ -219,6 +334,7 @@ int run(int argc, char** argv) {
         return code == 0 ? kExitOk : kExitBadInput;
     }
 
+    so.layer_given = layer_opt->count() > 0;
     const PartOptions& active = info->parsed() ? info_opt : slice_opt;
     std::optional<tbb::global_control> threads;
     if (active.threads > 0) {

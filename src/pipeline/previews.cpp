@@ -7,6 +7,7 @@
 #include <fstream>
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <tuple>
 
 #include "maxslice/core/units.hpp"
 
@@ -197,7 +198,48 @@ core::Result<void> write_slices_json(const std::filesystem::path& file, const Sl
     return write_text(file, j.dump(1) + "\n");
 }
 
-core::Result<void> write_layer_svgs(const std::filesystem::path& dir, const SliceStack& stack) {
+namespace {
+
+// The tracks of one layer: deposits as wide strokes, idle moves as thin dashed lines.
+void append_toolpath(fmt::memory_buffer& out, const path::LayerToolpath& tp, double width_mm,
+                     double dx, double dy) {
+    auto it = std::back_inserter(out);
+    auto xy = [&](const geom2d::Point2& p) {
+        return fmt::format("{:.3f},{:.3f}", core::um_to_mm(p.x) + dx, -core::um_to_mm(p.y) + dy);
+    };
+    // The bead footprint (track width, faint), then the track centre lines (thin, dark).
+    for (const auto& [colour, opacity, width] :
+         {std::tuple{"#1f77b4", 0.25, width_mm}, std::tuple{"#0b3c6e", 1.0, 0.12}}) {
+        fmt::format_to(it,
+                       "<g fill=\"none\" stroke=\"{}\" stroke-opacity=\"{}\" "
+                       "stroke-width=\"{:.3f}\" stroke-linecap=\"round\" "
+                       "stroke-linejoin=\"round\">\n",
+                       colour, opacity, width);
+        for (const path::Stroke& st : tp.strokes) {
+            fmt::format_to(it, "<polyline points=\"");
+            for (const auto& p : st.points) fmt::format_to(it, "{} ", xy(p));
+            fmt::format_to(it, "\"/>\n");
+        }
+        fmt::format_to(it, "</g>\n");
+    }
+    fmt::format_to(it,
+                   "<g fill=\"none\" stroke=\"#d62728\" stroke-width=\"0.15\" "
+                   "stroke-dasharray=\"0.8 0.5\">\n");
+    for (std::size_t i = 1; i < tp.strokes.size(); ++i) {
+        fmt::format_to(it, "<line x1=\"{:.3f}\" y1=\"{:.3f}\" x2=\"{:.3f}\" y2=\"{:.3f}\"/>\n",
+                       core::um_to_mm(tp.strokes[i - 1].points.back().x) + dx,
+                       -core::um_to_mm(tp.strokes[i - 1].points.back().y) + dy,
+                       core::um_to_mm(tp.strokes[i].points.front().x) + dx,
+                       -core::um_to_mm(tp.strokes[i].points.front().y) + dy);
+    }
+    fmt::format_to(it, "</g>\n");
+}
+
+}  // namespace
+
+core::Result<void> write_layer_svgs(const std::filesystem::path& dir, const SliceStack& stack,
+                                    const std::vector<path::LayerToolpath>* toolpaths,
+                                    double track_width_mm) {
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
     if (ec) return core::fail(core::ErrorCode::kIo, ec.message(), dir.string());
@@ -213,12 +255,18 @@ core::Result<void> write_layer_svgs(const std::filesystem::path& dir, const Slic
                        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{:.3f}mm\" "
                        "height=\"{:.3f}mm\" viewBox=\"0 0 {:.3f} {:.3f}\">\n"
                        "<title>layer {} of {}: {:.3f}-{:.3f} mm, area {:.3f} mm2, {} outer, {} "
-                       "holes</title>\n<g fill=\"#c8553d\" stroke=\"#2d3047\" "
-                       "stroke-width=\"0.1\">\n",
+                       "holes</title>\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
+                       "<g fill=\"{}\" stroke=\"#2d3047\" stroke-width=\"0.1\">\n",
                        w, h, w, h, s.index + 1, stack.slices.size(), s.span.bottom, s.span.top,
-                       s.area_mm2(), s.wires.outer_count(), s.wires.hole_count());
+                       s.area_mm2(), s.wires.outer_count(), s.wires.hole_count(),
+                       toolpaths != nullptr ? "#f0c9a8" : "#c8553d");
         append_slice_path(out, s, dx, dy);
-        fmt::format_to(std::back_inserter(out), "</g>\n</svg>\n");
+        fmt::format_to(std::back_inserter(out), "</g>\n");
+        if (toolpaths != nullptr && static_cast<std::size_t>(s.index) < toolpaths->size()) {
+            append_toolpath(out, (*toolpaths)[static_cast<std::size_t>(s.index)], track_width_mm,
+                            dx, dy);
+        }
+        fmt::format_to(std::back_inserter(out), "</svg>\n");
         auto ok = write_text(dir / fmt::format("layer_{:05d}.svg", s.index + 1),
                              std::string_view(out.data(), out.size()));
         if (!ok) return ok;

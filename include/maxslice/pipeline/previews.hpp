@@ -2,8 +2,10 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "maxslice/core/result.hpp"
+#include "maxslice/path/toolpath.hpp"
 #include "maxslice/pipeline/slice_job.hpp"
 
 namespace maxslice::pipeline {
@@ -20,9 +22,12 @@ namespace maxslice::pipeline {
                                                    const PreparedPart& part);
 
 /// Writes one SVG per layer (layer_00001.svg ...) into dir: outers filled, holes cut out,
-/// in the plane's own (u, v) frame, all layers at the same scale.
-[[nodiscard]] core::Result<void> write_layer_svgs(const std::filesystem::path& dir,
-                                                  const SliceStack& stack);
+/// in the plane's own (u, v) frame, all layers at the same scale. With toolpaths (one per
+/// slice), the deposited tracks are drawn as strokes of the track width (blue) and the idle
+/// moves between them as thin dashed lines (red).
+[[nodiscard]] core::Result<void> write_layer_svgs(
+    const std::filesystem::path& dir, const SliceStack& stack,
+    const std::vector<path::LayerToolpath>* toolpaths = nullptr, double track_width_mm = 0.0);
 /// Writes all layers as a grid of small pictures in one SVG file.
 [[nodiscard]] core::Result<void> write_contact_sheet(const std::filesystem::path& file,
                                                      const SliceStack& stack);
