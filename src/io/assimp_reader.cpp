@@ -1,8 +1,9 @@
-// OBJ, PLY and OFF through assimp. Only aiProcess_Triangulate runs (it cuts concave
-// polygons by ear clipping, not by a fan); vertices are welded by mesh::weld_exact like
-// every other format. Assimp reads from our copy of the bytes so that OBJ text can be checked
-// first (scan_obj) and UTF-16 OBJ converted; every index assimp hands back is checked again
-// before use, and every exception it might throw is caught here.
+// OBJ through assimp (PLY and OFF have their own reader: ply_off_reader.cpp says why).
+// Only aiProcess_Triangulate runs (it cuts concave polygons by ear clipping, not by a fan);
+// vertices are welded by mesh::weld_exact like every other format. Assimp reads from our copy
+// of the bytes so that the text can be checked first (scan_obj) and UTF-16 converted; every
+// index assimp hands back is checked again before use, and every exception it might throw is
+// caught here.
 
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
@@ -18,14 +19,6 @@
 
 namespace maxslice::io::detail {
 namespace {
-
-const char* hint_for(Format format) {
-    switch (format) {
-        case Format::kPly: return "ply";
-        case Format::kOff: return "off";
-        default: return "obj";
-    }
-}
 
 struct Collected {
     std::vector<double> xyz;
@@ -98,21 +91,24 @@ core::Result<RawImport> read_impl(std::string_view bytes, Format format) {
         scan = *scanned;
         if (scan.faces == 0) {
             std::string what =
-                "no triangles: the OBJ file has no faces ('f' with 3 or more "
-                "corners)";
-            if (scan.points > 0 || scan.lines > 0 || scan.short_faces > 0) {
-                what += fmt::format(
-                    ", only {} points, {} lines and {} faces with fewer than 3 "
-                    "corners",
-                    scan.points, scan.lines, scan.short_faces);
+                "no triangles: the OBJ file has no faces ('f' with 3 or more corners)";
+            std::vector<std::string> found;
+            if (scan.points > 0) found.push_back(count_of(scan.points, "point"));
+            if (scan.lines > 0) found.push_back(count_of(scan.lines, "line"));
+            if (scan.short_faces > 0) {
+                found.push_back(count_of(scan.short_faces, "face with fewer than 3 corners",
+                                         "faces with fewer than 3 corners"));
+            }
+            for (std::size_t i = 0; i < found.size(); ++i) {
+                what += (i == 0 ? ", only " : (i + 1 == found.size() ? " and " : ", ")) + found[i];
             }
             return core::fail(core::ErrorCode::kInvalidInput, what);
         }
     }
 
     Assimp::Importer importer;
-    const aiScene* scene = importer.ReadFileFromMemory(bytes.data(), bytes.size(),
-                                                       aiProcess_Triangulate, hint_for(format));
+    const aiScene* scene =
+        importer.ReadFileFromMemory(bytes.data(), bytes.size(), aiProcess_Triangulate, "obj");
     if (scene == nullptr) {
         const std::string why = importer.GetErrorString();
         return core::fail(core::ErrorCode::kInvalidInput,

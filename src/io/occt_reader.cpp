@@ -126,7 +126,7 @@ struct SyntaxReport {
         }
         if (unresolved > 0) {
             if (!s.empty()) s += " and ";
-            s += fmt::format("{} reference{} to missing entities ({})", unresolved,
+            s += fmt::format("{} reference{} to missing entities (first: {})", unresolved,
                              unresolved == 1 ? "" : "s", first_unresolved);
         }
         return s;
@@ -141,7 +141,13 @@ SyntaxReport syntax_report(const Handle(Interface_InterfaceModel) & model) {
     for (Standard_Integer i = 1; i <= check->NbFails(); ++i) {
         const std::string text = check->CFail(i);
         if (text.find("Unresolved Reference") != std::string::npos) {
-            if (report.unresolved++ == 0) report.first_unresolved = trim(text);
+            if (report.unresolved++ == 0) {
+                // "Unresolved Reference, Ent.Id.#9063 Param.n0 3 (Id.#43)" -> "#43"
+                const auto at = text.rfind("(Id.");
+                const auto end = at == std::string::npos ? at : text.find(')', at);
+                report.first_unresolved =
+                    end != std::string::npos ? text.substr(at + 4, end - at - 4) : trim(text);
+            }
         } else if (text.find("syntax") != std::string::npos ||
                    text.find("Parsing") != std::string::npos) {
             report.syntax.push_back(clean_syntax_message(text));

@@ -189,7 +189,9 @@ core::Result<ImportedMesh> read_impl(const std::filesystem::path& path,
         case Format::kOff: {
             auto bytes = size <= kSniffBytes ? std::move(head) : detail::read_file(path);
             if (!bytes) return std::unexpected(bytes.error());
-            raw = detail::read_with_assimp(bytes->view(), *format);
+            raw = *format == Format::kPly   ? detail::read_ply(bytes->view())
+                  : *format == Format::kOff ? detail::read_off(bytes->view())
+                                            : detail::read_with_assimp(bytes->view(), *format);
             break;
         }
         case Format::k3mf: raw = detail::read_3mf(path); break;

@@ -77,8 +77,13 @@ private:
 [[nodiscard]] core::Result<RawImport> read_stl_file(const std::filesystem::path& path,
                                                     std::string_view head, std::uint64_t size);
 
-/// OBJ, PLY or OFF through assimp (triangulation only; indices and OBJ numbers checked here).
+/// OBJ through assimp (triangulation only; numbers and indices checked first by scan_obj).
 [[nodiscard]] core::Result<RawImport> read_with_assimp(std::string_view bytes, Format format);
+
+/// PLY (ASCII, binary either endianness) and OFF, read here (see ply_off_reader.cpp for why
+/// not through assimp). Polygons are ear clipped.
+[[nodiscard]] core::Result<RawImport> read_ply(std::string_view bytes);
+[[nodiscard]] core::Result<RawImport> read_off(std::string_view bytes);
 
 /// 3MF through lib3mf: every build item with its transform and component transforms,
 /// in the model's unit.
