@@ -1,0 +1,6 @@
+// libFuzzer harness: STL (binary and ASCII, maxslice's own reader).
+#include "fuzz_read.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+    return maxslice::fuzz::read_as(data, size, ".stl");
+}
