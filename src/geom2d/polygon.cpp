@@ -1,5 +1,6 @@
 #include "maxslice/geom2d/polygon.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "maxslice/core/units.hpp"
@@ -36,6 +37,65 @@ double perimeter_mm(const Path2& path) {
         len += std::hypot(static_cast<double>(b.x - a.x), static_cast<double>(b.y - a.y));
     }
     return len / core::kMicronsPerMm;
+}
+
+namespace {
+
+// 128-bit integers (a GCC/Clang extension); __extension__ keeps -Wpedantic quiet.
+__extension__ typedef __int128 Int128;
+
+// Twice the signed area of the triangle (o, a, b); exact for coordinates within
+// kMaxCoordinateUm (differences < 2^31, products < 2^62, the sum needs 128 bits).
+Int128 cross(const Point2& o, const Point2& a, const Point2& b) {
+    return static_cast<Int128>(a.x - o.x) * (b.y - o.y) -
+           static_cast<Int128>(a.y - o.y) * (b.x - o.x);
+}
+
+}  // namespace
+
+Path2 convex_hull(const Paths2& paths) {
+    // Andrew's monotone chain: O(n log n), exact integer orientation tests.
+    Path2 pts;
+    for (const Path2& p : paths) pts.insert(pts.end(), p.begin(), p.end());
+    std::sort(pts.begin(), pts.end());
+    pts.erase(std::unique(pts.begin(), pts.end()), pts.end());
+    if (pts.size() < 3) return pts;
+    Path2 hull(2 * pts.size());
+    std::size_t k = 0;
+    for (const Point2& p : pts) {
+        while (k >= 2 && cross(hull[k - 2], hull[k - 1], p) <= 0) --k;
+        hull[k++] = p;
+    }
+    const std::size_t lower = k + 1;
+    for (std::size_t i = pts.size() - 1; i-- > 0;) {
+        while (k >= lower && cross(hull[k - 2], hull[k - 1], pts[i]) <= 0) --k;
+        hull[k++] = pts[i];
+    }
+    hull.resize(k - 1);  // the last point repeats the first
+    return hull;
+}
+
+Containment locate_point(const Paths2& region, Point2 p) {
+    // Winding number (Sunday's crossing rule, half-open in y), with an exact on-edge test.
+    long winding = 0;
+    for (const Path2& path : region) {
+        const std::size_t n = path.size();
+        for (std::size_t i = 0; i < n; ++i) {
+            const Point2& a = path[i];
+            const Point2& b = path[(i + 1) % n];
+            const Int128 c = cross(a, b, p);
+            if (c == 0 && std::min(a.x, b.x) <= p.x && p.x <= std::max(a.x, b.x) &&
+                std::min(a.y, b.y) <= p.y && p.y <= std::max(a.y, b.y)) {
+                return Containment::kBoundary;
+            }
+            if (a.y <= p.y) {
+                if (b.y > p.y && c > 0) ++winding;
+            } else if (b.y <= p.y && c < 0) {
+                --winding;
+            }
+        }
+    }
+    return winding != 0 ? Containment::kInside : Containment::kOutside;
 }
 
 }  // namespace maxslice::geom2d

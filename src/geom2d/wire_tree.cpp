@@ -161,8 +161,6 @@ Paths2 offset_of(const Paths2& region, std::int64_t delta_um) {
     return from_clipper(out);
 }
 
-}  // namespace maxslice::geom2d
-
 namespace {
 
 // Open polylines keep every point count (a closed path needs 3, a polyline 1).
@@ -181,8 +179,7 @@ Paths2 sweep_polylines(const Paths2& polylines, std::int64_t half_width_um) {
     if (half_width_um <= 0) return {};
     const double radius = static_cast<double>(half_width_um);
     ClipperLib::ClipperOffset offset(2.0, std::max(1.0, 0.01 * radius));
-    offset.AddPaths(polylines_to_clipper(polylines), ClipperLib::jtRound,
-                    ClipperLib::etOpenRound);
+    offset.AddPaths(polylines_to_clipper(polylines), ClipperLib::jtRound, ClipperLib::etOpenRound);
     ClipperLib::Paths out;
     offset.Execute(out, radius);
     return from_clipper(out);
@@ -202,3 +199,5 @@ Paths2 clip_polylines(const Paths2& polylines, const Paths2& region) {
     ClipperLib::OpenPathsFromPolyTree(tree, open);
     return from_clipper(open);
 }
+
+}  // namespace maxslice::geom2d

@@ -35,4 +35,17 @@ enum class FillRule {
     kPositive,  ///< inside where the winding number is positive (oriented loops)
 };
 
+/// The convex hull of all points of the paths: counter-clockwise, without collinear or
+/// repeated points, starting at its smallest point. Fewer than 3 points when all the points
+/// are collinear (2: the extreme points) or there is only one distinct point.
+[[nodiscard]] Path2 convex_hull(const Paths2& paths);
+
+/// Where a point lies relative to a region.
+enum class Containment { kOutside, kBoundary, kInside };
+
+/// Locates a point in a region given as closed loops combined with the non-zero winding rule
+/// (outers counter-clockwise and holes clockwise, as a WireTree gives them). Exact integer
+/// arithmetic; O(total points).
+[[nodiscard]] Containment locate_point(const Paths2& region, Point2 p);
+
 }  // namespace maxslice::geom2d

@@ -45,4 +45,13 @@ struct WireTree {
 /// limited to 2 x delta, round where sharper.
 [[nodiscard]] Paths2 offset_of(const Paths2& region, std::int64_t delta_um);
 
+/// The area a disc of radius half_width_um sweeps along open polylines (round joins and round
+/// ends; a polyline of one point gives a disc): the deposit of tracks 2 x half_width wide.
+/// Result as region paths (outers CCW, holes CW); arcs deviate by at most 1% of the radius.
+[[nodiscard]] Paths2 sweep_polylines(const Paths2& polylines, std::int64_t half_width_um);
+
+/// The pieces of open polylines inside a region (closed loops, non-zero rule), as open
+/// polylines. Pieces running along the region's boundary may be kept or dropped.
+[[nodiscard]] Paths2 clip_polylines(const Paths2& polylines, const Paths2& region);
+
 }  // namespace maxslice::geom2d
