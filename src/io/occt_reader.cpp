@@ -277,7 +277,8 @@ core::Result<void> tessellate(const TopoDS_Shape& shape, const ImportOptions& op
             }
             const gp_Trsf trsf = location.Transformation();
             const bool moved = !location.IsIdentity();
-            const bool reversed = orientation == TopAbs_REVERSED;
+            // A mirroring placement (negative determinant) turns the winding too.
+            const bool reversed = (orientation == TopAbs_REVERSED) != (moved && trsf.IsNegative());
             const Standard_Integer nodes = tri->NbNodes();
             for (Standard_Integer t = 1; t <= tri->NbTriangles(); ++t) {
                 Standard_Integer n[3];

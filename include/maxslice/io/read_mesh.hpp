@@ -29,7 +29,7 @@ struct ImportOptions {
     /// Tessellation of STEP/IGES solids: largest chord deviation (mm, > 0) and largest angle
     /// between neighbouring facet normals (degrees, in (0, 90]).
     double chord_deviation_mm = 0.05;
-    double angular_deviation_deg = 15.0;
+    double angular_deviation_deg = 10.0;
 };
 
 /// A part read from a file: an indexed mesh in millimetres (vertices merged where their
