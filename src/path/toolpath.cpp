@@ -1,1 +1,255 @@
 #include "maxslice/path/toolpath.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <string>
+
+#include "gap_fill.hpp"
+#include "maxslice/core/units.hpp"
+#include "raster.hpp"
+#include "route.hpp"
+
+namespace maxslice::path {
+namespace {
+
+using geom2d::Path2;
+using geom2d::Paths2;
+using geom2d::Point2;
+
+// The smallest pitch accepted (mm): below it the number of fill lines explodes.
+constexpr double kMinPitchMm = 0.01;
+// The widest track accepted (mm); keeps every offset far inside the integer range.
+constexpr double kMaxTrackWidthMm = 1000.0;
+// Links between fill lines longer than this many pitches are not deposited: a long link runs
+// along the boundary over tracks already laid (an L's inner step, a shallow edge), and
+// travelling with the laser off instead avoids the extra material. Along a boundary at angle
+// a to the raster a link is about pitch / sin(a) long, so edges steeper than ~14 degrees
+// are linked.
+constexpr double kMaxLinkPitches = 4.0;
+// Gaps between contours where no fill line fits get a track along their middle when that
+// track overlaps each neighbour by at most the nominal overlap or this share of a track,
+// whichever is larger (0.4: gaps from 20% of a track wide at the default overlap); narrower
+// gaps are left and reported as uncovered (a track there would pile up material).
+constexpr double kMaxGapFillOverlap = 0.4;
+// ... and never gaps narrower than this share of a track (numerical slivers).
+constexpr double kMinGapFillShare = 0.05;
+// The outermost fill lines may lie up to this share of the overlap further in than one pitch
+// from the innermost contour: they still overlap its track by a quarter of the overlap, and a
+// thin fill region gets one line instead of two close ones.
+constexpr double kMarginShare = 0.75;
+// Parts of the fill region thinner than twice this many pitches go to the gap fill.
+constexpr double kOpeningPitches = 0.5;
+
+std::string number(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", v);
+    return buf;
+}
+
+std::unexpected<core::Error> invalid(std::string message) {
+    return core::fail(core::ErrorCode::kInvalidInput, std::move(message), "path settings");
+}
+
+// One island: an outer wire with its holes (islands inside holes are islands of their own).
+// Hole wires without an outer wire enclose no material and are left out.
+std::vector<Paths2> islands_of(const geom2d::WireTree& tree) {
+    std::vector<Paths2> out;
+    for (const geom2d::WireNode& node : tree.nodes) {
+        if (node.is_hole) continue;
+        Paths2& island = out.emplace_back();
+        island.push_back(node.wire);
+        for (const int child : node.children) {
+            const geom2d::WireNode& hole = tree.nodes[static_cast<std::size_t>(child)];
+            if (hole.is_hole) island.push_back(hole.wire);
+        }
+    }
+    return out;
+}
+
+double length_um(const Path2& path) {
+    double sum = 0.0;
+    for (std::size_t i = 1; i < path.size(); ++i) {
+        const double dx = static_cast<double>(path[i].x - path[i - 1].x);
+        const double dy = static_cast<double>(path[i].y - path[i - 1].y);
+        sum += std::sqrt(dx * dx + dy * dy);
+    }
+    return sum;
+}
+
+double distance_um(Point2 a, Point2 b) {
+    return length_um(Path2{a, b});
+}
+
+// The distances of a plan in whole micrometres.
+struct Widths {
+    explicit Widths(const PathSettings& s)
+        : half(core::mm_to_um(s.track_width_mm) / 2),
+          pitch(core::mm_to_um(s.pitch_mm())),
+          passes(s.contour_passes),
+          max_margin(core::mm_to_um(kMarginShare * s.overlap * s.track_width_mm)),
+          opening(core::mm_to_um(kOpeningPitches * s.pitch_mm())),
+          max_link(core::mm_to_um(kMaxLinkPitches * s.pitch_mm())),
+          min_gap(core::mm_to_um(
+              std::max(kMinGapFillShare, 1.0 - 2.0 * std::max(s.overlap, kMaxGapFillOverlap)) *
+              s.track_width_mm)) {}
+
+    std::int64_t half;        // half a track
+    std::int64_t pitch;       // between neighbouring track centres
+    int passes;               // contour passes
+    std::int64_t max_margin;  // of the outermost fill lines, see raster.hpp
+    std::int64_t opening;     // fill region parts thinner than twice this go to the gap fill
+    std::int64_t max_link;    // longest link between fill lines
+    std::int64_t min_gap;     // narrowest gap filled
+};
+
+// Contours, fill and gap fill of one island (an outer wire and its holes), planned in the
+// raster frame (fill lines along +x) and returned in the layer frame.
+detail::RouteIsland plan_island(const Paths2& island, const detail::RasterFrame& frame,
+                                const Widths& w) {
+    const Paths2 local = frame.to_raster(island);
+    // Track centres may run anywhere half a track inside the region: pass 0, and where
+    // straight links between fill lines may go.
+    const Paths2 centres = geom2d::offset_of(local, -w.half);
+    std::vector<Paths2> passes;
+    for (int k = 0; k < w.passes; ++k) {
+        Paths2 wires = k == 0 ? centres : geom2d::offset_of(local, -(w.half + k * w.pitch));
+        if (wires.empty()) break;  // narrower than this pass
+        passes.push_back(std::move(wires));
+    }
+    detail::RouteGroup contours;
+    for (const Paths2& wires : passes) {
+        for (const Path2& wire : wires) {
+            contours.push_back({StrokeKind::kContour, true, frame.from_raster(wire)});
+        }
+    }
+
+    // The fill's line ends and outermost lines lie one pitch inside the innermost contour,
+    // overlapping its track by the overlap as neighbouring fill tracks do. Parts of the fill
+    // region thinner than twice the opening are removed (a morphological opening): rastering
+    // them gives scraps of lines across a thin ring, or no line along a thin strip; the gap
+    // fill lays tracks along them instead.
+    const std::int64_t inset = w.passes > 0 ? w.half + w.passes * w.pitch : w.half;
+    const Paths2 eroded = geom2d::offset_of(local, -(inset + w.opening));
+    detail::RouteGroup fill;
+    if (!eroded.empty()) {
+        const Paths2 fill_region = geom2d::offset_of(eroded, w.opening);
+        const Paths2 lines =
+            detail::zigzag_fill({&fill_region, &centres, w.pitch, w.max_margin, w.max_link});
+        for (const Path2& line : lines) {
+            fill.push_back({StrokeKind::kFill, false, frame.from_raster(line)});
+        }
+    }
+
+    // Gaps: inside each contour pass's track, what neither the next pass (its track and all
+    // inside it) nor, after the last pass, the fill reaches (the fill region grown by a pitch:
+    // its line ends and the contour overlap up to there). A pass missing in a narrow arm
+    // leaves the arm's middle to the gap fill.
+    Paths2 gaps;
+    for (std::size_t k = 0; k < passes.size(); ++k) {
+        const Paths2 inner =
+            geom2d::offset_of(local, -(2 * w.half + static_cast<std::int64_t>(k) * w.pitch));
+        if (inner.empty()) break;
+        Paths2 reached;
+        if (k + 1 < passes.size()) {
+            reached = geom2d::offset_of(passes[k + 1], w.half);
+        } else if (k + 1 == static_cast<std::size_t>(w.passes) && !eroded.empty()) {
+            reached = geom2d::offset_of(eroded, w.opening + w.pitch);
+        }
+        Paths2 left = reached.empty() ? inner : geom2d::difference_of(inner, reached);
+        gaps.insert(gaps.end(), std::make_move_iterator(left.begin()),
+                    std::make_move_iterator(left.end()));
+    }
+    for (detail::RouteStroke& gap : detail::gap_fill(gaps, 2 * w.half, w.min_gap)) {
+        gap.points = frame.from_raster(gap.points);
+        fill.push_back(std::move(gap));
+    }
+    return {std::move(contours), std::move(fill)};
+}
+
+}  // namespace
+
+core::Result<void> validate(const PathSettings& s) {
+    if (!std::isfinite(s.track_width_mm) || s.track_width_mm <= 0.0) {
+        return invalid("track_width_mm must be greater than 0 mm (got " + number(s.track_width_mm) +
+                       ")");
+    }
+    if (s.track_width_mm > kMaxTrackWidthMm) {
+        return invalid("track_width_mm must be at most " + number(kMaxTrackWidthMm) + " mm (got " +
+                       number(s.track_width_mm) + ")");
+    }
+    if (!std::isfinite(s.overlap) || s.overlap < 0.0 || s.overlap >= 1.0) {
+        return invalid("overlap must be at least 0 and below 1 (got " + number(s.overlap) + ")");
+    }
+    if (s.pitch_mm() < kMinPitchMm) {
+        return invalid("overlap " + number(s.overlap) + " with track_width_mm " +
+                       number(s.track_width_mm) + " gives a pitch of " + number(s.pitch_mm()) +
+                       " mm, below the smallest " + number(kMinPitchMm) + " mm");
+    }
+    if (s.contour_passes < 0) {
+        return invalid("contour_passes must be 0 or more (got " + std::to_string(s.contour_passes) +
+                       ")");
+    }
+    if (s.raster_angle_deg && !std::isfinite(*s.raster_angle_deg)) {
+        return invalid("raster_angle_deg must be a finite number of degrees");
+    }
+    return {};
+}
+
+core::Result<LayerToolpath> plan_layer(const geom2d::WireTree& region, const PathSettings& settings,
+                                       geom2d::Point2 start) {
+    if (auto ok = validate(settings); !ok) return std::unexpected(ok.error());
+    const Widths widths(settings);
+    LayerToolpath out;
+    const std::vector<Paths2> islands = islands_of(region);
+
+    // Each island is rastered along its own long side: one orientation for unrelated
+    // islands fits none of them (the tracks of a rectangle next to a disc would run slanted
+    // and leave wedges along its long edges). The angle reported is the largest island's.
+    std::optional<double> fixed_deg;
+    if (settings.raster_angle_deg) {
+        fixed_deg = std::fmod(*settings.raster_angle_deg, 180.0);
+        if (*fixed_deg < 0.0) *fixed_deg += 180.0;
+        out.raster_angle_deg = *fixed_deg;
+    }
+    double largest_area = -1.0;
+    std::vector<detail::RouteIsland> route;
+    route.reserve(islands.size());
+    for (const Paths2& island : islands) {
+        const double angle_rad = fixed_deg ? *fixed_deg * std::numbers::pi / 180.0
+                                           : detail::long_side_angle({island.front()});
+        const double area = geom2d::signed_area_mm2(island);
+        if (!fixed_deg && area > largest_area) {
+            largest_area = area;
+            out.raster_angle_deg = angle_rad * 180.0 / std::numbers::pi;
+        }
+        route.push_back(plan_island(island, detail::RasterFrame(angle_rad), widths));
+    }
+    out.strokes = settings.order == StrokeOrder::kShortTravel
+                      ? detail::route_short(std::move(route), start)
+                      : detail::route_generated(std::move(route));
+
+    Point2 at = start;
+    Paths2 tracks;
+    tracks.reserve(out.strokes.size());
+    double deposit = 0.0;
+    double travel = 0.0;
+    for (const Stroke& s : out.strokes) {
+        travel += distance_um(at, s.points.front());
+        deposit += length_um(s.points);
+        at = s.points.back();
+        tracks.push_back(s.points);
+    }
+    out.deposit_length_mm = deposit / core::kMicronsPerMm;
+    out.travel_length_mm = travel / core::kMicronsPerMm;
+
+    Paths2 material;
+    for (const Paths2& island : islands)
+        material.insert(material.end(), island.begin(), island.end());
+    const Paths2 covered = geom2d::sweep_polylines(tracks, widths.half);
+    out.uncovered_mm2 = geom2d::signed_area_mm2(geom2d::difference_of(material, covered));
+    return out;
+}
+
+}  // namespace maxslice::path

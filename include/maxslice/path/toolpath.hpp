@@ -9,6 +9,17 @@
 
 namespace maxslice::path {
 
+/// How strokes are put in deposition order.
+enum class StrokeOrder {
+    /// Islands nearest-first from `start`; in each island its contours, then its fill, each
+    /// group ordered nearest-neighbour then improved by 2-opt (direction of open strokes and
+    /// start point of closed contours included).
+    kShortTravel,
+    /// As generated (islands in wire-tree order, contours as offset, fill lines bottom-up):
+    /// a baseline to measure the ordering against.
+    kGenerated,
+};
+
 /// Settings of the toolpath stage (METHOD.md section 9), in mm unless stated.
 struct PathSettings {
     double track_width_mm = 2.5;  ///< bead width
@@ -17,9 +28,14 @@ struct PathSettings {
     /// Fill direction in degrees from the plane's u axis; unset = along the long side of the
     /// orientation whose bounding box has the largest long/short ratio.
     std::optional<double> raster_angle_deg;
+    StrokeOrder order = StrokeOrder::kShortTravel;
+
+    /// Distance between neighbouring track centres: width x (1 - overlap), in mm.
+    [[nodiscard]] double pitch_mm() const { return track_width_mm * (1.0 - overlap); }
 };
 
-/// Checks ranges (width > 0, 0 <= overlap < 1, passes >= 0); errors name the setting.
+/// Checks ranges (width > 0, 0 <= overlap < 1, pitch >= 0.01 mm, passes >= 0, a finite raster
+/// angle); errors (kInvalidInput) name the setting.
 [[nodiscard]] core::Result<void> validate(const PathSettings& settings);
 
 /// What a stroke deposits.
@@ -31,22 +47,29 @@ enum class StrokeKind { kContour, kFill };
 struct Stroke {
     StrokeKind kind = StrokeKind::kFill;
     geom2d::Path2 points;  ///< in the layer plane's (u, v) frame, micrometres
+
+    bool operator==(const Stroke&) const = default;
 };
 
 /// The toolpath of one layer, in deposition order.
 struct LayerToolpath {
     std::vector<Stroke> strokes;
-    double raster_angle_deg = 0.0;  ///< the fill direction used
+    double raster_angle_deg = 0.0;  ///< the fill direction used, in [0, 180)
     double uncovered_mm2 = 0.0;     ///< area of the region no track covers (gaps < a track)
     double deposit_length_mm = 0.0;
     double travel_length_mm = 0.0;  ///< between strokes, from `start` to the last stroke
+
+    bool operator==(const LayerToolpath&) const = default;
 };
 
 /// Plans the tracks of one layer's region: contour passes (the wires offset inward by half a
 /// track, then by one pitch per further pass), then a zigzag fill of what is left at a pitch
 /// of width x (1 - overlap), neighbouring lines linked along the boundary while the link
 /// stays inside (laser on), islands and strokes ordered to keep idle travel short starting
-/// from `start`. Holes are deposited around, never filled. Deterministic.
+/// from `start`. Holes are deposited around, never filled; hole wires without an enclosing
+/// outer wire have no material and get no tracks. Every track lies inside the region (its
+/// centre at least half a track from the boundary). Deterministic: the same input gives the
+/// same output. Errors: invalid settings (kInvalidInput, naming the setting).
 [[nodiscard]] core::Result<LayerToolpath> plan_layer(const geom2d::WireTree& region,
                                                      const PathSettings& settings,
                                                      geom2d::Point2 start);

@@ -1,0 +1,521 @@
+#include "raster.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <optional>
+
+#include "maxslice/core/assert.hpp"
+
+namespace maxslice::path::detail {
+namespace {
+
+using geom2d::Path2;
+using geom2d::Paths2;
+using geom2d::Point2;
+
+// Scan lines keep this far inside the fill region's lowest and highest points, so that the
+// extreme lines cross its boundary instead of running along a horizontal edge or touching a
+// single vertex.
+constexpr std::int64_t kLineInsetUm = 5;
+
+// 128-bit integers (a GCC/Clang extension) for exact orientation tests and products of
+// coordinates; __extension__ keeps -Wpedantic quiet.
+__extension__ typedef __int128 Int128;
+
+std::int64_t round_half_away(double v) {
+    return static_cast<std::int64_t>(v >= 0.0 ? v + 0.5 : v - 0.5);
+}
+
+// Snaps cosines and sines of quarter turns to exact values.
+double snap_unit(double v) {
+    constexpr double kSnap = 1e-12;
+    if (std::abs(v) < kSnap) return 0.0;
+    if (std::abs(std::abs(v) - 1.0) < kSnap) return std::copysign(1.0, v);
+    return v;
+}
+
+Int128 cross(Point2 o, Point2 a, Point2 b) {
+    return static_cast<Int128>(a.x - o.x) * (b.y - o.y) -
+           static_cast<Int128>(a.y - o.y) * (b.x - o.x);
+}
+
+double distance(Point2 a, Point2 b) {
+    const double dx = static_cast<double>(b.x - a.x);
+    const double dy = static_cast<double>(b.y - a.y);
+    return std::sqrt(dx * dx + dy * dy);
+}
+
+// floor(a / b) for b > 0.
+std::int64_t floor_div(std::int64_t a, std::int64_t b) {
+    const std::int64_t q = a / b;
+    return (a % b != 0 && a < 0) ? q - 1 : q;
+}
+
+// a / b rounded to nearest (halves up), b > 0, exact.
+std::int64_t round_div(Int128 a, Int128 b) {
+    const Int128 n = 2 * a + b;
+    const Int128 d = 2 * b;
+    Int128 q = n / d;
+    if (n % d != 0 && n < 0) --q;
+    return static_cast<std::int64_t>(q);
+}
+
+double normalize_half_turn(double a) {
+    if (a < 0.0) a += std::numbers::pi;
+    if (a >= std::numbers::pi) a -= std::numbers::pi;
+    return a;
+}
+
+// Where a scan line meets a loop of the fill region.
+struct Crossing {
+    std::int64_t x = 0;
+    int line = 0;
+    int loop = 0;
+    int edge = 0;            // the edge from vertex `edge` to vertex `edge + 1`
+    std::int64_t along = 0;  // position along the edge, increasing in the edge's direction
+    int order = 0;           // index in its loop's crossing order
+    int seg = -1;            // the segment it ends, -1 when none
+    bool right = false;      // the segment's right (exit) end
+};
+
+struct Segment {
+    int line = 0;
+    int left = 0;  // crossing ids
+    int right = 0;
+};
+
+// A link found from the end of one segment to the entry of the next line's segment.
+struct Link {
+    int seg = -1;
+    bool entry_right = false;  // enters the next segment at its right end
+    Path2 via;                 // points after the exit point, ending at the entry point
+};
+
+class Zigzag {
+public:
+    explicit Zigzag(const ZigzagInput& in) : in_(in), loops_(*in.fill_region) {}
+
+    Paths2 run() {
+        if (!make_lines()) return {};
+        cross_lines();
+        make_segments();
+        order_along_loops();
+        return chain();
+    }
+
+private:
+    bool make_lines() {
+        std::int64_t ymin = INT64_MAX;
+        std::int64_t ymax = INT64_MIN;
+        for (const Path2& loop : loops_) {
+            if (loop.size() < 3) continue;
+            for (const Point2& p : loop) {
+                ymin = std::min(ymin, p.y);
+                ymax = std::max(ymax, p.y);
+            }
+        }
+        if (ymin >= ymax) return false;
+        const std::int64_t lo = ymin + kLineInsetUm;
+        const std::int64_t hi = ymax - kLineInsetUm;
+        const std::int64_t range = hi - lo;
+        const std::int64_t p = in_.pitch_um;
+        const std::int64_t m = in_.max_margin_um;
+        // As few lines as keep every spacing at most the pitch with the extreme lines at most
+        // `m` inside the extremes: at the pitch and centred when the leftover fits in the two
+        // margins, else spread evenly from extreme to extreme (a little closer than the
+        // pitch). A region thinner than 2 m gets one line along its middle.
+        const std::int64_t gaps = range > 2 * m ? (range - 2 * m + p - 1) / p : 0;
+        if (gaps == 0) {
+            y0_ = ymin + (ymax - ymin) / 2;
+            spacing_ = p;
+        } else if (gaps * p >= range) {
+            y0_ = lo;
+            spacing_ = range / gaps;  // rounded down: the last line is < gaps um short of hi
+        } else {
+            y0_ = lo + (range - gaps * p) / 2;
+            spacing_ = p;
+        }
+        line_count_ = static_cast<int>(gaps) + 1;
+        return true;
+    }
+
+    [[nodiscard]] std::int64_t line_y(int k) const { return y0_ + k * spacing_; }
+
+    void cross_lines() {
+        const std::int64_t p = spacing_;
+        for (int l = 0; l < static_cast<int>(loops_.size()); ++l) {
+            const Path2& loop = loops_[static_cast<std::size_t>(l)];
+            const std::size_t m = loop.size();
+            if (m < 3) continue;
+            for (std::size_t e = 0; e < m; ++e) {
+                const Point2 a = loop[e];
+                const Point2 b = loop[(e + 1) % m];
+                if (a.y == b.y) continue;
+                // Half-open rule: the edge crosses line y when min <= y < max, so a vertex on
+                // a line counts once for a crossing and never for a touch.
+                const std::int64_t lo = std::min(a.y, b.y);
+                const std::int64_t hi = std::max(a.y, b.y);
+                const std::int64_t k0 = std::max<std::int64_t>(0, -floor_div(y0_ - lo, p));
+                const std::int64_t k1 =
+                    std::min<std::int64_t>(line_count_ - 1, -floor_div(y0_ - hi, p) - 1);
+                for (std::int64_t k = k0; k <= k1; ++k) {
+                    const std::int64_t y = line_y(static_cast<int>(k));
+                    Int128 num = static_cast<Int128>(y - a.y) * (b.x - a.x);
+                    Int128 den = b.y - a.y;
+                    if (den < 0) {
+                        num = -num;
+                        den = -den;
+                    }
+                    Crossing c;
+                    c.x = a.x + round_div(num, den);
+                    c.line = static_cast<int>(k);
+                    c.loop = l;
+                    c.edge = static_cast<int>(e);
+                    c.along = a.y < b.y ? y : -y;
+                    crossings_.push_back(c);
+                }
+            }
+        }
+    }
+
+    void make_segments() {
+        // Counting sort by line, then by x (loop and edge break ties deterministically).
+        std::vector<int> start(static_cast<std::size_t>(line_count_) + 1, 0);
+        for (const Crossing& c : crossings_) ++start[static_cast<std::size_t>(c.line) + 1];
+        for (std::size_t k = 1; k < start.size(); ++k) start[k] += start[k - 1];
+        std::vector<int> by_line(crossings_.size());
+        {
+            std::vector<int> fill(start.begin(), start.end() - 1);
+            for (int i = 0; i < static_cast<int>(crossings_.size()); ++i) {
+                by_line[static_cast<std::size_t>(fill[static_cast<std::size_t>(
+                    crossings_[static_cast<std::size_t>(i)].line)]++)] = i;
+            }
+        }
+        line_segments_.assign(static_cast<std::size_t>(line_count_) + 1, 0);
+        for (int k = 0; k < line_count_; ++k) {
+            line_segments_[static_cast<std::size_t>(k)] = static_cast<int>(segments_.size());
+            const auto b = by_line.begin() + start[static_cast<std::size_t>(k)];
+            const auto e = by_line.begin() + start[static_cast<std::size_t>(k) + 1];
+            std::sort(b, e, [&](int i, int j) {
+                const Crossing& ci = crossings_[static_cast<std::size_t>(i)];
+                const Crossing& cj = crossings_[static_cast<std::size_t>(j)];
+                if (ci.x != cj.x) return ci.x < cj.x;
+                if (ci.loop != cj.loop) return ci.loop < cj.loop;
+                return ci.edge < cj.edge;
+            });
+            // Closed loops cross every line an even number of times.
+            MAXSLICE_ASSERT((e - b) % 2 == 0);
+            for (auto it = b; it + 1 < e; it += 2) {
+                Crossing& l = crossings_[static_cast<std::size_t>(*it)];
+                Crossing& r = crossings_[static_cast<std::size_t>(*(it + 1))];
+                if (r.x <= l.x) continue;
+                const int id = static_cast<int>(segments_.size());
+                segments_.push_back({k, *it, *(it + 1)});
+                l.seg = id;
+                r.seg = id;
+                r.right = true;
+            }
+        }
+        line_segments_[static_cast<std::size_t>(line_count_)] = static_cast<int>(segments_.size());
+    }
+
+    void order_along_loops() {
+        loop_order_.assign(loops_.size(), {});
+        for (int i = 0; i < static_cast<int>(crossings_.size()); ++i) {
+            loop_order_[static_cast<std::size_t>(crossings_[static_cast<std::size_t>(i)].loop)]
+                .push_back(i);
+        }
+        for (auto& order : loop_order_) {
+            std::sort(order.begin(), order.end(), [&](int i, int j) {
+                const Crossing& ci = crossings_[static_cast<std::size_t>(i)];
+                const Crossing& cj = crossings_[static_cast<std::size_t>(j)];
+                if (ci.edge != cj.edge) return ci.edge < cj.edge;
+                return ci.along < cj.along;
+            });
+            for (int k = 0; k < static_cast<int>(order.size()); ++k) {
+                crossings_[static_cast<std::size_t>(order[static_cast<std::size_t>(k)])].order = k;
+            }
+        }
+    }
+
+    [[nodiscard]] Point2 point(int crossing) const {
+        const Crossing& c = crossings_[static_cast<std::size_t>(crossing)];
+        return {c.x, line_y(c.line)};
+    }
+
+    [[nodiscard]] const Crossing& crossing(int id) const {
+        return crossings_[static_cast<std::size_t>(id)];
+    }
+
+    [[nodiscard]] const Segment& segment(int id) const {
+        return segments_[static_cast<std::size_t>(id)];
+    }
+
+    // The boundary of the crossings' loop from crossing `from` to its neighbour `to` in the
+    // loop order (forward or backward), if not longer than the link limit.
+    std::optional<Path2> boundary_arc(int from, int to, bool forward) const {
+        const Crossing& a = crossing(from);
+        const Crossing& b = crossing(to);
+        const Path2& loop = loops_[static_cast<std::size_t>(a.loop)];
+        const int m = static_cast<int>(loop.size());
+        int count = forward ? b.edge - a.edge : a.edge - b.edge;
+        if (forward ? b.order < a.order : b.order > a.order) count += m;
+        Path2 via;
+        Point2 last = point(from);
+        double length = 0.0;
+        const auto add = [&](Point2 p) {
+            length += distance(last, p);
+            if (p != last) via.push_back(p);
+            last = p;
+        };
+        for (int j = 0; j < count; ++j) {
+            const int v = forward ? (a.edge + 1 + j) % m : ((a.edge - j) % m + m) % m;
+            add(loop[static_cast<std::size_t>(v)]);
+            if (length > static_cast<double>(in_.max_link_um)) return std::nullopt;
+        }
+        add(point(to));
+        if (length > static_cast<double>(in_.max_link_um)) return std::nullopt;
+        return via;
+    }
+
+    // True when the straight segment a-b stays inside the link region (boundary included).
+    // a and b are inside or on it; without a proper crossing of (or a vertex strictly on)
+    // the segment, the whole segment is on one side, which its midpoint tells.
+    [[nodiscard]] bool straight_inside(Point2 a, Point2 b) const {
+        const std::int64_t x0 = std::min(a.x, b.x);
+        const std::int64_t x1 = std::max(a.x, b.x);
+        const std::int64_t y0 = std::min(a.y, b.y);
+        const std::int64_t y1 = std::max(a.y, b.y);
+        for (const Path2& loop : *in_.link_region) {
+            const std::size_t m = loop.size();
+            for (std::size_t i = 0; i < m; ++i) {
+                const Point2 p = loop[i];
+                const Point2 q = loop[(i + 1) % m];
+                if (std::max(p.x, q.x) < x0 || std::min(p.x, q.x) > x1 || std::max(p.y, q.y) < y0 ||
+                    std::min(p.y, q.y) > y1) {
+                    continue;
+                }
+                const Int128 o1 = cross(a, b, p);
+                const Int128 o2 = cross(a, b, q);
+                const Int128 o3 = cross(p, q, a);
+                const Int128 o4 = cross(p, q, b);
+                if (((o1 < 0 && o2 > 0) || (o1 > 0 && o2 < 0)) &&
+                    ((o3 < 0 && o4 > 0) || (o3 > 0 && o4 < 0))) {
+                    return false;
+                }
+                if (o1 == 0 && p != a && p != b && p.x >= x0 && p.x <= x1 && p.y >= y0 &&
+                    p.y <= y1) {
+                    return false;
+                }
+            }
+        }
+        const Point2 mid{a.x + (b.x - a.x) / 2, a.y + (b.y - a.y) / 2};
+        return geom2d::locate_point(*in_.link_region, mid) != geom2d::Containment::kOutside;
+    }
+
+    // A link from segment s's exit end (right or left) to an unclaimed segment of the next
+    // line: along the boundary when the exit's loop neighbour is the same-side end of such a
+    // segment, else straight to the extreme overlapping segment on the exit side when that
+    // stays inside the link region. Links longer than the limit are refused.
+    std::optional<Link> find_link(int s, bool exit_right) const {
+        const Segment& seg = segment(s);
+        if (seg.line + 1 >= line_count_) return std::nullopt;
+        const int exit = exit_right ? seg.right : seg.left;
+        const Crossing& e = crossing(exit);
+        const auto& order = loop_order_[static_cast<std::size_t>(e.loop)];
+        const int n = static_cast<int>(order.size());
+        for (const bool forward : {true, false}) {
+            const int nb = order[static_cast<std::size_t>((e.order + (forward ? 1 : n - 1)) % n)];
+            const Crossing& c = crossing(nb);
+            if (c.line != seg.line + 1 || c.seg < 0 || claimed_[static_cast<std::size_t>(c.seg)] ||
+                c.right != exit_right) {
+                continue;
+            }
+            if (auto via = boundary_arc(exit, nb, forward)) {
+                return Link{c.seg, exit_right, std::move(*via)};
+            }
+        }
+        // Straight: the overlapping segment of the next line furthest on the exit side.
+        const int b = line_segments_[static_cast<std::size_t>(seg.line) + 1];
+        const int end = line_segments_[static_cast<std::size_t>(seg.line) + 2];
+        const std::int64_t sx0 = crossing(seg.left).x;
+        const std::int64_t sx1 = crossing(seg.right).x;
+        int t = -1;
+        if (exit_right) {
+            // Last segment starting left of s's right end.
+            int lo = b;
+            int hi = end;
+            while (lo < hi) {
+                const int mid = (lo + hi) / 2;
+                if (crossing(segment(mid).left).x < sx1) {
+                    lo = mid + 1;
+                } else {
+                    hi = mid;
+                }
+            }
+            if (lo > b && crossing(segment(lo - 1).right).x > sx0) t = lo - 1;
+        } else {
+            // First segment ending right of s's left end.
+            int lo = b;
+            int hi = end;
+            while (lo < hi) {
+                const int mid = (lo + hi) / 2;
+                if (crossing(segment(mid).right).x > sx0) {
+                    hi = mid;
+                } else {
+                    lo = mid + 1;
+                }
+            }
+            if (lo < end && crossing(segment(lo).left).x < sx1) t = lo;
+        }
+        if (t < 0 || claimed_[static_cast<std::size_t>(t)]) return std::nullopt;
+        const Point2 from = point(exit);
+        const Point2 to = point(exit_right ? segment(t).right : segment(t).left);
+        if (distance(from, to) > static_cast<double>(in_.max_link_um)) return std::nullopt;
+        if (!straight_inside(from, to)) return std::nullopt;
+        return Link{t, exit_right, Path2{to}};
+    }
+
+    Paths2 chain() {
+        claimed_.assign(segments_.size(), false);
+        Paths2 out;
+        const auto append = [](Path2& path, Point2 p) {
+            if (path.empty() || path.back() != p) path.push_back(p);
+        };
+        for (int s = 0; s < static_cast<int>(segments_.size()); ++s) {
+            if (claimed_[static_cast<std::size_t>(s)]) continue;
+            claimed_[static_cast<std::size_t>(s)] = true;
+            bool exit_right = true;
+            std::optional<Link> link = find_link(s, true);
+            if (!link) {
+                link = find_link(s, false);
+                if (link) exit_right = false;
+            }
+            Path2 path;
+            const Segment& first = segment(s);
+            append(path, point(exit_right ? first.left : first.right));
+            append(path, point(exit_right ? first.right : first.left));
+            while (link) {
+                claimed_[static_cast<std::size_t>(link->seg)] = true;
+                for (const Point2& p : link->via) append(path, p);
+                const Segment& t = segment(link->seg);
+                exit_right = !link->entry_right;
+                append(path, point(exit_right ? t.right : t.left));
+                link = find_link(link->seg, exit_right);
+            }
+            out.push_back(std::move(path));
+        }
+        return out;
+    }
+
+    const ZigzagInput& in_;
+    const Paths2& loops_;
+    std::int64_t y0_ = 0;
+    std::int64_t spacing_ = 1;
+    int line_count_ = 0;
+    std::vector<Crossing> crossings_;
+    std::vector<Segment> segments_;
+    std::vector<int> line_segments_;  // first segment of each line, then the total
+    std::vector<std::vector<int>> loop_order_;
+    std::vector<bool> claimed_;
+};
+
+}  // namespace
+
+RasterFrame::RasterFrame(double angle_rad)
+    : c_(snap_unit(std::cos(angle_rad))), s_(snap_unit(std::sin(angle_rad))) {}
+
+Point2 RasterFrame::to_raster(Point2 p) const {
+    const double x = static_cast<double>(p.x);
+    const double y = static_cast<double>(p.y);
+    return {round_half_away(c_ * x + s_ * y), round_half_away(-s_ * x + c_ * y)};
+}
+
+Point2 RasterFrame::from_raster(Point2 p) const {
+    const double x = static_cast<double>(p.x);
+    const double y = static_cast<double>(p.y);
+    return {round_half_away(c_ * x - s_ * y), round_half_away(s_ * x + c_ * y)};
+}
+
+Paths2 RasterFrame::to_raster(const Paths2& paths) const {
+    Paths2 out;
+    out.reserve(paths.size());
+    for (const Path2& path : paths) {
+        Path2& o = out.emplace_back();
+        o.reserve(path.size());
+        for (const Point2& p : path) o.push_back(to_raster(p));
+    }
+    return out;
+}
+
+Path2 RasterFrame::from_raster(const Path2& path) const {
+    Path2 out;
+    out.reserve(path.size());
+    for (const Point2& p : path) out.push_back(from_raster(p));
+    return out;
+}
+
+double long_side_angle(const Paths2& outer_wires) {
+    const Path2 hull = geom2d::convex_hull(outer_wires);
+    const std::size_t n = hull.size();
+    if (n < 2) return 0.0;
+    if (n == 2) {
+        return normalize_half_turn(std::atan2(static_cast<double>(hull[1].y - hull[0].y),
+                                              static_cast<double>(hull[1].x - hull[0].x)));
+    }
+    const auto at = [&](std::size_t j) -> const Point2& { return hull[j % n]; };
+    // Rotating calipers: for each hull edge, the extreme points along the edge (max and min
+    // projection) and across it (farthest from its line) move forward monotonically, so the
+    // whole sweep is O(n). All measures are exact integers in the edge's unnormalised
+    // direction; the ratio does not depend on its length.
+    std::size_t jmax = 1;
+    std::size_t jfar = 1;
+    std::size_t jmin = 1;
+    double best_ratio = -1.0;
+    double best_angle = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+        const Point2 a = hull[i];
+        const Point2 b = at(i + 1);
+        const std::int64_t ex = b.x - a.x;
+        const std::int64_t ey = b.y - a.y;
+        const auto proj = [&](const Point2& p) {
+            return static_cast<Int128>(ex) * (p.x - a.x) + static_cast<Int128>(ey) * (p.y - a.y);
+        };
+        const auto height = [&](const Point2& p) { return cross(a, b, p); };
+        jmax = std::max(jmax, i + 1);
+        for (std::size_t steps = 0; steps < n && proj(at(jmax + 1)) > proj(at(jmax)); ++steps) {
+            ++jmax;
+        }
+        jfar = std::max(jfar, jmax);
+        for (std::size_t steps = 0; steps < n && height(at(jfar + 1)) > height(at(jfar)); ++steps) {
+            ++jfar;
+        }
+        jmin = std::max(jmin, jfar);
+        for (std::size_t steps = 0; steps < n && proj(at(jmin + 1)) < proj(at(jmin)); ++steps) {
+            ++jmin;
+        }
+        const double along = static_cast<double>(proj(at(jmax)) - proj(at(jmin)));
+        const double across = static_cast<double>(height(at(jfar)));
+        if (along <= 0.0 || across <= 0.0) continue;
+        const double ratio = std::max(along, across) / std::min(along, across);
+        const double angle = along >= across
+                                 ? std::atan2(static_cast<double>(ey), static_cast<double>(ex))
+                                 : std::atan2(static_cast<double>(ex), static_cast<double>(-ey));
+        const double normalized = normalize_half_turn(angle);
+        constexpr double kTie = 1e-12;
+        if (ratio > best_ratio * (1.0 + kTie) ||
+            (ratio >= best_ratio * (1.0 - kTie) && normalized < best_angle)) {
+            best_ratio = ratio;
+            best_angle = normalized;
+        }
+    }
+    return best_angle;
+}
+
+Paths2 zigzag_fill(const ZigzagInput& in) {
+    MAXSLICE_ASSERT(in.fill_region != nullptr && in.link_region != nullptr && in.pitch_um > 0);
+    return Zigzag(in).run();
+}
+
+}  // namespace maxslice::path::detail
