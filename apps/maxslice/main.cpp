@@ -205,8 +205,8 @@ int run_slice(const PartOptions& opt, const SliceOptions& so) {
     if (!part) return report_error(part.error());
     print_warnings(*part);
     if (program_mode) {
-        part->imported.mesh =
-            pipeline::place_on_plate(std::move(part->imported.mesh), ss.direction);
+        part->imported.mesh = pipeline::place_on_plate(std::move(part->imported.mesh), ss.direction,
+                                                       pipeline::plate_center(profiles->machine));
         ss.direction = {0.0, 0.0, 1.0};
     }
     const auto progress = make_progress();

@@ -11,7 +11,15 @@ namespace maxslice::pipeline {
 
 using core::Vec3d;
 
-mesh::TriangleMesh place_on_plate(mesh::TriangleMesh part, const Vec3d& direction) {
+Vec3d plate_center(const machine::MachineProfile& machine) {
+    Vec3d c{};
+    if (const auto* x = machine.find_axis("X")) c.x = 0.5 * (x->min + x->max);
+    if (const auto* y = machine.find_axis("Y")) c.y = 0.5 * (y->min + y->max);
+    return c;
+}
+
+mesh::TriangleMesh place_on_plate(mesh::TriangleMesh part, const Vec3d& direction,
+                                  const Vec3d& plate_center) {
     // Rodrigues rotation taking d onto +Z (a half turn about X when d points down).
     const Vec3d d = core::normalized(direction);
     const Vec3d z{0.0, 0.0, 1.0};
@@ -30,7 +38,8 @@ mesh::TriangleMesh place_on_plate(mesh::TriangleMesh part, const Vec3d& directio
     mesh::transform(part, m);
     const core::Box3d box = mesh::bounding_box(part);
     if (!box.empty()) {
-        const Vec3d shift{-box.center().x, -box.center().y, -box.min.z};
+        const Vec3d shift{plate_center.x - box.center().x, plate_center.y - box.center().y,
+                          -box.min.z};
         mesh::transform(part, {1, 0, 0, shift.x, 0, 1, 0, shift.y, 0, 0, 1, shift.z});
     }
     return part;

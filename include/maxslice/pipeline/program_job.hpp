@@ -15,11 +15,15 @@
 namespace maxslice::pipeline {
 
 /// Puts a part on the build plate for a planar build along `direction`: rotates it so that
-/// the direction points up (+Z), then moves it so that its lowest point lies on Z = 0 and
-/// the centre of its XY bounding box on X = Y = 0 (the machine's work zero is the plate
-/// centre, docs/decisions/0006-planar-programs.md).
+/// the direction points up (+Z), then moves it so that its lowest point lies on Z = 0 (the
+/// plate) and the centre of its XY bounding box on `plate_center` (X, Y in mm; the CLI uses
+/// the middle of the machine's X and Y travel), docs/decisions/0006-planar-programs.md.
 [[nodiscard]] mesh::TriangleMesh place_on_plate(mesh::TriangleMesh mesh,
-                                                const core::Vec3d& direction);
+                                                const core::Vec3d& direction,
+                                                const core::Vec3d& plate_center = {});
+
+/// The middle of a machine's X and Y travel (Z = 0): where place_on_plate puts a part.
+[[nodiscard]] core::Vec3d plate_center(const machine::MachineProfile& machine);
 
 /// The toolpath settings a process profile implies.
 [[nodiscard]] path::PathSettings path_settings(const machine::ProcessProfile& process);
