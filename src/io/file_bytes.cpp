@@ -95,18 +95,18 @@ core::Result<FileBytes> read_prefix(const std::filesystem::path& path, std::uint
 
 }  // namespace
 
-core::Result<SequentialFile> SequentialFile::open(const std::filesystem::path& path) {
+core::Result<PositionalFile> PositionalFile::open(const std::filesystem::path& path) {
     std::uint64_t size = 0;
     auto fd = open_regular(path, size);
     if (!fd) return std::unexpected(fd.error());
-    return SequentialFile(*fd);
+    return PositionalFile(*fd);
 }
 
-SequentialFile::~SequentialFile() {
+PositionalFile::~PositionalFile() {
     if (fd_ >= 0) ::close(fd_);
 }
 
-core::Result<std::size_t> SequentialFile::read_at(std::uint64_t offset, char* out,
+core::Result<std::size_t> PositionalFile::read_at(std::uint64_t offset, char* out,
                                                   std::size_t bytes) const {
     std::size_t got = 0;
     while (got < bytes) {

@@ -50,19 +50,19 @@ struct FileBytes {
                                                      std::uint64_t& file_size);
 
 /// A file read in blocks at given offsets (pread), for readers that stream.
-class SequentialFile {
+class PositionalFile {
 public:
-    [[nodiscard]] static core::Result<SequentialFile> open(const std::filesystem::path& path);
-    SequentialFile(SequentialFile&& other) noexcept : fd_(other.fd_) { other.fd_ = -1; }
-    SequentialFile& operator=(SequentialFile&&) = delete;
-    SequentialFile(const SequentialFile&) = delete;
-    ~SequentialFile();
+    [[nodiscard]] static core::Result<PositionalFile> open(const std::filesystem::path& path);
+    PositionalFile(PositionalFile&& other) noexcept : fd_(other.fd_) { other.fd_ = -1; }
+    PositionalFile& operator=(PositionalFile&&) = delete;
+    PositionalFile(const PositionalFile&) = delete;
+    ~PositionalFile();
     /// Reads up to `bytes` bytes at `offset`; fewer only at the end of the file.
     [[nodiscard]] core::Result<std::size_t> read_at(std::uint64_t offset, char* out,
                                                     std::size_t bytes) const;
 
 private:
-    explicit SequentialFile(int fd) : fd_(fd) {}
+    explicit PositionalFile(int fd) : fd_(fd) {}
     int fd_;
 };
 

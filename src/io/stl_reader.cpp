@@ -460,7 +460,7 @@ core::Result<RawImport> read_stl_file(const std::filesystem::path& path, std::st
     }
     // Binary: the records are read in blocks straight into the corner array, so a large file
     // is never held in memory twice.
-    auto file = SequentialFile::open(path);
+    auto file = PositionalFile::open(path);
     if (!file) return std::unexpected(file.error());
     std::vector<char> block;
     std::uint64_t expected_offset = kHeaderBytes;
