@@ -101,6 +101,7 @@ public:
         cross_lines();
         make_segments();
         order_along_loops();
+        index_link_region();
         return chain();
     }
 
@@ -279,39 +280,72 @@ private:
         return via;
     }
 
-    // True when the straight segment a-b stays inside the link region (boundary included).
-    // a and b are inside or on it; without a proper crossing of (or a vertex strictly on)
-    // the segment, the whole segment is on one side, which its midpoint tells.
-    [[nodiscard]] bool straight_inside(Point2 a, Point2 b) const {
-        const std::int64_t x0 = std::min(a.x, b.x);
-        const std::int64_t x1 = std::max(a.x, b.x);
-        const std::int64_t y0 = std::min(a.y, b.y);
-        const std::int64_t y1 = std::max(a.y, b.y);
+    // Buckets the link region's edges by the band between two neighbouring lines they touch,
+    // so that checking a straight link looks at its band's edges only.
+    void index_link_region() {
+        band_edges_.assign(static_cast<std::size_t>(std::max(line_count_ - 1, 0)), {});
+        if (band_edges_.empty()) return;
+        const std::int64_t s = spacing_;
+        const std::int64_t last = line_count_ - 2;
         for (const Path2& loop : *in_.link_region) {
             const std::size_t m = loop.size();
             for (std::size_t i = 0; i < m; ++i) {
                 const Point2 p = loop[i];
                 const Point2 q = loop[(i + 1) % m];
-                if (std::max(p.x, q.x) < x0 || std::min(p.x, q.x) > x1 || std::max(p.y, q.y) < y0 ||
-                    std::min(p.y, q.y) > y1) {
-                    continue;
-                }
-                const Int128 o1 = cross(a, b, p);
-                const Int128 o2 = cross(a, b, q);
-                const Int128 o3 = cross(p, q, a);
-                const Int128 o4 = cross(p, q, b);
-                if (((o1 < 0 && o2 > 0) || (o1 > 0 && o2 < 0)) &&
-                    ((o3 < 0 && o4 > 0) || (o3 > 0 && o4 < 0))) {
-                    return false;
-                }
-                if (o1 == 0 && p != a && p != b && p.x >= x0 && p.x <= x1 && p.y >= y0 &&
-                    p.y <= y1) {
-                    return false;
+                const std::int64_t lo = std::min(p.y, q.y);
+                const std::int64_t hi = std::max(p.y, q.y);
+                // Bands k with y_k <= hi and y_{k+1} >= lo.
+                const std::int64_t k0 = std::max<std::int64_t>(0, -floor_div(y0_ - lo, s) - 1);
+                const std::int64_t k1 = std::min(last, floor_div(hi - y0_, s));
+                for (std::int64_t k = k0; k <= k1; ++k) {
+                    band_edges_[static_cast<std::size_t>(k)].push_back({p, q});
                 }
             }
         }
+    }
+
+    // True when the straight segment from a (on line k) to b (on line k + 1) stays inside the
+    // link region (boundary included). a and b are inside or on it; without a proper crossing
+    // of (or a vertex strictly on) the segment, the whole segment is on one side, which its
+    // midpoint tells (winding number over the band's edges: the others cannot cross its y).
+    [[nodiscard]] bool straight_inside(Point2 a, Point2 b, int k) const {
+        const std::int64_t x0 = std::min(a.x, b.x);
+        const std::int64_t x1 = std::max(a.x, b.x);
+        const std::int64_t y0 = std::min(a.y, b.y);
+        const std::int64_t y1 = std::max(a.y, b.y);
+        const auto& edges = band_edges_[static_cast<std::size_t>(k)];
+        for (const auto& [p, q] : edges) {
+            if (std::max(p.x, q.x) < x0 || std::min(p.x, q.x) > x1 || std::max(p.y, q.y) < y0 ||
+                std::min(p.y, q.y) > y1) {
+                continue;
+            }
+            const Int128 o1 = cross(a, b, p);
+            const Int128 o2 = cross(a, b, q);
+            const Int128 o3 = cross(p, q, a);
+            const Int128 o4 = cross(p, q, b);
+            if (((o1 < 0 && o2 > 0) || (o1 > 0 && o2 < 0)) &&
+                ((o3 < 0 && o4 > 0) || (o3 > 0 && o4 < 0))) {
+                return false;
+            }
+            if (o1 == 0 && p != a && p != b && p.x >= x0 && p.x <= x1 && p.y >= y0 && p.y <= y1) {
+                return false;
+            }
+        }
         const Point2 mid{a.x + (b.x - a.x) / 2, a.y + (b.y - a.y) / 2};
-        return geom2d::locate_point(*in_.link_region, mid) != geom2d::Containment::kOutside;
+        long winding = 0;
+        for (const auto& [p, q] : edges) {
+            const Int128 c = cross(p, q, mid);
+            if (c == 0 && std::min(p.x, q.x) <= mid.x && mid.x <= std::max(p.x, q.x) &&
+                std::min(p.y, q.y) <= mid.y && mid.y <= std::max(p.y, q.y)) {
+                return true;  // on the boundary
+            }
+            if (p.y <= mid.y) {
+                if (q.y > mid.y && c > 0) ++winding;
+            } else if (q.y <= mid.y && c < 0) {
+                --winding;
+            }
+        }
+        return winding != 0;
     }
 
     // A link from segment s's exit end (right or left) to an unclaimed segment of the next
@@ -373,7 +407,7 @@ private:
         const Point2 from = point(exit);
         const Point2 to = point(exit_right ? segment(t).right : segment(t).left);
         if (distance(from, to) > static_cast<double>(in_.max_link_um)) return std::nullopt;
-        if (!straight_inside(from, to)) return std::nullopt;
+        if (!straight_inside(from, to, seg.line)) return std::nullopt;
         return Link{t, exit_right, Path2{to}};
     }
 
@@ -419,6 +453,7 @@ private:
     std::vector<int> line_segments_;  // first segment of each line, then the total
     std::vector<std::vector<int>> loop_order_;
     std::vector<bool> claimed_;
+    std::vector<std::vector<std::pair<Point2, Point2>>> band_edges_;  // per band between lines
 };
 
 }  // namespace

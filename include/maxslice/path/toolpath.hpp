@@ -25,8 +25,9 @@ struct PathSettings {
     double track_width_mm = 2.5;  ///< bead width
     double overlap = 0.3;         ///< share of a track the next one overlaps, in [0, 1)
     int contour_passes = 1;       ///< passes along the wires before the fill (0 = fill only)
-    /// Fill direction in degrees from the plane's u axis; unset = along the long side of the
-    /// orientation whose bounding box has the largest long/short ratio.
+    /// Fill direction in degrees from the plane's u axis, for every island; unset = each
+    /// island along the long side of its orientation whose bounding box has the largest
+    /// long/short ratio.
     std::optional<double> raster_angle_deg;
     StrokeOrder order = StrokeOrder::kShortTravel;
 
@@ -54,7 +55,7 @@ struct Stroke {
 /// The toolpath of one layer, in deposition order.
 struct LayerToolpath {
     std::vector<Stroke> strokes;
-    double raster_angle_deg = 0.0;  ///< the fill direction used, in [0, 180)
+    double raster_angle_deg = 0.0;  ///< fill direction of the largest island, in [0, 180)
     double uncovered_mm2 = 0.0;     ///< area of the region no track covers (gaps < a track)
     double deposit_length_mm = 0.0;
     double travel_length_mm = 0.0;  ///< between strokes, from `start` to the last stroke
@@ -62,14 +63,16 @@ struct LayerToolpath {
     bool operator==(const LayerToolpath&) const = default;
 };
 
-/// Plans the tracks of one layer's region: contour passes (the wires offset inward by half a
-/// track, then by one pitch per further pass), then a zigzag fill of what is left at a pitch
-/// of width x (1 - overlap), neighbouring lines linked along the boundary while the link
-/// stays inside (laser on), islands and strokes ordered to keep idle travel short starting
-/// from `start`. Holes are deposited around, never filled; hole wires without an enclosing
-/// outer wire have no material and get no tracks. Every track lies inside the region (its
-/// centre at least half a track from the boundary). Deterministic: the same input gives the
-/// same output. Errors: invalid settings (kInvalidInput, naming the setting).
+/// Plans the tracks of one layer's region (wires in the layer plane's frame, um): contour
+/// passes (the wires offset inward by half a track, then by one pitch per further pass), a
+/// zigzag fill of what is left with lines at most width x (1 - overlap) apart, neighbouring
+/// lines linked along the boundary while the link stays inside (laser on), one track along
+/// gaps between contours where no fill line fits, islands and strokes ordered to keep idle
+/// travel short starting from `start`. Holes are deposited around, never filled; hole wires
+/// without an enclosing outer wire have no material and get no tracks. Every track lies
+/// inside the region (its centre at least half a track from the boundary). Deterministic:
+/// the same input gives the same output. Errors: invalid settings (kInvalidInput, naming the
+/// setting). See docs/decisions/0004-toolpaths.md.
 [[nodiscard]] core::Result<LayerToolpath> plan_layer(const geom2d::WireTree& region,
                                                      const PathSettings& settings,
                                                      geom2d::Point2 start);

@@ -163,7 +163,8 @@ public:
             }
         }
         // One sample at a pseudo-random place in each grid cell (stratified sampling), so
-        // thin strips aligned with the grid are neither always hit nor always missed.
+        // thin strips aligned with the grid are neither always hit nor always missed. Rows
+        // share a jittered y: the region's crossings with it decide which samples are inside.
         const std::int64_t step = um(step_mm);
         std::uint64_t state = 0x9E3779B97F4A7C15ull;
         const auto jitter = [&] {
@@ -171,15 +172,37 @@ public:
             return static_cast<std::int64_t>((state >> 33) % static_cast<std::uint64_t>(step));
         };
         for (std::int64_t gy = y0; gy < y1; gy += step) {
+            const std::int64_t y = gy + jitter();
+            const std::vector<double> xs = crossings(loops, y);
             for (std::int64_t gx = x0; gx < x1; gx += step) {
-                const Point2 p{gx + jitter(), gy + jitter()};
-                if (geom2d::locate_point(loops, p) != geom2d::Containment::kInside) continue;
+                const Point2 p{gx + jitter(), y};
+                // Inside when an odd number of crossings lie left of it (loops do not overlap).
+                const auto left = std::lower_bound(xs.begin(), xs.end(), static_cast<double>(p.x));
+                if ((left - xs.begin()) % 2 == 0) continue;
                 ++inside_;
                 if (near_track(p)) ++covered_;
             }
         }
     }
 
+private:
+    // Where the horizontal line at y crosses the loops (half-open rule), sorted.
+    static std::vector<double> crossings(const Paths2& loops, std::int64_t y) {
+        std::vector<double> xs;
+        for (const Path2& loop : loops) {
+            for (std::size_t i = 0; i < loop.size(); ++i) {
+                const Point2 a = loop[i];
+                const Point2 b = loop[(i + 1) % loop.size()];
+                if ((a.y > y) == (b.y > y)) continue;
+                const double t = static_cast<double>(y - a.y) / static_cast<double>(b.y - a.y);
+                xs.push_back(static_cast<double>(a.x) + t * static_cast<double>(b.x - a.x));
+            }
+        }
+        std::sort(xs.begin(), xs.end());
+        return xs;
+    }
+
+public:
     [[nodiscard]] long inside_samples() const { return inside_; }
     [[nodiscard]] double fraction() const {
         return inside_ > 0 ? static_cast<double>(covered_) / static_cast<double>(inside_) : 0.0;

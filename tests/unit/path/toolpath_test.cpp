@@ -196,6 +196,41 @@ TEST(Toolpath, FillOnlyStaysInsideAndAvoidsHoles) {
     }
 }
 
+TEST(Toolpath, LinksNeverCutThroughHoles) {
+    // Many small holes at pseudo-random places (fixed seed): line ends meet holes in every
+    // way, and links that would cut through them must be refused (travel instead).
+    std::uint64_t state = 12345;
+    const auto next = [&](double lo, double hi) {
+        state = state * 6364136223846793005ull + 1442695040888963407ull;
+        return lo + (hi - lo) * static_cast<double>(state >> 11) / 9007199254740992.0;
+    };
+    Paths2 loops{{pt(0, 0), pt(80, 0), pt(80, 60), pt(0, 60)}};
+    for (int i = 0; i < 40; ++i) {
+        const double x = next(8, 72);
+        const double y = next(8, 52);
+        const double r = next(0.8, 2.5);
+        bool clear = true;  // keep holes apart so the loops stay simple
+        for (std::size_t j = 1; j < loops.size(); ++j) {
+            const Point2 c = loops[j].front();
+            if (std::hypot(static_cast<double>(c.x) / 1000 - x,
+                           static_cast<double>(c.y) / 1000 - y) < 7.0) {
+                clear = false;
+            }
+        }
+        if (clear) loops.push_back(ngon(x, y, r, 24));
+    }
+    ASSERT_GE(loops.size(), 15u);
+    const geom2d::WireTree plate = region(loops);
+    for (const int passes : {0, 1}) {
+        for (const double angle : {0.0, 90.0, 33.0}) {
+            SCOPED_TRACE(std::to_string(passes) + " passes, raster at " + std::to_string(angle));
+            PathSettings s = settings(2.5, 0.3, passes);
+            s.raster_angle_deg = angle;
+            expect_valid(plate, s, plan(plate, s), {}, 0.0);
+        }
+    }
+}
+
 TEST(Toolpath, ContourPassesFollowEveryWire) {
     const geom2d::WireTree plate = plate_with_holes();
     for (const int passes : {1, 2, 3}) {
