@@ -7,7 +7,8 @@
 //
 // Open CASCADE converts lengths to mm (xstep.cascade.unit, checked below) and keeps global
 // state (static parameters, unit factors, the default messenger), so every use here runs
-// under one mutex. Its messages are captured instead of printed: syntax errors found by the
+// under one mutex; read_cad runs it all in a child process (run_isolated), because it can
+// crash on damaged files. Its messages are captured instead of printed: syntax errors found by the
 // STEP parser go into the refusal message.
 
 #include <fmt/format.h>
@@ -325,6 +326,24 @@ core::Result<void> tessellate(const TopoDS_Shape& shape, const ImportOptions& op
     return {};
 }
 
+// Renumbers the vertices used by triangles (in their order) and drops the rest.
+void drop_unused_vertices(mesh::TriangleMesh& m) {
+    constexpr std::uint32_t kUnused = UINT32_MAX;
+    std::vector<std::uint32_t> remap(m.vertices.size(), kUnused);
+    std::vector<core::Vec3d> kept;
+    kept.reserve(m.vertices.size());
+    for (mesh::Triangle& t : m.triangles) {
+        for (std::uint32_t& v : t) {
+            if (remap[v] == kUnused) {
+                remap[v] = static_cast<std::uint32_t>(kept.size());
+                kept.push_back(m.vertices[v]);
+            }
+            v = remap[v];
+        }
+    }
+    m.vertices = std::move(kept);
+}
+
 core::Result<RawImport> read_impl(const std::filesystem::path& path, Format format,
                                   const ImportOptions& options) {
     const std::string kind = format == Format::kStep ? "STEP" : "IGES";
@@ -413,13 +432,23 @@ core::Result<RawImport> read_impl(const std::filesystem::path& path, Format form
     }
     out.solids = counts.solids;
     out.mesh = mesh::weld_exact(std::span<const double>(xyz));
+    // Triangles that collapse onto two points once welded (BRepMesh puts several nodes on a
+    // degenerated edge: the apex of a cone, the pole of a sphere) cover nothing, but their
+    // doubled edge reads as non-manifold and misoriented; they are tessellation artefacts,
+    // not part of the file, and are dropped.
+    const std::size_t collapsed = std::erase_if(out.mesh.triangles, [](const mesh::Triangle& t) {
+        return t[0] == t[1] || t[1] == t[2] || t[2] == t[0];
+    });
+    if (collapsed > 0) drop_unused_vertices(out.mesh);
     return out;
 }
 
 }  // namespace
 
-core::Result<RawImport> read_cad(const std::filesystem::path& path, Format format,
-                                 const ImportOptions& options) {
+namespace {
+
+core::Result<RawImport> read_cad_in_process(const std::filesystem::path& path, Format format,
+                                            const ImportOptions& options) {
     try {
         return read_impl(path, format, options);
     } catch (const Standard_Failure& failure) {
@@ -434,6 +463,15 @@ core::Result<RawImport> read_cad(const std::filesystem::path& path, Format forma
     } catch (...) {
         return invalid("Open CASCADE failed to read the file");
     }
+}
+
+}  // namespace
+
+core::Result<RawImport> read_cad(const std::filesystem::path& path, Format format,
+                                 const ImportOptions& options) {
+    // In a child process: Open CASCADE can crash on damaged files (isolated.cpp).
+    return run_isolated([&] { return read_cad_in_process(path, format, options); },
+                        options.cad_time_limit_s, "Open CASCADE");
 }
 
 }  // namespace maxslice::io::detail

@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -93,6 +94,13 @@ private:
 /// deviations, in mm.
 [[nodiscard]] core::Result<RawImport> read_cad(const std::filesystem::path& path, Format format,
                                                const ImportOptions& options);
+
+/// Runs a reader in a forked child process: a crash (signal) or a run longer than
+/// time_limit_s (<= 0: no limit) of the library behind it refuses the file (kInvalidInput)
+/// instead of ending or blocking the program. kIo when the child cannot be started.
+[[nodiscard]] core::Result<RawImport> run_isolated(
+    const std::function<core::Result<RawImport>()>& reader, double time_limit_s,
+    std::string_view library);
 
 /// Checks an OBJ text before assimp sees it: every 'v' number parses, every face index
 /// points at a vertex. Counts faces with fewer than 3 corners and point/line elements.

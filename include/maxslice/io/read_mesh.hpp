@@ -30,6 +30,9 @@ struct ImportOptions {
     /// between neighbouring facet normals (degrees, in (0, 90]).
     double chord_deviation_mm = 0.05;
     double angular_deviation_deg = 10.0;
+    /// STEP/IGES are read in a child process (Open CASCADE can crash on damaged files); a
+    /// read taking longer than this (seconds) is stopped and refused. <= 0: no limit.
+    double cad_time_limit_s = 600.0;
 };
 
 /// A part read from a file: an indexed mesh in millimetres (vertices merged where their

@@ -4,6 +4,7 @@
 
 #include "io_test_support.hpp"
 #include "maxslice/io/read_mesh.hpp"
+#include "maxslice/mesh/validation.hpp"
 
 namespace maxslice::io {
 namespace {
@@ -44,6 +45,22 @@ TEST(Cad, ReversedFacesKeepTheOutsideOut) {
     auto r = read_mesh(testdata("step/nist/nist_ctc_01_asme1_rd.stp"));
     ASSERT_TRUE(r) << r.error().describe();
     EXPECT_NEAR(mesh::signed_volume(r->mesh) / 1.46428e7, 1.0, 0.01);
+}
+
+TEST(Cad, TessellationIsClosedAndConsistentlyOriented) {
+    // BRepMesh puts several nodes on degenerated edges (cone apexes, sphere poles); the
+    // triangles that collapse there once welded must not show up as non-manifold edges.
+    for (const char* file : {"step/nist/nist_ctc_05_asme1_rd.stp",
+                             "step/nist/nist_ctc_01_asme1_rd.stp", "step/trimesh/box_sides.STEP"}) {
+        auto r = read_mesh(testdata(file));
+        ASSERT_TRUE(r) << r.error().describe();
+        const mesh::ValidationReport v = mesh::validate(r->mesh);
+        EXPECT_EQ(v.boundary_edges.count, 0u) << file;
+        EXPECT_EQ(v.nonmanifold_edges.count, 0u) << file;
+        EXPECT_EQ(v.misoriented_edges.count, 0u) << file;
+        EXPECT_EQ(v.vertices, r->mesh.vertices.size()) << file << ": unused vertices";
+        EXPECT_GT(v.volume_mm3, 0.0) << file;
+    }
 }
 
 TEST(Cad, IgesSurfacesWithoutSolidAreRefused) {
