@@ -122,8 +122,15 @@ std::vector<RouteStroke> gap_fill(const Paths2& gaps, std::int64_t track_width_u
             continue;
         }
         const double step = 0.25 * static_cast<double>(track_width_um);
+        // Averaged sides can leave a piece that is not a plain strip (bent, branched): only
+        // the parts of a middle line inside its piece are kept.
+        const auto add_middle = [&](const Path2& strip) {
+            for (Path2& part : geom2d::clip_polylines({middle_of_strip(strip, step)}, piece)) {
+                if (part.size() >= 2) out.push_back({StrokeKind::kFill, false, std::move(part)});
+            }
+        };
         if (piece.size() == 1) {
-            out.push_back({StrokeKind::kFill, false, middle_of_strip(node.wire, step)});
+            add_middle(node.wire);
             continue;
         }
         // A ring: shrunk to a thin band around its middle, whose outer loop follows the
@@ -133,8 +140,11 @@ std::vector<RouteStroke> gap_fill(const Paths2& gaps, std::int64_t track_width_u
         const geom2d::WireTree bands = geom2d::build_wire_tree(band, geom2d::FillRule::kNonZero);
         for (const geom2d::WireNode& b : bands.nodes) {
             if (b.is_hole) continue;
-            const bool ring = !b.children.empty();
-            out.push_back({StrokeKind::kFill, ring, ring ? b.wire : middle_of_strip(b.wire, step)});
+            if (b.children.empty()) {
+                add_middle(b.wire);
+            } else {
+                out.push_back({StrokeKind::kFill, true, b.wire});
+            }
         }
     }
     return out;

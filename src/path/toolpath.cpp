@@ -134,7 +134,10 @@ detail::RouteIsland plan_island(const Paths2& island, const detail::RasterFrame&
     const Paths2 eroded = geom2d::offset_of(local, -(inset + w.opening));
     detail::RouteGroup fill;
     if (!eroded.empty()) {
-        const Paths2 fill_region = geom2d::offset_of(eroded, w.opening);
+        // Growing back with mitred joins can poke past sharp corners of the inset region:
+        // clip to where track centres may run.
+        const Paths2 fill_region =
+            geom2d::intersection_of(geom2d::offset_of(eroded, w.opening), centres);
         const Paths2 lines =
             detail::zigzag_fill({&fill_region, &centres, w.pitch, w.max_margin, w.max_link});
         for (const Path2& line : lines) {

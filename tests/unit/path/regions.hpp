@@ -122,6 +122,25 @@ inline double length_mm(const Path2& path) {
     return sum / 1000.0;
 }
 
+/// Distance from p to the nearest edge of the loops, in mm.
+inline double distance_to_boundary_mm(const Paths2& loops, Point2 p) {
+    double best = INFINITY;
+    for (const Path2& loop : loops) {
+        for (std::size_t i = 0; i < loop.size(); ++i) {
+            const Point2 a = loop[i];
+            const Point2 b = loop[(i + 1) % loop.size()];
+            const double dx = static_cast<double>(b.x - a.x);
+            const double dy = static_cast<double>(b.y - a.y);
+            const double len2 = dx * dx + dy * dy;
+            const double px = static_cast<double>(p.x - a.x);
+            const double py = static_cast<double>(p.y - a.y);
+            const double t = len2 > 0 ? std::clamp((px * dx + py * dy) / len2, 0.0, 1.0) : 0.0;
+            best = std::min(best, std::hypot(px - t * dx, py - t * dy));
+        }
+    }
+    return best / 1000.0;
+}
+
 inline Paths2 stroke_paths(const LayerToolpath& tp) {
     Paths2 out;
     for (const Stroke& s : tp.strokes) out.push_back(s.points);
