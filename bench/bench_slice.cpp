@@ -273,7 +273,7 @@ void register_all() {
     register_file_model("lattice_cone", kLatticeCone);
     for (const auto& p : extra_models()) register_file_model(p.stem().string(), p);
 
-    benchmark::RegisterBenchmark("BM_WeldExact/torus2m_soup", BM_WeldExact)
+    benchmark::RegisterBenchmark("BM_WeldExact/torus_inline_soup", BM_WeldExact)
         ->Unit(benchmark::kMillisecond)
         ->UseRealTime()
         ->MeasureProcessCPUTime()
@@ -282,7 +282,7 @@ void register_all() {
         ->Arg(2);
     for (auto* fn : {&BM_SliceMesh, &BM_CutMesh}) {
         const std::string stage = fn == &BM_SliceMesh ? "BM_SliceMesh/" : "BM_CutMesh/";
-        benchmark::RegisterBenchmark((stage + "torus2m").c_str(), *fn, std::string("torus"))
+        benchmark::RegisterBenchmark((stage + "torus_inline").c_str(), *fn, std::string("torus"))
             ->Unit(benchmark::kMillisecond)
             ->UseRealTime()
             ->MeasureProcessCPUTime()
