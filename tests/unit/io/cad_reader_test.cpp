@@ -1,6 +1,9 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <regex>
 
 #include "io_test_support.hpp"
 #include "maxslice/io/read_mesh.hpp"
@@ -78,6 +81,35 @@ TEST(Cad, IgesFromOpenCascadeSamples) {
     auto r = read_mesh(bearing);
     ASSERT_FALSE(r);
     EXPECT_TRUE(contains(r.error().message, "no solid")) << r.error().describe();
+}
+
+TEST(Cad, OpenCascadeCrashRefusesTheFileAndWeLive) {
+    // Every AXIS2_PLACEMENT_3D of a valid part pointed at a DIRECTION instead of a point:
+    // Open CASCADE 7.6 dereferences a null handle (SIGSEGV) while transferring it. The
+    // reader runs in a child process, so this is a refusal, not the end of the test.
+    std::ifstream in(testdata("step/nist/nist_ftc_11_asme1_rb.stp"));
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::smatch direction;
+    ASSERT_TRUE(std::regex_search(text, direction, std::regex(R"(#(\d+)\s*=\s*DIRECTION)")));
+    const std::string broken =
+        std::regex_replace(text, std::regex(R"((AXIS2_PLACEMENT_3D\s*\(\s*'[^']*'\s*,\s*)#\d+)"),
+                           "$1#" + direction[1].str());
+    test::ScratchDir dir;
+    auto r = read_mesh(dir.write("crash.stp", broken));
+    ASSERT_FALSE(r);
+    EXPECT_EQ(r.error().code, core::ErrorCode::kInvalidInput);
+    EXPECT_TRUE(contains(r.error().message, "Open CASCADE")) << r.error().describe();
+    // And the next file reads normally.
+    EXPECT_TRUE(read_mesh(testdata("step/oasis/Subminiature_Tensile_Bar_Blank_1.stp")));
+}
+
+TEST(Cad, TimeLimitStopsTheReader) {
+    ImportOptions o;
+    o.cad_time_limit_s = 0.01;
+    auto r = read_mesh(testdata("step/nist/nist_ctc_02_asme1_rc.stp"), o);
+    ASSERT_FALSE(r);
+    EXPECT_TRUE(contains(r.error().message, "did not finish reading the file within 0.01 s"))
+        << r.error().describe();
 }
 
 TEST(Cad, GarbageAfterStepSignatureIsRefused) {
