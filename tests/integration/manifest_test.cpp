@@ -3,6 +3,7 @@
 // time, so the expectations are the data set's own, not numbers copied from our output.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -108,15 +109,17 @@ TEST(Manifest, StepSolidsAndVolumesMatchWithinOnePercent) {
         // the right ones.
         EXPECT_GE(static_cast<long>(part->solids), solids);
         const auto report = maxslice::mesh::validate(part->mesh);
-        // Known gap: on these two NIST parts Open CASCADE's tessellation comes out with
-        // non-manifold, misoriented edges (some faces doubled), and the volume is 1.0-1.6%
-        // low. maxslice reports the defects (so `slice` refuses without --repair); the
-        // volume is held to 2% here until the reader mends those faces. If the defects
-        // disappear, this branch fails and the 1% bound applies.
+        // Known gap: these two NIST parts come out 1.0-1.6% below the manifest's volume.
+        // Both files hold a shell outside their solid, which maxslice ignores (solids only)
+        // and warns about; the manifest's figure may include it, the cause is not settled.
+        // They are held to 2% and must keep warning; everything else to 1%.
         const bool known_defect = row.file.find("nist_ctc_02_asme1_rc") != std::string::npos ||
                                   row.file.find("nist_ctc_05_asme1_rd") != std::string::npos;
         if (known_defect) {
-            EXPECT_GT(report.nonmanifold_edges.count, 0u) << "defect gone: tighten to 1%";
+            const bool warned = std::any_of(
+                part->warnings.begin(), part->warnings.end(),
+                [](const std::string& w) { return w.find("shell") != std::string::npos; });
+            EXPECT_TRUE(warned) << "the ignored shell is no longer reported";
             EXPECT_NEAR(report.volume_mm3, volume, 0.02 * volume);
         } else {
             EXPECT_NEAR(report.volume_mm3, volume, 0.01 * volume);
