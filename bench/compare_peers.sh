@@ -298,14 +298,14 @@ for f in "${model_files[@]}"; do
         echo
         echo "Whole process (context: maxslice = read + validate + slice; peers also do toolpaths + G-code)"
         echo
-        printf '| %-22s | %5s | %8s | %8s | %8s | %13s | %12s | %7s |\n' tool exit "wall s" "cpu s" \
-            "peak MiB" "wall peer/ms" "MiB peer/ms" foreign
-        printf '|%s|%s:|%s:|%s:|%s:|%s:|%s:|%s:|\n' ------------------------ ------ --------- --------- \
-            --------- -------------- ------------- --------
+        printf '| %-22s | %5s | %8s | %8s | %8s | %12s | %11s | %11s | %7s |\n' tool exit "wall s" "cpu s" \
+            "peak MiB" "wall peer/ms" "cpu peer/ms" "MiB peer/ms" foreign
+        printf '|%s|%s:|%s:|%s:|%s:|%s:|%s:|%s:|%s:|\n' ------------------------ ------ --------- --------- \
+            --------- ------------- ------------ ------------ --------
         tools=(maxslice)
         [ "$whole" = 1 ] && tools+=("${peers[@]}")
         [[ " ${peers[*]} " == *" slic3r "* ]] && tools+=(slic3r-svg)
-        ms_wall=$(col "$k.maxslice" 1); ms_rss=$(rss_med "$k.maxslice")
+        ms_wall=$(col "$k.maxslice" 1); ms_cpu=$(cpu_med "$k.maxslice"); ms_rss=$(rss_med "$k.maxslice")
         for t in "${tools[@]}"; do
             wall=$(col "$k.$t" 1); cpu=$(cpu_med "$k.$t"); rss=$(rss_med "$k.$t")
             label=$t
@@ -313,9 +313,9 @@ for f in "${model_files[@]}"; do
                 prusa) label="PrusaSlicer" ;; cura) label="CuraEngine" ;; slic3r) label="Slic3r" ;;
                 slic3r-svg) label="Slic3r --export-svg" ;;
             esac
-            printf '| %-22s | %5s | %8s | %8s | %8s | %13s | %12s | %7s |\n' "$label" "$(exits "$k.$t")" \
+            printf '| %-22s | %5s | %8s | %8s | %8s | %12s | %11s | %11s | %7s |\n' "$label" "$(exits "$k.$t")" \
                 "$(num "$wall")" "$(num "$cpu" 2)" "$(num "$rss" 0)" "$(ratio "$wall" "$ms_wall")" \
-                "$(ratio "$rss" "$ms_rss")" "$(max_foreign "$k.$t")"
+                "$(ratio "$cpu" "$ms_cpu")" "$(ratio "$rss" "$ms_rss")" "$(max_foreign "$k.$t")"
             R["$m|$L|${t}_wall"]=$wall; R["$m|$L|${t}_cpu"]=$cpu; R["$m|$L|${t}_rss"]=$rss
             emit_tsv "$m" "$L" "$t" wall_s "$wall"; emit_tsv "$m" "$L" "$t" cpu_s "$cpu"
             emit_tsv "$m" "$L" "$t" peak_MiB "$rss"; emit_tsv "$m" "$L" "$t" exit "$(exits "$k.$t")"
