@@ -1,9 +1,11 @@
 // Runs a reader in a forked child process. Open CASCADE dereferences null handles on some
 // damaged STEP files (found by fuzz/fuzz_step: StepGeom_CartesianPoint::NbCoordinates on a
-// point that is not there) and may take unbounded time on others; a library cannot catch a
-// segmentation fault, and installing process-wide signal handlers from a library would
-// fight with the application's and the sanitizers'. In a child, a crash or a time-out
-// becomes a refusal of the file.
+// point that is not there) and any library may take unbounded time on a hostile file; a
+// library cannot catch a segmentation fault, and installing process-wide signal handlers
+// from a library would fight with the application's and the sanitizers'. In a child, a
+// crash or a time-out becomes a refusal of the file. read_mesh runs every reader that
+// calls a third-party library this way (assimp, lib3mf, Open CASCADE); its own readers
+// (STL, PLY, OFF) run in-process.
 //
 // The child runs the reader, writes the result (or the error) to a pipe and leaves with
 // _exit, so no destructor, atexit handler or stdio buffer of the parent runs twice. Only the

@@ -471,7 +471,7 @@ core::Result<RawImport> read_cad(const std::filesystem::path& path, Format forma
                                  const ImportOptions& options) {
     // In a child process: Open CASCADE can crash on damaged files (isolated.cpp).
     return run_isolated([&] { return read_cad_in_process(path, format, options); },
-                        options.cad_time_limit_s, "Open CASCADE");
+                        options.library_time_limit_s, "Open CASCADE");
 }
 
 }  // namespace maxslice::io::detail

@@ -189,12 +189,21 @@ core::Result<ImportedMesh> read_impl(const std::filesystem::path& path,
         case Format::kOff: {
             auto bytes = size <= kSniffBytes ? std::move(head) : detail::read_file(path);
             if (!bytes) return std::unexpected(bytes.error());
-            raw = *format == Format::kPly   ? detail::read_ply(bytes->view())
-                  : *format == Format::kOff ? detail::read_off(bytes->view())
-                                            : detail::read_with_assimp(bytes->view(), *format);
+            if (*format == Format::kPly) {
+                raw = detail::read_ply(bytes->view());
+            } else if (*format == Format::kOff) {
+                raw = detail::read_off(bytes->view());
+            } else {
+                raw = detail::run_isolated(
+                    [&] { return detail::read_with_assimp(bytes->view(), *format); },
+                    options.library_time_limit_s, "assimp");
+            }
             break;
         }
-        case Format::k3mf: raw = detail::read_3mf(path); break;
+        case Format::k3mf:
+            raw = detail::run_isolated([&] { return detail::read_3mf(path); },
+                                       options.library_time_limit_s, "lib3mf");
+            break;
         case Format::kStep:
         case Format::kIges: raw = detail::read_cad(path, *format, options); break;
     }

@@ -30,9 +30,10 @@ struct ImportOptions {
     /// between neighbouring facet normals (degrees, in (0, 90]).
     double chord_deviation_mm = 0.05;
     double angular_deviation_deg = 10.0;
-    /// STEP/IGES are read in a child process (Open CASCADE can crash on damaged files); a
-    /// read taking longer than this (seconds) is stopped and refused. <= 0: no limit.
-    double cad_time_limit_s = 600.0;
+    /// Files read through a third-party library (OBJ: assimp, 3MF: lib3mf, STEP/IGES: Open
+    /// CASCADE) are read in a child process, so that a crash of the library refuses the file;
+    /// a read taking longer than this (seconds) is stopped and refused. <= 0: no limit.
+    double library_time_limit_s = 600.0;
 };
 
 /// A part read from a file: an indexed mesh in millimetres (vertices merged where their

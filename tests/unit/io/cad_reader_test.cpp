@@ -105,7 +105,7 @@ TEST(Cad, OpenCascadeCrashRefusesTheFileAndWeLive) {
 
 TEST(Cad, TimeLimitStopsTheReader) {
     ImportOptions o;
-    o.cad_time_limit_s = 0.01;
+    o.library_time_limit_s = 0.01;
     auto r = read_mesh(testdata("step/nist/nist_ctc_02_asme1_rc.stp"), o);
     ASSERT_FALSE(r);
     EXPECT_TRUE(contains(r.error().message, "did not finish reading the file within 0.01 s"))
