@@ -149,8 +149,7 @@ TEST(Program, BadProfilesExitTwoNamingTheKey) {
         {"negative_width", "track_width_mm = 2.5", "track_width_mm = -2.5", "track_width_mm"},
         {"overlap", "overlap = 0.3", "overlap = 1.0", "overlap"},
         {"dialect", "dialect = \"gm\"", "dialect = \"heidenhain\"", "dialect"},
-        {"layer_above_width", "layer_height_mm = 0.5", "layer_height_mm = 3.0",
-         "layer_height_mm"},
+        {"layer_above_width", "layer_height_mm = 0.5", "layer_height_mm = 3.0", "layer_height_mm"},
     };
     for (const Case& c : cases) {
         std::string text = good;
@@ -165,8 +164,8 @@ TEST(Program, BadProfilesExitTwoNamingTheKey) {
         EXPECT_NE(r.err.find(c.key), std::string::npos) << c.name << "\n" << r.err;
         EXPECT_FALSE(fs::exists(dir / "p.gm")) << c.name;
     }
-    const CliRun r = run_cli({"slice", kExample.string(), "--layer", "3", "-o",
-                              (dir / "p.gm").string()});
+    const CliRun r =
+        run_cli({"slice", kExample.string(), "--layer", "3", "-o", (dir / "p.gm").string()});
     EXPECT_EQ(r.exit_code, 2) << "a layer thicker than the bead\n" << r.err;
 }
 
