@@ -221,6 +221,16 @@ int run_slice(const PartOptions& opt, const SliceOptions& so) {
         auto text = machine::write_program(p->program, profiles->machine, profiles->process);
         if (!text) return report_error(text.error());
         if (const int rc = write_text_file(so.output, *text); rc != kExitOk) return rc;
+        // Features narrower than the bead get no material: say so loudly, the program is
+        // not the part then.
+        if (p->region_area_mm2 > 0.0 && p->uncovered_mm2 > 0.05 * p->region_area_mm2) {
+            std::fprintf(stderr,
+                         "maxslice: warning: %.1f%% of the section area gets no track (features "
+                         "narrower than the %.2f mm track, process.track_width_mm); %d layers "
+                         "are affected\n",
+                         100.0 * p->uncovered_mm2 / p->region_area_mm2,
+                         profiles->process.track_width_mm, p->layers_with_uncovered);
+        }
         planned = std::move(*p);
     }
 
