@@ -84,16 +84,6 @@ private:
     std::size_t pos_ = 0;
 };
 
-std::string shown(std::string_view token) {
-    std::string out = "'";
-    for (std::size_t i = 0; i < token.size() && i < 40; ++i) {
-        const auto c = static_cast<unsigned char>(token[i]);
-        out += (c >= 0x20 && c < 0x7F) ? std::string(1, static_cast<char>(c))
-                                       : fmt::format("\\x{:02X}", c);
-    }
-    return out + (token.size() > 40 ? "...'" : "'");
-}
-
 std::unexpected<core::Error> error_at(std::size_t line, const std::string& what) {
     return core::fail(core::ErrorCode::kInvalidInput, fmt::format("line {}: {}", line, what));
 }

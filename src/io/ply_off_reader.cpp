@@ -34,16 +34,6 @@ bool is_blank(char c) {
     return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v';
 }
 
-std::string shown(std::string_view token) {
-    std::string out = "'";
-    for (std::size_t i = 0; i < token.size() && i < 40; ++i) {
-        const auto c = static_cast<unsigned char>(token[i]);
-        out += (c >= 0x20 && c < 0x7F) ? std::string(1, static_cast<char>(c))
-                                       : fmt::format("\\x{:02X}", c);
-    }
-    return out + (token.size() > 40 ? "...'" : "'");
-}
-
 bool parse_integer(std::string_view t, std::int64_t& value) {
     if (t.size() > 1 && t.front() == '+') t.remove_prefix(1);
     const auto [ptr, ec] = std::from_chars(t.data(), t.data() + t.size(), value);

@@ -117,6 +117,10 @@ struct ObjScan {
 /// UTF-16 text (with a byte order mark) as UTF-8; nullopt when there is no UTF-16 BOM.
 [[nodiscard]] std::optional<std::string> utf16_to_utf8(std::string_view bytes);
 
+/// A token as an error message shows it: quoted, at most 40 characters, bytes outside
+/// printable ASCII as \xNN.
+[[nodiscard]] std::string shown(std::string_view token);
+
 /// "1 face", "3 faces" (plural_form defaults to singular + "s").
 [[nodiscard]] std::string count_of(std::size_t n, std::string_view singular,
                                    std::string_view plural_form = {});

@@ -5,6 +5,8 @@
 #include <optional>
 #include <string>
 
+#include <fmt/format.h>
+
 #include "readers.hpp"
 
 namespace maxslice::io::detail {
@@ -59,6 +61,16 @@ void append_utf8(std::string& out, char32_t cp) {
 }
 
 }  // namespace
+
+std::string shown(std::string_view token) {
+    std::string out = "'";
+    for (std::size_t i = 0; i < token.size() && i < 40; ++i) {
+        const auto c = static_cast<unsigned char>(token[i]);
+        out += (c >= 0x20 && c < 0x7F) ? std::string(1, static_cast<char>(c))
+                                       : fmt::format("\\x{:02X}", c);
+    }
+    return out + (token.size() > 40 ? "...'" : "'");
+}
 
 std::string count_of(std::size_t n, std::string_view singular, std::string_view plural_form) {
     std::string out = std::to_string(n);
