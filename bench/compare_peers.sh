@@ -43,6 +43,8 @@
 #   (a) maxslice load (read + weld) >= 3x faster than CuraEngine's load stage
 #   (b) maxslice slice stage faster than CuraEngine's slice stage
 #   (c) maxslice slice stage <= 2x the plain read time of the file
+# When maxslice refuses a model (e.g. an open mesh, which the peers repair silently), it is
+# timed again with --repair, and those stages are used (marked "with --repair").
 set -euo pipefail
 
 repo=$(cd "$(dirname "$0")/.." && pwd)
@@ -262,10 +264,19 @@ for f in "${model_files[@]}"; do
         for s in load validate slice; do R["$m|$L|ms_$s"]=$(ms_stage "$k.maxslice" "$s"); done
         R["$m|$L|ms_exit"]=$(exits "$k.maxslice")
         if [ "${R[$m|$L|ms_exit]}" != 0 ]; then
-            # Refused (e.g. an open mesh): its load and validate stages still come from `info`.
+            # Refused (e.g. an open mesh, which the peers repair silently): time it again with
+            # --repair (repairs are in its validate stage); if that fails too, the load and
+            # validate stages come from `info`.
             R["$m|$L|ms_error"]=$(grep -m1 -h "error" "$work/$k.maxslice.err1" | sed "s/^maxslice: //" || true)
-            measure "$k.msinfo" "$maxslice" info "$f" --timings --threads "$threads"
-            for s in load validate; do R["$m|$L|ms_$s"]=$(ms_stage "$k.msinfo" "$s"); done
+            measure "$k.msrepair" "$maxslice" slice "$f" --layer "$L" --timings --threads "$threads" --repair
+            if [ "$(exits "$k.msrepair")" = 0 ]; then
+                R["$m|$L|ms_note"]="with --repair"
+                for s in load validate slice; do R["$m|$L|ms_$s"]=$(ms_stage "$k.msrepair" "$s"); done
+            else
+                R["$m|$L|ms_note"]="refused, load from info"
+                measure "$k.msinfo" "$maxslice" info "$f" --timings --threads "$threads"
+                for s in load validate; do R["$m|$L|ms_$s"]=$(ms_stage "$k.msinfo" "$s"); done
+            fi
         fi
         if [ "$whole" = 1 ]; then
             for p in "${peers[@]}"; do
@@ -303,6 +314,7 @@ for f in "${model_files[@]}"; do
         printf '|%s|%s:|%s:|%s:|%s:|%s:|%s:|%s:|%s:|\n' ------------------------ ------ --------- --------- \
             --------- ------------- ------------ ------------ --------
         tools=(maxslice)
+        [ "${R[$m|$L|ms_note]:-}" = "with --repair" ] && tools+=(msrepair)
         [ "$whole" = 1 ] && tools+=("${peers[@]}")
         [[ " ${peers[*]} " == *" slic3r "* ]] && tools+=(slic3r-svg)
         ms_wall=$(col "$k.maxslice" 1); ms_cpu=$(cpu_med "$k.maxslice"); ms_rss=$(rss_med "$k.maxslice")
@@ -312,6 +324,7 @@ for f in "${model_files[@]}"; do
             case $t in
                 prusa) label="PrusaSlicer" ;; cura) label="CuraEngine" ;; slic3r) label="Slic3r" ;;
                 slic3r-svg) label="Slic3r --export-svg" ;;
+                msrepair) label="maxslice --repair" ;;
             esac
             printf '| %-22s | %5s | %8s | %8s | %8s | %12s | %11s | %11s | %7s |\n' "$label" "$(exits "$k.$t")" \
                 "$(num "$wall")" "$(num "$cpu" 2)" "$(num "$rss" 0)" "$(ratio "$wall" "$ms_wall")" \
@@ -324,16 +337,17 @@ for f in "${model_files[@]}"; do
         echo
         echo "Stages (s; median of $runs; peers' from their own logs, foreign load during them ${R[$m|$L|stages_foreign]:--} cores)"
         echo
-        printf '| %-22s | %8s | %8s | %8s | %12s | %13s |\n' tool load validate slice \
+        printf '| %-26s | %8s | %8s | %8s | %12s | %13s |\n' tool load validate slice \
             "load peer/ms" "slice peer/ms"
-        printf '|%s|%s:|%s:|%s:|%s:|%s:|\n' ------------------------ --------- --------- --------- \
+        printf '|%s|%s:|%s:|%s:|%s:|%s:|\n' ---------------------------- --------- --------- --------- \
             -------------- ---------------
-        printf '| %-22s | %8s | %8s | %8s | %12s | %13s |\n' "maxslice" "$(num "${R[$m|$L|ms_load]}")" \
+        printf '| %-26s | %8s | %8s | %8s | %12s | %13s |\n' "maxslice${R[$m|$L|ms_note]:+ (${R[$m|$L|ms_note]})}" \
+            "$(num "${R[$m|$L|ms_load]}")" \
             "$(num "${R[$m|$L|ms_validate]}")" "$(num "${R[$m|$L|ms_slice]}")" 1.00 1.00
         for p in prusa cura; do
             [[ " ${peers[*]} " == *" $p "* ]] || continue
             label=PrusaSlicer; [ $p = cura ] && label=CuraEngine
-            printf '| %-22s | %8s | %8s | %8s | %12s | %13s |\n' "$label" "$(num "${R[$m|$L|${p}_load]:-}")" \
+            printf '| %-26s | %8s | %8s | %8s | %12s | %13s |\n' "$label" "$(num "${R[$m|$L|${p}_load]:-}")" \
                 - "$(num "${R[$m|$L|${p}_slice]:-}")" \
                 "$(ratio "${R[$m|$L|${p}_load]:-}" "${R[$m|$L|ms_load]}")" \
                 "$(ratio "${R[$m|$L|${p}_slice]:-}" "${R[$m|$L|ms_slice]}")"
@@ -342,7 +356,7 @@ for f in "${model_files[@]}"; do
         done
         if [[ " ${peers[*]} " == *" slic3r "* ]]; then
             ms_ls=$(awk -v a="${R[$m|$L|ms_load]}" -v b="${R[$m|$L|ms_slice]}" 'BEGIN { print a + b }')
-            printf '| %-22s | %8s | %8s | %8s | %12s | %13s |\n' "Slic3r (svg, whole)" - - \
+            printf '| %-26s | %8s | %8s | %8s | %12s | %13s |\n' "Slic3r (svg, whole)" - - \
                 "$(num "${R[$m|$L|slic3r-svg_wall]}")" - "$(ratio "${R[$m|$L|slic3r-svg_wall]}" "$ms_ls")"
             echo "(Slic3r: whole --export-svg process, incl. start-up and load; its ratio is against maxslice load + slice)"
         fi
@@ -364,9 +378,9 @@ echo "(a) maxslice load (read + weld) at least 3x faster than CuraEngine's load 
 echo "(b) maxslice slice stage faster than CuraEngine's slice stage"
 echo "(c) maxslice slice stage within 2x of the plain read time of the file (cat, warm cache)"
 echo
-printf '| %-16s | %5s | %8s | %9s | %11s | %-6s | %8s | %10s | %12s | %-6s | %8s | %10s | %-6s |\n' \
+printf '| %-26s | %5s | %8s | %9s | %11s | %-6s | %8s | %10s | %12s | %-6s | %8s | %10s | %-6s |\n' \
     model layer "ms load" "cura load" "cura/ms" "(a)" "ms slice" "cura slice" "cura/ms" "(b)" "read" "ms slice/read" "(c)"
-printf '|%s|%s:|%s:|%s:|%s:|%s|%s:|%s:|%s:|%s|%s:|%s:|%s|\n' ------------------ ------ --------- ---------- \
+printf '|%s|%s:|%s:|%s:|%s:|%s|%s:|%s:|%s:|%s|%s:|%s:|%s|\n' ---------------------------- ------ --------- ---------- \
     ------------ -------- --------- ----------- ------------- -------- --------- ----------- --------
 for f in "${model_files[@]}"; do
     m=${short[$f]}
@@ -375,8 +389,9 @@ for f in "${model_files[@]}"; do
         cl=${R[$m|$L|cura_load]:-}; cs=${R[$m|$L|cura_slice]:-}
         rd=${R[$m|read]}
         ra=$(ratio "$cl" "$ml"); rb=$(ratio "$cs" "$ms"); rc=$(ratio "$ms" "$rd")
-        printf '| %-16s | %5s | %8s | %9s | %11s | %-6s | %8s | %10s | %12s | %-6s | %8s | %10s | %-6s |\n' \
-            "$m" "$L" "$(num "$ml")" "$(num "$cl")" "$ra" "$(verdict "$ra" ">=" 3)" "$(num "$ms")" \
+        label=$m; [ "${R[$m|$L|ms_note]:-}" = "with --repair" ] && label="$m (--repair)"
+        printf '| %-26s | %5s | %8s | %9s | %11s | %-6s | %8s | %10s | %12s | %-6s | %8s | %10s | %-6s |\n' \
+            "$label" "$L" "$(num "$ml")" "$(num "$cl")" "$ra" "$(verdict "$ra" ">=" 3)" "$(num "$ms")" \
             "$(num "$cs")" "$rb" "$(verdict "$rb" ">" 1)" "$(num "$rd" 4)" "$rc" "$(verdict "$rc" "<=" 2)"
         emit_tsv "$m" "$L" target a_ratio "$ra"; emit_tsv "$m" "$L" target b_ratio "$rb"
         emit_tsv "$m" "$L" target c_ratio "$rc"
@@ -388,7 +403,7 @@ for f in "${model_files[@]}"; do
     m=${short[$f]}
     for L in "${layers[@]}"; do
         [ -n "${R[$m|$L|ms_error]:-}" ] &&
-            echo "$m $L mm: maxslice refused to slice (exit ${R[$m|$L|ms_exit]}; load from 'maxslice info --timings'): ${R[$m|$L|ms_error]}"
+            echo "$m $L mm: maxslice without --repair refused to slice (exit ${R[$m|$L|ms_exit]}; stages above: ${R[$m|$L|ms_note]}): ${R[$m|$L|ms_error]}"
     done
 done
 echo "load average at end: $(cut -d' ' -f1-3 /proc/loadavg); largest foreign load in any timed run is in the 'foreign' columns (cores)."
