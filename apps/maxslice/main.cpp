@@ -6,6 +6,7 @@
 #include <unistd.h>
 #include <CLI/CLI.hpp>
 
+#include <chrono>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
@@ -83,9 +84,15 @@ void print_warnings(const pipeline::PreparedPart& part) {
     for (const auto& r : part.repairs) std::fprintf(stderr, "maxslice: repaired: %s\n", r.c_str());
 }
 
-void print_timings(const pipeline::StageTimes& t) {
+void print_timings(const pipeline::StageTimes& t, bool program = false) {
     std::fprintf(stderr, "timing load %.4f\ntiming validate %.4f\ntiming slice %.4f\n", t.load_s,
                  t.validate_s, t.slice_s);
+    if (program)
+        std::fprintf(stderr, "timing paths %.4f\ntiming write %.4f\n", t.paths_s, t.write_s);
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 // A one-line progress bar on stderr, only when stderr is a terminal.
@@ -216,11 +223,15 @@ int run_slice(const PartOptions& opt, const SliceOptions& so) {
     std::optional<pipeline::PlannedProgram> planned;
     if (program_mode) {
         const std::string name = std::filesystem::path(opt.path).filename().string();
+        auto t0 = std::chrono::steady_clock::now();
         auto p = pipeline::plan_program(*stack, *profiles, name, progress.get());
         if (!p) return report_error(p.error());
+        times.paths_s = seconds_since(t0);
+        t0 = std::chrono::steady_clock::now();
         auto text = machine::write_program(p->program, profiles->machine, profiles->process);
         if (!text) return report_error(text.error());
         if (const int rc = write_text_file(so.output, *text); rc != kExitOk) return rc;
+        times.write_s = seconds_since(t0);
         // Features narrower than the bead get no material: say so loudly, the program is
         // not the part then.
         if (p->region_area_mm2 > 0.0 && p->uncovered_mm2 > 0.05 * p->region_area_mm2) {
@@ -293,7 +304,7 @@ int run_slice(const PartOptions& opt, const SliceOptions& so) {
                     planned->uncovered_mm2, planned->region_area_mm2,
                     planned->layers_with_uncovered);
     }
-    if (opt.timings) print_timings(times);
+    if (opt.timings) print_timings(times, program_mode);
     return kExitOk;
 }
 

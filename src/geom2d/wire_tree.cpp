@@ -153,12 +153,44 @@ Paths2 difference_of(const Paths2& a, const Paths2& b) {
     return boolean(a, b, ClipperLib::ctDifference);
 }
 
+namespace {
+
+// True when shrinking by shrink_um leaves nothing: no outer loop (counter-clockwise) has a
+// bounding box wider than 2 * shrink_um both ways, so no disc of that radius fits inside.
+// Clipper would get there too, but only after resolving the O(n^2) self-intersections of
+// every loop pushed past its own centre.
+bool vanishes_when_shrunk(const Paths2& region, std::int64_t shrink_um) {
+    for (const Path2& path : region) {
+        if (path.size() < 3 || signed_area_um2(path) <= 0.0) continue;
+        const auto [x0, x1] = std::minmax_element(path.begin(), path.end(),
+                                                  [](Point2 a, Point2 b) { return a.x < b.x; });
+        const auto [y0, y1] = std::minmax_element(path.begin(), path.end(),
+                                                  [](Point2 a, Point2 b) { return a.y < b.y; });
+        if (x1->x - x0->x > 2 * shrink_um && y1->y - y0->y > 2 * shrink_um) return false;
+    }
+    return true;
+}
+
+}  // namespace
+
 Paths2 offset_of(const Paths2& region, std::int64_t delta_um) {
+    if (delta_um < 0 && vanishes_when_shrunk(region, -delta_um)) return {};
     ClipperLib::ClipperOffset offset(2.0, 0.25 * core::kMicronsPerMm * 0.01);
     offset.AddPaths(to_clipper(region), ClipperLib::jtMiter, ClipperLib::etClosedPolygon);
     ClipperLib::Paths out;
     offset.Execute(out, static_cast<double>(delta_um));
     return from_clipper(out);
+}
+
+Paths2 simplify(const Paths2& region, std::int64_t tolerance_um) {
+    ClipperLib::Paths paths = to_clipper(region);
+    if (tolerance_um > 0) ClipperLib::CleanPolygons(paths, static_cast<double>(tolerance_um));
+    Paths2 out;
+    out.reserve(paths.size());
+    for (const ClipperLib::Path& p : paths) {
+        if (p.size() >= 3) out.push_back(from_clipper(p));
+    }
+    return out;
 }
 
 namespace {

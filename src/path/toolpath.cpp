@@ -1,10 +1,13 @@
 #include "maxslice/path/toolpath.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
 #include <string>
+
+#include <tbb/parallel_for.h>
 
 #include "gap_fill.hpp"
 #include "maxslice/core/units.hpp"
@@ -41,6 +44,11 @@ constexpr double kMinGapFillShare = 0.05;
 constexpr double kMarginShare = 0.75;
 // Parts of the fill region thinner than twice this many pitches go to the gap fill.
 constexpr double kOpeningPitches = 0.5;
+// Sections of finely tessellated parts carry many vertices closer together than a track
+// could ever follow; each offset of such a wire makes Clipper resolve a swarm of tiny
+// self-intersections. Vertices that move the boundary by less than this share of a track
+// are dropped before planning (0.005: 5 um at a 1 mm track, far below a bead's roughness).
+constexpr double kSimplifyShare = 0.005;
 
 std::string number(double v) {
     char buf[32];
@@ -200,12 +208,26 @@ core::Result<void> validate(const PathSettings& s) {
     return {};
 }
 
-core::Result<LayerToolpath> plan_layer(const geom2d::WireTree& region, const PathSettings& settings,
-                                       geom2d::Point2 start) {
-    if (auto ok = validate(settings); !ok) return std::unexpected(ok.error());
+namespace {
+
+// A layer's tracks before ordering, with what does not depend on the order.
+struct PreparedLayer {
+    std::vector<detail::RouteIsland> route;
+    double raster_angle_deg = 0.0;
+    double uncovered_mm2 = 0.0;
+};
+
+// Everything of plan_layer but the ordering: the costly part, independent between layers.
+// Settings are validated by the caller.
+PreparedLayer prepare_layer(const geom2d::WireTree& region, const PathSettings& settings) {
     const Widths widths(settings);
-    LayerToolpath out;
-    const std::vector<Paths2> islands = islands_of(region);
+    PreparedLayer out;
+    std::vector<Paths2> islands = islands_of(region);
+    const auto tolerance = core::mm_to_um(kSimplifyShare * settings.track_width_mm);
+    for (Paths2& island : islands) island = geom2d::simplify(island, tolerance);
+    std::erase_if(islands, [](const Paths2& island) {
+        return island.empty() || geom2d::signed_area_um2(island.front()) <= 0.0;
+    });
 
     // Each island is rastered along its own long side: one orientation for unrelated
     // islands fits none of them (the tracks of a rectangle next to a disc would run slanted
@@ -217,8 +239,7 @@ core::Result<LayerToolpath> plan_layer(const geom2d::WireTree& region, const Pat
         out.raster_angle_deg = *fixed_deg;
     }
     double largest_area = -1.0;
-    std::vector<detail::RouteIsland> route;
-    route.reserve(islands.size());
+    out.route.reserve(islands.size());
     for (const Paths2& island : islands) {
         const double angle_rad = fixed_deg ? *fixed_deg * std::numbers::pi / 180.0
                                            : detail::long_side_angle({island.front()});
@@ -227,31 +248,83 @@ core::Result<LayerToolpath> plan_layer(const geom2d::WireTree& region, const Pat
             largest_area = area;
             out.raster_angle_deg = angle_rad * 180.0 / std::numbers::pi;
         }
-        route.push_back(plan_island(island, detail::RasterFrame(angle_rad), widths));
+        out.route.push_back(plan_island(island, detail::RasterFrame(angle_rad), widths));
     }
-    out.strokes = settings.order == StrokeOrder::kShortTravel
-                      ? detail::route_short(std::move(route), start)
-                      : detail::route_generated(std::move(route));
 
-    Point2 at = start;
+    // Coverage does not depend on the order: every track drawn as a stroke of the width
+    // (closed contours with their closing segment).
     Paths2 tracks;
-    tracks.reserve(out.strokes.size());
+    for (const detail::RouteIsland& island : out.route) {
+        for (const detail::RouteGroup& group : island) {
+            for (const detail::RouteStroke& stroke : group) {
+                Path2& t = tracks.emplace_back(stroke.points);
+                if (stroke.closed && !t.empty()) t.push_back(t.front());
+            }
+        }
+    }
+    Paths2 material;
+    for (const Paths2& island : islands)
+        material.insert(material.end(), island.begin(), island.end());
+    const Paths2 covered = geom2d::sweep_polylines(tracks, widths.half);
+    out.uncovered_mm2 = geom2d::signed_area_mm2(geom2d::difference_of(material, covered));
+    return out;
+}
+
+// Puts a prepared layer's strokes in deposition order from `start` and measures them.
+LayerToolpath order_layer(PreparedLayer&& prepared, StrokeOrder order, Point2 start) {
+    LayerToolpath out;
+    out.raster_angle_deg = prepared.raster_angle_deg;
+    out.uncovered_mm2 = prepared.uncovered_mm2;
+    out.strokes = order == StrokeOrder::kShortTravel
+                      ? detail::route_short(std::move(prepared.route), start)
+                      : detail::route_generated(std::move(prepared.route));
+    Point2 at = start;
     double deposit = 0.0;
     double travel = 0.0;
     for (const Stroke& s : out.strokes) {
         travel += distance_um(at, s.points.front());
         deposit += length_um(s.points);
         at = s.points.back();
-        tracks.push_back(s.points);
     }
     out.deposit_length_mm = deposit / core::kMicronsPerMm;
     out.travel_length_mm = travel / core::kMicronsPerMm;
+    return out;
+}
 
-    Paths2 material;
-    for (const Paths2& island : islands)
-        material.insert(material.end(), island.begin(), island.end());
-    const Paths2 covered = geom2d::sweep_polylines(tracks, widths.half);
-    out.uncovered_mm2 = geom2d::signed_area_mm2(geom2d::difference_of(material, covered));
+}  // namespace
+
+core::Result<LayerToolpath> plan_layer(const geom2d::WireTree& region, const PathSettings& settings,
+                                       geom2d::Point2 start) {
+    if (auto ok = validate(settings); !ok) return std::unexpected(ok.error());
+    return order_layer(prepare_layer(region, settings), settings.order, start);
+}
+
+core::Result<std::vector<LayerToolpath>> plan_layers(
+    std::span<const geom2d::WireTree* const> regions, const PathSettings& settings,
+    geom2d::Point2 start, const core::Progress* progress) {
+    if (auto ok = validate(settings); !ok) return std::unexpected(ok.error());
+    // Tracks of every layer in parallel (each writes its own slot: the result does not depend
+    // on the thread count), then the ordering layer by layer: each starts where the previous
+    // one ended.
+    std::vector<PreparedLayer> prepared(regions.size());
+    std::atomic<std::size_t> done{0};
+    tbb::parallel_for(std::size_t{0}, regions.size(), [&](std::size_t i) {
+        if (progress != nullptr && progress->cancelled()) return;
+        prepared[i] = prepare_layer(*regions[i], settings);
+        if (progress != nullptr) {
+            progress->report("toolpaths",
+                             static_cast<double>(++done) / static_cast<double>(regions.size()));
+        }
+    });
+    if (progress != nullptr && progress->cancelled()) {
+        return core::fail(core::ErrorCode::kCancelled, "cancelled", "toolpaths");
+    }
+    std::vector<LayerToolpath> out;
+    out.reserve(regions.size());
+    for (PreparedLayer& layer : prepared) {
+        out.push_back(order_layer(std::move(layer), settings.order, start));
+        if (!out.back().strokes.empty()) start = out.back().strokes.back().points.back();
+    }
     return out;
 }
 

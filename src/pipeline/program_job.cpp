@@ -62,44 +62,36 @@ core::Result<PlannedProgram> plan_program(const SliceStack& stack,
     PlannedProgram out;
     out.program.part_name = part_name;
     out.toolpaths.reserve(stack.slices.size());
-    geom2d::Point2 start{};
+    std::vector<const geom2d::WireTree*> regions;
+    regions.reserve(stack.slices.size());
+    for (const slice::Slice& s : stack.slices) regions.push_back(&s.wires);
+    auto planned = path::plan_layers(regions, settings, geom2d::Point2{}, progress);
+    if (!planned) return std::unexpected(planned.error());
     std::vector<Vec3d> points;
     for (std::size_t i = 0; i < stack.slices.size(); ++i) {
-        if (progress != nullptr) {
-            if (progress->cancelled()) {
-                return core::fail(core::ErrorCode::kCancelled, "cancelled", "toolpaths");
-            }
-            progress->report("toolpaths",
-                             static_cast<double>(i + 1) / static_cast<double>(stack.slices.size()));
-        }
         const slice::Slice& s = stack.slices[i];
-        auto tp = path::plan_layer(s.wires, settings, start);
-        if (!tp) {
-            return std::unexpected(core::with_context(
-                tp.error(), fmt::format("layer {} at {:.3f} mm", s.index + 1, s.span.cut)));
-        }
+        auto tp = std::move((*planned)[i]);
         const double area = s.area_mm2();
         out.region_area_mm2 += area;
-        out.uncovered_mm2 += tp->uncovered_mm2;
-        if (tp->uncovered_mm2 > 0.01 * area) ++out.layers_with_uncovered;
+        out.uncovered_mm2 += tp.uncovered_mm2;
+        if (tp.uncovered_mm2 > 0.01 * area) ++out.layers_with_uncovered;
         // The bead of this layer fills [bottom, top]: the melt pool runs at the top.
         const double lift = s.span.top - s.span.cut;
         const int layer = s.index;
-        if (!tp->strokes.empty() && !out.program.moves.empty()) {
+        if (!tp.strokes.empty() && !out.program.moves.empty()) {
             // Rise to the new layer's height above the last point before moving across.
             Vec3d up = out.program.moves.back().position;
-            up.z = s.plane.to_3d(tp->strokes.front().points.front(), lift).z;
+            up.z = s.plane.to_3d(tp.strokes.front().points.front(), lift).z;
             if (up.z > out.program.moves.back().position.z) {
                 machine::append_travel(out.program, up, profiles.process, layer);
             }
         }
-        for (const path::Stroke& stroke : tp->strokes) {
+        for (const path::Stroke& stroke : tp.strokes) {
             points.clear();
             for (const geom2d::Point2& q : stroke.points) points.push_back(s.plane.to_3d(q, lift));
             machine::append_wire(out.program, points, profiles.process, layer, 0, s.plane.normal);
         }
-        if (!tp->strokes.empty()) start = tp->strokes.back().points.back();
-        out.toolpaths.push_back(std::move(*tp));
+        out.toolpaths.push_back(std::move(tp));
     }
     auto summary = machine::summarize(out.program, profiles.process);
     if (!summary) return std::unexpected(summary.error());

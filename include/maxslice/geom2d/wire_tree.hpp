@@ -45,6 +45,11 @@ struct WireTree {
 /// limited to 2 x delta, round where sharper.
 [[nodiscard]] Paths2 offset_of(const Paths2& region, std::int64_t delta_um);
 
+/// Drops vertices that change a region by less than tolerance_um: those within that distance
+/// of a neighbouring vertex or of the line through their neighbours (Clipper's
+/// CleanPolygons). Loops left with fewer than 3 points are dropped.
+[[nodiscard]] Paths2 simplify(const Paths2& region, std::int64_t tolerance_um);
+
 /// The area a disc of radius half_width_um sweeps along open polylines (round joins and round
 /// ends; a polyline of one point gives a disc): the deposit of tracks 2 x half_width wide.
 /// Result as region paths (outers CCW, holes CW); arcs deviate by at most 1% of the radius.

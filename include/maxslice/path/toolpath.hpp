@@ -1,8 +1,10 @@
 #pragma once
 
 #include <optional>
+#include <span>
 #include <vector>
 
+#include "maxslice/core/progress.hpp"
 #include "maxslice/core/result.hpp"
 #include "maxslice/geom2d/polygon.hpp"
 #include "maxslice/geom2d/wire_tree.hpp"
@@ -76,5 +78,13 @@ struct LayerToolpath {
 [[nodiscard]] core::Result<LayerToolpath> plan_layer(const geom2d::WireTree& region,
                                                      const PathSettings& settings,
                                                      geom2d::Point2 start);
+
+/// plan_layer over a stack of layers: layer i starts where layer i - 1 ended (the first at
+/// `start`). The tracks of all layers are planned in parallel (oneTBB), the ordering layer by
+/// layer; the result does not depend on the thread count. Reports "toolpaths" progress and
+/// stops with kCancelled when cancelled.
+[[nodiscard]] core::Result<std::vector<LayerToolpath>> plan_layers(
+    std::span<const geom2d::WireTree* const> regions, const PathSettings& settings,
+    geom2d::Point2 start, const core::Progress* progress = nullptr);
 
 }  // namespace maxslice::path

@@ -20,6 +20,8 @@ struct StageTimes {
     double load_s = 0.0;      ///< read and weld
     double validate_s = 0.0;  ///< validation (and repair)
     double slice_s = 0.0;     ///< layer heights, cutting and wire trees
+    double paths_s = 0.0;     ///< toolpaths and the move list (program jobs only)
+    double write_s = 0.0;     ///< program text and its file (program jobs only)
 };
 
 /// A part read, checked and (with repair) mended: the input of every later stage.

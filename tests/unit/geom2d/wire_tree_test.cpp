@@ -300,5 +300,40 @@ TEST(Offset, RegularPolygonGrowsToALargerRegularPolygon) {
     }
 }
 
+TEST(Offset, ShrinkingPastTheCentreLeavesNothingWhateverTheShortcut) {
+    // A small fine polygon shrunk by more than its inradius: the result is empty, both just
+    // past its half width (the bounding-box shortcut) and just short of it (Clipper itself,
+    // which must leave the thin middle).
+    const Path2 fine = ngon(0, 0, 0.5, 400);
+    EXPECT_TRUE(offset_of({fine}, -501).empty());
+    EXPECT_TRUE(offset_of({fine}, -5000).empty());
+    const Paths2 left = offset_of({fine}, -450);
+    ASSERT_FALSE(left.empty());
+    EXPECT_GT(signed_area_mm2(left), 0.0);
+    // A big outer keeps the region alive even when its small neighbour vanishes.
+    const Paths2 two{fine, square(5, 0, 10, 5)};
+    EXPECT_NEAR(signed_area_mm2(offset_of(two, -1000)), 9.0, 1e-9);
+}
+
+TEST(Simplify, DropsVerticesThatBarelyMoveTheBoundary) {
+    // A square whose sides carry many nearly collinear vertices (a 1 um zigzag).
+    Path2 noisy;
+    for (int i = 0; i < 1000; ++i) noisy.push_back({i * 10, (i % 2) * 1});
+    for (int i = 0; i < 1000; ++i) noisy.push_back({10000, i * 10});
+    for (int i = 0; i < 1000; ++i) noisy.push_back({10000 - i * 10, 10000});
+    for (int i = 0; i < 1000; ++i) noisy.push_back({0, 10000 - i * 10});
+    const Paths2 simple = simplify({noisy}, 5);
+    ASSERT_EQ(simple.size(), 1u);
+    EXPECT_LT(simple.front().size(), 20u);
+    EXPECT_NEAR(signed_area_mm2(simple), signed_area_mm2({noisy}), perimeter_mm(noisy) * 0.005);
+    // Tolerance 0 keeps every vertex; loops that collapse are dropped.
+    EXPECT_EQ(simplify({noisy}, 0).front().size(), noisy.size());
+    EXPECT_TRUE(simplify({Path2{{0, 0}, {3, 0}, {0, 3}}}, 5).empty());
+    // Holes keep their orientation.
+    const Paths2 ring = simplify({square(0, 0, 20, 20), square(5, 5, 15, 15, true)}, 5);
+    ASSERT_EQ(ring.size(), 2u);
+    EXPECT_NEAR(signed_area_mm2(ring), 300.0, 1e-9);
+}
+
 }  // namespace
 }  // namespace maxslice::geom2d

@@ -405,6 +405,34 @@ TEST(Toolpath, SameInputSameOutput) {
     EXPECT_TRUE(plan(island_in_hole(), s) == plan(island_in_hole(), s));
 }
 
+TEST(Toolpath, StackOfLayersChainsStartsAndMatchesLayerByLayer) {
+    // plan_layers plans in parallel but must equal plan_layer called layer by layer, each
+    // starting where the previous one ended, whatever the thread count.
+    std::vector<geom2d::WireTree> trees;
+    for (const Shape& shape : shapes()) trees.push_back(shape.build());
+    std::vector<const geom2d::WireTree*> regions;
+    for (const auto& t : trees) regions.push_back(&t);
+    const PathSettings s = settings(1.5, 0.25, 2);
+    auto all = plan_layers(regions, s, pt(-5, 3));
+    ASSERT_TRUE(all.has_value());
+    ASSERT_EQ(all->size(), trees.size());
+    Point2 start = pt(-5, 3);
+    for (std::size_t i = 0; i < trees.size(); ++i) {
+        SCOPED_TRACE(i);
+        const LayerToolpath one = plan(trees[i], s, start);
+        EXPECT_TRUE((*all)[i] == one);
+        if (!one.strokes.empty()) start = one.strokes.back().points.back();
+    }
+    PathSettings bad = s;
+    bad.overlap = 1.0;
+    EXPECT_FALSE(plan_layers(regions, bad, {}).has_value());
+    core::Progress cancelled;
+    cancelled.cancel();
+    auto stopped = plan_layers(regions, s, {}, &cancelled);
+    ASSERT_FALSE(stopped.has_value());
+    EXPECT_EQ(stopped.error().code, core::ErrorCode::kCancelled);
+}
+
 TEST(Toolpath, NarrowPiecesThatVanishAreReportedUncovered) {
     // Two squares joined by a 1 mm strip: no 2.5 mm track fits in the strip.
     const geom2d::WireTree tree =
