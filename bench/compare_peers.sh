@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Times maxslice and the peer slicers (PrusaSlicer, CuraEngine, Slic3r) in one run, on the
-# same models and layer heights, and checks the speed targets of the "foundation" issue.
+# same models and layer heights, with matched settings, and checks the speed targets of the
+# "foundation" (slicing) and "part in, program out" (whole job) issues.
 #
 #   bench/compare_peers.sh [options]
 #
@@ -27,11 +28,15 @@
 # needs CURA_DEFS (default DIR/cura_defs).
 #
 # What is measured (all with a warm page cache: every file was read by the warm-up run):
-#   whole process  wall seconds (bash $EPOCHREALTIME around GNU time), CPU seconds (user +
-#                  system, GNU time) and peak RSS (GNU time %M) of each program: maxslice
-#                  reads, validates and slices; the peers also make toolpaths and G-code,
-#                  so these rows are context only.
-#   stages         maxslice: its own --timings (load = read + weld, validate, slice);
+#   whole job      mesh in, program out: wall seconds (bash $EPOCHREALTIME around GNU time),
+#                  CPU seconds (user + system, GNU time) and peak RSS (GNU time %M) of
+#                  `maxslice slice MODEL --layer L -o OUT.ngc` and of the peers' slice_*.sh,
+#                  all with matched settings: one contour, rectilinear/zigzag 100% fill, the
+#                  same layer height and bead width (BEAD_WIDTH of the peers' common.sh,
+#                  1.0 mm), no supports; maxslice gets a profile written from those values
+#                  (overlap 0, so its fill pitch is the bead width as the peers' is).
+#   stages         maxslice: its own --timings of that same run (load = read + weld,
+#                  validate, slice, paths = toolpaths + move list, write = program text);
 #                  PrusaSlicer and CuraEngine: load and slice from their own logs
 #                  (stages.py); Slic3r has no stage log: its --export-svg run (start-up,
 #                  load and slicing, no toolpaths) is the closest it has to a slice stage.
@@ -43,6 +48,9 @@
 #   (a) maxslice load (read + weld) >= 3x faster than CuraEngine's load stage
 #   (b) maxslice slice stage faster than CuraEngine's slice stage
 #   (c) maxslice slice stage <= 2x the plain read time of the file
+#   (d) maxslice whole job faster than every peer's whole job
+#   (e) on the largest model (most triangles): maxslice whole job >= 3x faster than the
+#       fastest peer's
 # When maxslice refuses a model (e.g. an open mesh, which the peers repair silently), it is
 # timed again with --repair, and those stages are used (marked "with --repair").
 set -euo pipefail
@@ -97,6 +105,29 @@ models_dir=$(cd "$models_dir" && pwd)
 export CURA_DEFS=${CURA_DEFS:-$models_dir/cura_defs}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
+
+# The peers' bead width (their common.sh, overridable from the environment as there).
+bead=${BEAD_WIDTH:-$(bash -c "source '$peers_dir/common.sh' 2>/dev/null; echo \${BEAD_WIDTH:-1.0}")}
+bed=${BED:-1000}
+# A machine and process profile matching the peers' settings (docs/profiles.md): a bed of
+# BED x BED x BED mm with the part in the middle, one contour, fill pitch = bead width.
+matched_profile() {         # matched_profile LAYER > FILE
+    awk -v w="$bead" -v l="$1" -v bed="$bed" 'BEGIN {
+        hmax = (l > w) ? l : w; hmin = l / 4
+        printf "[machine]\nname = \"bench: matched to the peer slicers\"\nkinematics = \"xyz\"\n"
+        printf "dialect = \"linuxcnc\"\nfeed_min_mm_min = 1.0\nfeed_max_mm_min = 20000.0\n"
+        printf "laser_power_min_w = 0.0\nlaser_power_max_w = 1000.0\npowder_feed_max_g_min = 30.0\n"
+        printf "[machine.axes]\nX = { min = 0.0, max = %g }\nY = { min = 0.0, max = %g }\n", bed, bed
+        printf "Z = { min = -1.0, max = %g }\n", bed
+        printf "[machine.codes]\nlaser_on = \"M3 S700\"\nlaser_off = \"M5\"\n"
+        printf "powder_on = \"M7\"\npowder_off = \"M9\"\n"
+        printf "[process]\ntrack_width_mm = %g\nlayer_height_mm = %g\n", w, l
+        printf "h_min_mm = %g\nh_max_mm = %g\noverlap = 0.0\ncontour_passes = 1\n", hmin, hmax
+        printf "laser_power_w = 700.0\nlaser_power_off_w = 0.0\npowder_feed_g_min = 8.0\n"
+        printf "deposition_feed_mm_min = 381.0\ntravel_feed_mm_min = 2540.0\n"
+        printf "dwell_after_laser_on_ms = 0.0\nself_supporting_angle_deg = 20.0\n"
+    }'
+}
 
 # ---------------------------------------------------------------- the maxslice binary
 if [ ! -x "$maxslice" ]; then
@@ -212,6 +243,7 @@ ratio() { awk -v a="$1" -v b="$2" 'BEGIN { if (a == "" || b == "" || a == "nan" 
 num() { awk -v a="$1" -v p="${2:-3}" 'BEGIN { if (a == "" || a == "nan") print "-"; else printf "%.*f", p, a }'; }
 
 declare -A R              # results: R[model|layer|what] = value
+ms_stages=(load validate slice paths write)
 emit_tsv() { [ -n "$tsv" ] && printf '%s\n' "$(IFS=$'\t'; echo "$*")" >> "$tsv"; return 0; }
 [ -n "$tsv" ] && printf 'model\tlayer_mm\ttool\tmetric\tvalue\n' > "$tsv"
 
@@ -260,24 +292,28 @@ for f in "${model_files[@]}"; do
 
     for L in "${layers[@]}"; do
         k=$m.$L
-        measure "$k.maxslice" "$maxslice" slice "$f" --layer "$L" --timings --threads "$threads"
-        for s in load validate slice; do R["$m|$L|ms_$s"]=$(ms_stage "$k.maxslice" "$s"); done
+        matched_profile "$L" > "$work/matched.toml"
+        job=("$maxslice" slice "$f" --layer "$L" --profile "$work/matched.toml" -o "$work/out.ngc"
+             --timings --threads "$threads")
+        measure "$k.maxslice" "${job[@]}"
+        for s in "${ms_stages[@]}"; do R["$m|$L|ms_$s"]=$(ms_stage "$k.maxslice" "$s"); done
         R["$m|$L|ms_exit"]=$(exits "$k.maxslice")
         if [ "${R[$m|$L|ms_exit]}" != 0 ]; then
             # Refused (e.g. an open mesh, which the peers repair silently): time it again with
             # --repair (repairs are in its validate stage); if that fails too, the load and
             # validate stages come from `info`.
             R["$m|$L|ms_error"]=$(grep -m1 -h "error" "$work/$k.maxslice.err1" | sed "s/^maxslice: //" || true)
-            measure "$k.msrepair" "$maxslice" slice "$f" --layer "$L" --timings --threads "$threads" --repair
+            measure "$k.msrepair" "${job[@]}" --repair
             if [ "$(exits "$k.msrepair")" = 0 ]; then
                 R["$m|$L|ms_note"]="with --repair"
-                for s in load validate slice; do R["$m|$L|ms_$s"]=$(ms_stage "$k.msrepair" "$s"); done
+                for s in "${ms_stages[@]}"; do R["$m|$L|ms_$s"]=$(ms_stage "$k.msrepair" "$s"); done
             else
                 R["$m|$L|ms_note"]="refused, load from info"
                 measure "$k.msinfo" "$maxslice" info "$f" --timings --threads "$threads"
                 for s in load validate; do R["$m|$L|ms_$s"]=$(ms_stage "$k.msinfo" "$s"); done
             fi
         fi
+        rm -f "$work/out.ngc"
         if [ "$whole" = 1 ]; then
             for p in "${peers[@]}"; do
                 measure "$k.$p" "$peers_dir/slice_$p.sh" "$f" "$L" "$work/out.gcode"
@@ -307,7 +343,7 @@ for f in "${model_files[@]}"; do
         # ---- report for this model and layer
         echo "### $m, layer $L mm"
         echo
-        echo "Whole process (context: maxslice = read + validate + slice; peers also do toolpaths + G-code)"
+        echo "Whole job: mesh in, program out, matched settings (ratios against maxslice's own run; with --repair when it refused)"
         echo
         printf '| %-22s | %5s | %8s | %8s | %8s | %12s | %11s | %11s | %7s |\n' tool exit "wall s" "cpu s" \
             "peak MiB" "wall peer/ms" "cpu peer/ms" "MiB peer/ms" foreign
@@ -317,7 +353,9 @@ for f in "${model_files[@]}"; do
         [ "${R[$m|$L|ms_note]:-}" = "with --repair" ] && tools+=(msrepair)
         [ "$whole" = 1 ] && tools+=("${peers[@]}")
         [[ " ${peers[*]} " == *" slic3r "* ]] && tools+=(slic3r-svg)
-        ms_wall=$(col "$k.maxslice" 1); ms_cpu=$(cpu_med "$k.maxslice"); ms_rss=$(rss_med "$k.maxslice")
+        ms_key=maxslice; [ "${R[$m|$L|ms_note]:-}" = "with --repair" ] && ms_key=msrepair
+        ms_wall=$(col "$k.$ms_key" 1); ms_cpu=$(cpu_med "$k.$ms_key"); ms_rss=$(rss_med "$k.$ms_key")
+        R["$m|$L|ms_wall"]=$ms_wall
         for t in "${tools[@]}"; do
             wall=$(col "$k.$t" 1); cpu=$(cpu_med "$k.$t"); rss=$(rss_med "$k.$t")
             label=$t
@@ -337,18 +375,19 @@ for f in "${model_files[@]}"; do
         echo
         echo "Stages (s; median of $runs; peers' from their own logs, foreign load during them ${R[$m|$L|stages_foreign]:--} cores)"
         echo
-        printf '| %-26s | %8s | %8s | %8s | %12s | %13s |\n' tool load validate slice \
-            "load peer/ms" "slice peer/ms"
-        printf '|%s|%s:|%s:|%s:|%s:|%s:|\n' ---------------------------- --------- --------- --------- \
-            -------------- ---------------
-        printf '| %-26s | %8s | %8s | %8s | %12s | %13s |\n' "maxslice${R[$m|$L|ms_note]:+ (${R[$m|$L|ms_note]})}" \
-            "$(num "${R[$m|$L|ms_load]}")" \
-            "$(num "${R[$m|$L|ms_validate]}")" "$(num "${R[$m|$L|ms_slice]}")" 1.00 1.00
+        printf '| %-26s | %8s | %8s | %8s | %8s | %8s | %12s | %13s |\n' tool load validate slice \
+            paths write "load peer/ms" "slice peer/ms"
+        printf '|%s|%s:|%s:|%s:|%s:|%s:|%s:|%s:|\n' ---------------------------- --------- --------- \
+            --------- --------- --------- -------------- ---------------
+        printf '| %-26s | %8s | %8s | %8s | %8s | %8s | %12s | %13s |\n' \
+            "maxslice${R[$m|$L|ms_note]:+ (${R[$m|$L|ms_note]})}" "$(num "${R[$m|$L|ms_load]}")" \
+            "$(num "${R[$m|$L|ms_validate]}")" "$(num "${R[$m|$L|ms_slice]}")" \
+            "$(num "${R[$m|$L|ms_paths]:-}")" "$(num "${R[$m|$L|ms_write]:-}")" 1.00 1.00
         for p in prusa cura; do
             [[ " ${peers[*]} " == *" $p "* ]] || continue
             label=PrusaSlicer; [ $p = cura ] && label=CuraEngine
-            printf '| %-26s | %8s | %8s | %8s | %12s | %13s |\n' "$label" "$(num "${R[$m|$L|${p}_load]:-}")" \
-                - "$(num "${R[$m|$L|${p}_slice]:-}")" \
+            printf '| %-26s | %8s | %8s | %8s | %8s | %8s | %12s | %13s |\n' "$label" \
+                "$(num "${R[$m|$L|${p}_load]:-}")" - "$(num "${R[$m|$L|${p}_slice]:-}")" - - \
                 "$(ratio "${R[$m|$L|${p}_load]:-}" "${R[$m|$L|ms_load]}")" \
                 "$(ratio "${R[$m|$L|${p}_slice]:-}" "${R[$m|$L|ms_slice]}")"
             emit_tsv "$m" "$L" "$p" stage_load_s "${R[$m|$L|${p}_load]:-}"
@@ -356,11 +395,11 @@ for f in "${model_files[@]}"; do
         done
         if [[ " ${peers[*]} " == *" slic3r "* ]]; then
             ms_ls=$(awk -v a="${R[$m|$L|ms_load]}" -v b="${R[$m|$L|ms_slice]}" 'BEGIN { print a + b }')
-            printf '| %-26s | %8s | %8s | %8s | %12s | %13s |\n' "Slic3r (svg, whole)" - - \
-                "$(num "${R[$m|$L|slic3r-svg_wall]}")" - "$(ratio "${R[$m|$L|slic3r-svg_wall]}" "$ms_ls")"
+            printf '| %-26s | %8s | %8s | %8s | %8s | %8s | %12s | %13s |\n' "Slic3r (svg, whole)" - - \
+                "$(num "${R[$m|$L|slic3r-svg_wall]}")" - - - "$(ratio "${R[$m|$L|slic3r-svg_wall]}" "$ms_ls")"
             echo "(Slic3r: whole --export-svg process, incl. start-up and load; its ratio is against maxslice load + slice)"
         fi
-        for s in load validate slice; do emit_tsv "$m" "$L" maxslice "stage_${s}_s" "${R[$m|$L|ms_$s]}"; done
+        for s in "${ms_stages[@]}"; do emit_tsv "$m" "$L" maxslice "stage_${s}_s" "${R[$m|$L|ms_$s]:-}"; done
         echo
     done
 done
@@ -399,6 +438,42 @@ for f in "${model_files[@]}"; do
 done
 echo
 echo "(a) holds when cura/ms >= 3; (b) when cura/ms > 1; (c) when maxslice slice / plain read <= 2."
+echo
+if [ "$whole" = 1 ] && [ ${#peers[@]} -gt 0 ]; then
+    # The largest model: the most triangles (file size for STL).
+    largest=; largest_size=0
+    for f in "${model_files[@]}"; do
+        sz=$(stat -c %s "$f"); [ "$sz" -gt "$largest_size" ] && { largest_size=$sz; largest=${short[$f]}; }
+    done
+    echo "(d) maxslice whole job (mesh in, program out) faster than every peer's whole job"
+    echo "(e) on the largest model ($largest): maxslice whole job at least 3x faster than the fastest peer"
+    echo
+    printf '| %-26s | %5s | %8s | %-22s | %9s | %10s | %-6s | %-6s |\n' model layer "ms wall" \
+        "fastest peer" "its wall" "peer/ms" "(d)" "(e)"
+    printf '|%s|%s:|%s:|%s|%s:|%s:|%s|%s|\n' ---------------------------- ------ --------- \
+        ------------------------ ----------- ------------ -------- --------
+    for f in "${model_files[@]}"; do
+        m=${short[$f]}
+        for L in "${layers[@]}"; do
+            mw=${R[$m|$L|ms_wall]:-nan}; best=; bw=
+            for p in "${peers[@]}"; do
+                [ "$(exits "$m.$L.$p")" = 0 ] || continue     # a peer that failed does not count
+                w=${R[$m|$L|${p}_wall]:-nan}
+                if [ -z "$bw" ] || awk -v a="$w" -v b="$bw" 'BEGIN { exit !(a < b) }'; then bw=$w; best=$p; fi
+            done
+            rr=$(ratio "$bw" "$mw")
+            ve=-; [ "$m" = "$largest" ] && ve=$(verdict "$rr" ">=" 3)
+            [ "${R[$m|$L|ms_exit]:-}" != 0 ] && [ "${R[$m|$L|ms_note]:-}" != "with --repair" ] && rr=-
+            label=$m; [ "${R[$m|$L|ms_note]:-}" = "with --repair" ] && label="$m (--repair)"
+            case $best in prusa) best=PrusaSlicer ;; cura) best=CuraEngine ;; slic3r) best=Slic3r ;; esac
+            printf '| %-26s | %5s | %8s | %-22s | %9s | %10s | %-6s | %-6s |\n' "$label" "$L" "$(num "$mw")" \
+                "${best:--}" "$(num "$bw")" "$rr" "$(verdict "$rr" ">" 1)" "$ve"
+            emit_tsv "$m" "$L" target d_ratio "$rr"
+        done
+    done
+    echo
+    echo "(d) holds when the fastest peer's wall / maxslice's wall > 1 (then every peer is slower); (e) when >= 3."
+fi
 for f in "${model_files[@]}"; do
     m=${short[$f]}
     for L in "${layers[@]}"; do

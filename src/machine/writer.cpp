@@ -2,6 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <charconv>
+#include <cmath>
+#include <cstdint>
 #include <iterator>
 #include <optional>
 #include <utility>
@@ -21,7 +24,31 @@ constexpr int kDwellSDecimals = 3;
 /// Part and machine names in comments are cut to this many characters.
 constexpr std::size_t kMaxNameInComment = 60;
 
+// Numbers are written as a rounded integer count of 10^-decimals with std::to_chars (about
+// ten times faster than a formatted float: programs run to millions of numbers); values
+// too large for that exactness fall back to fmt.
 void append_fixed(std::string& out, double value, int decimals) {
+    static constexpr double kScale[] = {1.0, 10.0, 100.0, 1e3, 1e4, 1e5, 1e6};
+    static constexpr std::int64_t kScaleInt[] = {1, 10, 100, 1000, 10000, 100000, 1000000};
+    if (decimals >= 0 && decimals <= 6 && std::abs(value) < 1e9) {
+        const auto n = static_cast<std::int64_t>(std::llround(value * kScale[decimals]));
+        const std::int64_t mag = n < 0 ? -n : n;
+        char buf[40];
+        char* p = buf;
+        if (n < 0) *p++ = '-';
+        p = std::to_chars(p, buf + sizeof buf, mag / kScaleInt[decimals]).ptr;
+        if (decimals > 0) {
+            *p++ = '.';
+            std::int64_t frac = mag % kScaleInt[decimals];
+            for (int d = decimals - 1; d >= 0; --d) {
+                p[d] = static_cast<char>('0' + frac % 10);
+                frac /= 10;
+            }
+            p += decimals;
+        }
+        out.append(buf, p);
+        return;
+    }
     const std::size_t start = out.size();
     fmt::format_to(std::back_inserter(out), "{:.{}f}", value, decimals);
     if (out[start] == '-' && out.find_first_not_of("0.", start + 1) == std::string::npos) {

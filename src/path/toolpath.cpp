@@ -112,10 +112,15 @@ struct Widths {
     std::int64_t min_gap;     // narrowest gap filled
 };
 
+// An island's strokes in the layer frame, and the area they leave bare.
+struct PlannedIsland {
+    detail::RouteIsland route;
+    double uncovered_mm2 = 0.0;
+};
+
 // Contours, fill and gap fill of one island (an outer wire and its holes), planned in the
 // raster frame (fill lines along +x) and returned in the layer frame.
-detail::RouteIsland plan_island(const Paths2& island, const detail::RasterFrame& frame,
-                                const Widths& w) {
+PlannedIsland plan_island(const Paths2& island, const detail::RasterFrame& frame, const Widths& w) {
     const Paths2 local = frame.to_raster(island);
     // Track centres may run anywhere half a track inside the region: pass 0, and where
     // straight links between fill lines may go.
@@ -141,14 +146,15 @@ detail::RouteIsland plan_island(const Paths2& island, const detail::RasterFrame&
     const std::int64_t inset = w.passes > 0 ? w.half + w.passes * w.pitch : w.half;
     const Paths2 eroded = geom2d::offset_of(local, -(inset + w.opening));
     detail::RouteGroup fill;
+    Paths2 raster_lines;
     if (!eroded.empty()) {
         // Growing back with mitred joins can poke past sharp corners of the inset region:
         // clip to where track centres may run.
         const Paths2 fill_region =
             geom2d::intersection_of(geom2d::offset_of(eroded, w.opening), centres);
-        const Paths2 lines =
+        raster_lines =
             detail::zigzag_fill({&fill_region, &centres, w.pitch, w.max_margin, w.max_link});
-        for (const Path2& line : lines) {
+        for (const Path2& line : raster_lines) {
             fill.push_back({StrokeKind::kFill, false, frame.from_raster(line)});
         }
     }
@@ -172,11 +178,25 @@ detail::RouteIsland plan_island(const Paths2& island, const detail::RasterFrame&
         gaps.insert(gaps.end(), std::make_move_iterator(left.begin()),
                     std::make_move_iterator(left.end()));
     }
+    // Coverage, in the raster frame where fill tracks run along the rows of the integration
+    // (each meets only the rows of its own width).
+    Paths2 tracks;
+    for (const Paths2& wires : passes) {
+        for (const Path2& wire : wires) {
+            tracks.push_back(wire);
+            tracks.back().push_back(wire.front());
+        }
+    }
+    tracks.insert(tracks.end(), raster_lines.begin(), raster_lines.end());
     for (detail::RouteStroke& gap : detail::gap_fill(gaps, 2 * w.half, w.min_gap)) {
+        tracks.push_back(gap.points);
+        if (gap.closed) tracks.back().push_back(gap.points.front());
         gap.points = frame.from_raster(gap.points);
         fill.push_back(std::move(gap));
     }
-    return {std::move(contours), std::move(fill)};
+    const double uncovered =
+        geom2d::uncovered_area_mm2(local, tracks, w.half, std::max<std::int64_t>(1, w.half / 8));
+    return {{std::move(contours), std::move(fill)}, uncovered};
 }
 
 }  // namespace
@@ -248,25 +268,10 @@ PreparedLayer prepare_layer(const geom2d::WireTree& region, const PathSettings& 
             largest_area = area;
             out.raster_angle_deg = angle_rad * 180.0 / std::numbers::pi;
         }
-        out.route.push_back(plan_island(island, detail::RasterFrame(angle_rad), widths));
+        PlannedIsland planned = plan_island(island, detail::RasterFrame(angle_rad), widths);
+        out.route.push_back(std::move(planned.route));
+        out.uncovered_mm2 += planned.uncovered_mm2;
     }
-
-    // Coverage does not depend on the order: every track drawn as a stroke of the width
-    // (closed contours with their closing segment).
-    Paths2 tracks;
-    for (const detail::RouteIsland& island : out.route) {
-        for (const detail::RouteGroup& group : island) {
-            for (const detail::RouteStroke& stroke : group) {
-                Path2& t = tracks.emplace_back(stroke.points);
-                if (stroke.closed && !t.empty()) t.push_back(t.front());
-            }
-        }
-    }
-    Paths2 material;
-    for (const Paths2& island : islands)
-        material.insert(material.end(), island.begin(), island.end());
-    const Paths2 covered = geom2d::sweep_polylines(tracks, widths.half);
-    out.uncovered_mm2 = geom2d::signed_area_mm2(geom2d::difference_of(material, covered));
     return out;
 }
 

@@ -48,4 +48,14 @@ enum class Containment { kOutside, kBoundary, kInside };
 /// arithmetic; O(total points).
 [[nodiscard]] Containment locate_point(const Paths2& region, Point2 p);
 
+/// The area (mm^2) of a region (closed loops, positive winding: outers counter-clockwise,
+/// holes clockwise) that a disc of radius radius_um swept along open polylines does not
+/// cover: what a set of tracks of width 2 * radius leaves bare. Integrated over rows at most
+/// row_um apart that divide the region's height evenly (midpoint rule: the covered and inside
+/// lengths of each row are exact, so the error comes only from how the lengths vary inside a row,
+/// O(row^2) per boundary vertex or track end). O(row crossings), no polygon booleans: fast where a
+/// union of thousands of strokes is not. A polyline of one point covers a disc.
+[[nodiscard]] double uncovered_area_mm2(const Paths2& region, const Paths2& polylines,
+                                        std::int64_t radius_um, std::int64_t row_um);
+
 }  // namespace maxslice::geom2d

@@ -315,6 +315,42 @@ TEST(Offset, ShrinkingPastTheCentreLeavesNothingWhateverTheShortcut) {
     EXPECT_NEAR(signed_area_mm2(offset_of(two, -1000)), 9.0, 1e-9);
 }
 
+TEST(Coverage, UncoveredAreaMatchesTheBooleanDifference) {
+    // Against Clipper's exact answer (region minus the union of the swept strokes), on a
+    // ring and a plate with random strokes: the row integration agrees within 0.5% of the
+    // region's area at rows of 1/8 of the radius.
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> coord(-5.0, 45.0);
+    const Paths2 ring{ngon(20, 20, 20, 90), reversed(ngon(20, 20, 8, 40))};
+    const Paths2 plate{square(0, 0, 40, 40), square(10, 10, 15, 30, true)};
+    for (const Paths2* region : {&ring, &plate}) {
+        for (int trial = 0; trial < 5; ++trial) {
+            Paths2 strokes;
+            for (int i = 0; i < 12; ++i) {
+                Path2 line;
+                for (int k = 0; k < 3; ++k) {
+                    line.push_back(
+                        {std::llround(coord(rng) * 1000), std::llround(coord(rng) * 1000)});
+                }
+                strokes.push_back(line);
+            }
+            strokes.push_back({{20000, 2000}});  // a single point: a disc
+            const std::int64_t r = 1500;
+            const double exact =
+                signed_area_mm2(difference_of(*region, sweep_polylines(strokes, r)));
+            const double rows = uncovered_area_mm2(*region, strokes, r, r / 8);
+            EXPECT_NEAR(rows, exact, 0.005 * signed_area_mm2(*region)) << trial;
+            EXPECT_GT(exact, 0.0);
+        }
+    }
+    // No strokes: the region's own area; strokes everywhere: nothing.
+    EXPECT_NEAR(uncovered_area_mm2(ring, {}, 500, 50), signed_area_mm2(ring),
+                0.002 * signed_area_mm2(ring));
+    EXPECT_NEAR(uncovered_area_mm2(plate, {{{20000, -100000}, {20000, 100000}}}, 100000, 1000), 0.0,
+                1e-9);
+    EXPECT_EQ(uncovered_area_mm2({}, {}, 500, 50), 0.0);
+}
+
 TEST(Simplify, DropsVerticesThatBarelyMoveTheBoundary) {
     // A square whose sides carry many nearly collinear vertices (a 1 um zigzag).
     Path2 noisy;
