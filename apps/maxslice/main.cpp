@@ -19,6 +19,7 @@
 #include "maxslice/core/units.hpp"
 #include "maxslice/machine/profile.hpp"
 #include "maxslice/machine/writer.hpp"
+#include "maxslice/pipeline/plan_job.hpp"
 #include "maxslice/pipeline/previews.hpp"
 #include "maxslice/pipeline/program_job.hpp"
 #include "maxslice/pipeline/slice_job.hpp"
@@ -308,6 +309,80 @@ int run_slice(const PartOptions& opt, const SliceOptions& so) {
     return kExitOk;
 }
 
+struct PlanOptions {
+    double layer = 0.5;
+    std::vector<std::string> profiles;
+    std::optional<double> alpha, beta;
+    std::string orient = "given";
+    std::vector<double> direction{0.0, 0.0, 1.0};
+    std::string plan_file, dot_file, svg_dir, mesh_out;
+    int max_regions = 64;
+};
+
+int run_plan(const PartOptions& opt, const PlanOptions& po, bool layer_given) {
+    auto settings = opt.settings();
+    if (!settings) return report_error(settings.error());
+    SliceOptions so;
+    so.profiles = po.profiles;
+    so.layer = po.layer;
+    so.layer_given = layer_given;
+    auto profiles = load_profiles(so);
+    if (!profiles) return report_error(profiles.error());
+    pipeline::PlanJobSettings ps;
+    ps.plan.layer_mm = profiles->process.layer_height_mm;
+    ps.plan.track_width_mm = profiles->process.track_width_mm;
+    ps.plan.self_supporting_deg = profiles->process.self_supporting_angle_deg;
+    if (po.alpha) ps.plan.alpha_deg = *po.alpha;
+    if (po.beta) ps.plan.beta_deg = *po.beta;
+    ps.plan.max_regions = po.max_regions;
+    if (auto ok = plan::validate(ps.plan); !ok) {
+        return report_error(core::with_context(ok.error(), "--alpha/--beta"));
+    }
+    if (po.orient == "auto") {
+        ps.orient = pipeline::Orient::kAuto;
+    } else if (po.orient != "given") {
+        return report_error({core::ErrorCode::kInvalidInput,
+                             "unknown orientation '" + po.orient + "' (use given or auto)",
+                             "--orient"});
+    }
+    ps.direction = {po.direction[0], po.direction[1], po.direction[2]};
+
+    pipeline::StageTimes times;
+    auto part = pipeline::prepare_part(opt.path, *settings, &times);
+    if (!part) return report_error(part.error());
+    print_warnings(*part);
+    const auto progress = make_progress();
+    auto planned = pipeline::plan_mesh(part->imported.mesh, ps, progress.get());
+    if (!planned) return report_error(planned.error());
+
+    if (!po.plan_file.empty()) {
+        if (const int rc = write_text_file(po.plan_file, pipeline::plan_json(*planned, *part));
+            rc != kExitOk) {
+            return rc;
+        }
+    }
+    if (!po.dot_file.empty()) {
+        if (const int rc = write_text_file(po.dot_file, pipeline::plan_dot(planned->plan));
+            rc != kExitOk) {
+            return rc;
+        }
+    }
+    if (!po.mesh_out.empty()) {
+        if (const int rc = write_text_file(po.mesh_out, pipeline::plan_ply(planned->plan));
+            rc != kExitOk) {
+            return rc;
+        }
+    }
+    if (!po.svg_dir.empty()) {
+        if (auto ok = pipeline::write_plan_svgs(po.svg_dir, planned->plan); !ok) {
+            return report_error(ok.error());
+        }
+    }
+    std::fputs(pipeline::plan_summary(*planned, part->report.volume_mm3).c_str(), stdout);
+    if (opt.timings) print_timings(times);
+    return kExitOk;
+}
+
 int run(int argc, char** argv) {
     CLI::App app{"maxslice: multi-axis slicer for directed energy deposition"};
     app.require_subcommand(1);
@@ -348,6 +423,40 @@ int run(int argc, char** argv) {
     slice->add_option("--contact-sheet", so.contact_sheet, "Write all layers into one SVG");
     slice->add_option("--json", so.json_file, "Write the slices' summary as JSON");
 
+    PartOptions plan_opt;
+    PlanOptions po;
+    CLI::App* plan_cmd = app.add_subcommand(
+        "plan", "Plan a multi-axis build: overhangs, split regions, the hierarchy graph");
+    plan_opt.add_to(*plan_cmd);
+    CLI::Option* plan_layer_opt =
+        plan_cmd->add_option("--layer", po.layer, "Layer thickness in mm (default: the profile's)")
+            ->check(CLI::PositiveNumber);
+    plan_cmd->add_option("--profile", po.profiles,
+                         "Machine/process profile TOML file(s) (default: the built-in reference "
+                         "LMD cell)");
+    plan_cmd
+        ->add_option("--alpha", po.alpha,
+                     "Overhang angle Ang (deg) up to which nothing is done (default 30)")
+        ->check(CLI::Range(0.0, 180.0));
+    plan_cmd
+        ->add_option("--beta", po.beta,
+                     "Overhang angle Ang (deg) above which the part is split and built "
+                     "sideways (default 60)")
+        ->check(CLI::Range(0.0, 180.0));
+    plan_cmd->add_option("--orient", po.orient,
+                         "Base orientation: given (stand as the file has it, along --direction) "
+                         "or auto (fewest splits, then fewest tilts)");
+    plan_cmd->add_option("--direction", po.direction, "Base (build) direction X,Y,Z when given")
+        ->delimiter(',')
+        ->expected(3);
+    plan_cmd->add_option("--max-regions", po.max_regions, "Refuse parts needing more regions")
+        ->check(CLI::PositiveNumber);
+    plan_cmd->add_option("--plan", po.plan_file, "Write the plan as JSON (docs/plan-format.md)");
+    plan_cmd->add_option("--dot", po.dot_file, "Write the hierarchy graph as Graphviz DOT");
+    plan_cmd->add_option("--svg", po.svg_dir, "Write one SVG per region into this folder");
+    plan_cmd->add_option("--mesh-out", po.mesh_out,
+                         "Write the layers' walls coloured by region as a PLY mesh");
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -356,13 +465,15 @@ int run(int argc, char** argv) {
     }
 
     so.layer_given = layer_opt->count() > 0;
-    const PartOptions& active = info->parsed() ? info_opt : slice_opt;
+    const PartOptions& active =
+        info->parsed() ? info_opt : (plan_cmd->parsed() ? plan_opt : slice_opt);
     std::optional<tbb::global_control> threads;
     if (active.threads > 0) {
         threads.emplace(tbb::global_control::max_allowed_parallelism,
                         static_cast<std::size_t>(active.threads));
     }
     if (info->parsed()) return run_info(info_opt, info_json);
+    if (plan_cmd->parsed()) return run_plan(plan_opt, po, plan_layer_opt->count() > 0);
     return run_slice(slice_opt, so);
 }
 

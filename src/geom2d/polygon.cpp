@@ -98,4 +98,58 @@ Containment locate_point(const Paths2& region, Point2 p) {
     return winding != 0 ? Containment::kInside : Containment::kOutside;
 }
 
+Centroid2 centroid_um(const Paths2& region) {
+    // Sum over triangles (p0, p_i, p_i+1) of each loop, relative to the loop's first point.
+    double a_sum = 0.0, cx = 0.0, cy = 0.0;
+    double px = 0.0, py = 0.0;
+    std::size_t count = 0;
+    for (const Path2& path : region) {
+        for (const Point2& q : path) {
+            px += static_cast<double>(q.x);
+            py += static_cast<double>(q.y);
+            ++count;
+        }
+        if (path.size() < 3) continue;
+        const double ox = static_cast<double>(path[0].x), oy = static_cast<double>(path[0].y);
+        for (std::size_t i = 1; i + 1 < path.size(); ++i) {
+            const double ax = static_cast<double>(path[i].x) - ox;
+            const double ay = static_cast<double>(path[i].y) - oy;
+            const double bx = static_cast<double>(path[i + 1].x) - ox;
+            const double by = static_cast<double>(path[i + 1].y) - oy;
+            const double a = 0.5 * (ax * by - ay * bx);
+            a_sum += a;
+            cx += a * (ox + (ax + bx) / 3.0);
+            cy += a * (oy + (ay + by) / 3.0);
+        }
+    }
+    if (count == 0) return {};
+    if (std::abs(a_sum) <= 0.0) {
+        return {px / static_cast<double>(count), py / static_cast<double>(count)};
+    }
+    return {cx / a_sum, cy / a_sum};
+}
+
+ClosestPoint closest_boundary_point(const Paths2& region, Centroid2 p) {
+    double best = INFINITY;
+    double bx = 0.0, by = 0.0;
+    for (const Path2& path : region) {
+        for (std::size_t i = 0; i < path.size(); ++i) {
+            const double ax = static_cast<double>(path[i].x), ay = static_cast<double>(path[i].y);
+            const Point2 q = path[(i + 1) % path.size()];
+            const double dx = static_cast<double>(q.x) - ax, dy = static_cast<double>(q.y) - ay;
+            const double len2 = dx * dx + dy * dy;
+            double t = len2 > 0.0 ? ((p.x - ax) * dx + (p.y - ay) * dy) / len2 : 0.0;
+            t = std::clamp(t, 0.0, 1.0);
+            const double cx = ax + t * dx, cy = ay + t * dy;
+            const double d = std::hypot(p.x - cx, p.y - cy);
+            if (d < best) {
+                best = d;
+                bx = cx;
+                by = cy;
+            }
+        }
+    }
+    return {{std::llround(bx), std::llround(by)}, best};
+}
+
 }  // namespace maxslice::geom2d

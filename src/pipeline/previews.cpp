@@ -10,14 +10,28 @@
 #include <tuple>
 
 #include "maxslice/core/units.hpp"
+#include "output.hpp"
 
 namespace maxslice::pipeline {
+
+core::Result<void> detail::write_text(const std::filesystem::path& file, std::string_view text) {
+    std::ofstream out(file, std::ios::binary);
+    if (!out) {
+        return core::fail(core::ErrorCode::kIo, "cannot open for writing", file.string());
+    }
+    out.write(text.data(), static_cast<std::streamsize>(text.size()));
+    if (!out) return core::fail(core::ErrorCode::kIo, "write failed", file.string());
+    return {};
+}
+
 namespace {
 
 using nlohmann::ordered_json;
 
+using detail::write_text;
+
 ordered_json vec(const core::Vec3d& v) {
-    return ordered_json::array({v.x, v.y, v.z});
+    return detail::vec_json(v);
 }
 
 ordered_json box_json(const core::Box3d& b) {
@@ -29,16 +43,6 @@ ordered_json defect(const mesh::DefectCount& d) {
     ordered_json j{{"count", d.count}};
     if (d.example) j["example"] = vec(*d.example);
     return j;
-}
-
-core::Result<void> write_text(const std::filesystem::path& file, std::string_view text) {
-    std::ofstream out(file, std::ios::binary);
-    if (!out) {
-        return core::fail(core::ErrorCode::kIo, "cannot open for writing", file.string());
-    }
-    out.write(text.data(), static_cast<std::streamsize>(text.size()));
-    if (!out) return core::fail(core::ErrorCode::kIo, "write failed", file.string());
-    return {};
 }
 
 // Bounds (um) of all wires of all slices, in the shared (u, v) frame.

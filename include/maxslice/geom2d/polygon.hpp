@@ -28,6 +28,22 @@ using Paths2 = std::vector<Path2>;
 /// Total length of a closed path, in mm.
 [[nodiscard]] double perimeter_mm(const Path2& path);
 
+/// Area-weighted centroid of a region (outers CCW, holes CW) in um, as doubles; the mean of
+/// the points when the region has no area; (0, 0) when it has no points.
+struct Centroid2 {
+    double x = 0.0;
+    double y = 0.0;
+};
+[[nodiscard]] Centroid2 centroid_um(const Paths2& region);
+
+/// The point of the region's boundary closest to p (um, rounded), and its distance (um).
+/// Requires at least one point.
+struct ClosestPoint {
+    Point2 point;
+    double distance_um = 0.0;
+};
+[[nodiscard]] ClosestPoint closest_boundary_point(const Paths2& region, Centroid2 p);
+
 /// How overlapping loops combine into a region.
 enum class FillRule {
     kEvenOdd,   ///< inside where an odd number of loops cover the point

@@ -1,0 +1,73 @@
+#pragma once
+// The planning job: base orientation, the multi-axis plan, and its exports (plan JSON,
+// Graphviz DOT, per-region SVG, a PLY of the layers coloured by region).
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "maxslice/core/progress.hpp"
+#include "maxslice/core/result.hpp"
+#include "maxslice/mesh/triangle_mesh.hpp"
+#include "maxslice/pipeline/slice_job.hpp"
+#include "maxslice/plan/planner.hpp"
+
+namespace maxslice::pipeline {
+
+/// How the base direction is chosen.
+enum class Orient {
+    kGiven,  ///< the part stands as given: build along `direction` (default +Z)
+    kAuto,   ///< the candidate with the fewest splits, then the fewest tilts wanted
+};
+
+struct PlanJobSettings {
+    plan::PlanSettings plan;
+    Orient orient = Orient::kGiven;
+    core::Vec3d direction{0.0, 0.0, 1.0};  ///< the base direction when given
+};
+
+/// One base direction tried by --orient auto.
+struct OrientCandidate {
+    core::Vec3d direction;
+    std::string source;  ///< "+Z", "-X", "largest flat face 2" ...
+    int splits = 0;
+    int tilts_wanted = 0;
+    int regions = 0;
+    bool planned = false;  ///< false when planning failed for it (error below)
+    std::string error;
+};
+
+struct PlannedPart {
+    plan::Plan plan;
+    std::vector<OrientCandidate> candidates;  ///< with --orient auto, in the order tried
+    int chosen = -1;                          ///< index into candidates (-1: given)
+    double seconds = 0.0;                     ///< planning time (all candidates)
+};
+
+/// The candidate base directions of --orient auto: the 6 axis directions and the directions
+/// that stand the part on each of its largest flat faces (up to 4 faces of at least 5% of
+/// the surface, coplanar facets grouped); duplicates removed. Deterministic.
+[[nodiscard]] std::vector<OrientCandidate> orientation_candidates(const mesh::TriangleMesh& mesh);
+
+/// Plans the part (see plan::plan_part); with Orient::kAuto plans every candidate and keeps
+/// the one with the fewest splits, then the fewest tilts wanted, then the first tried.
+/// Errors: those of plan_part; with kAuto, the first candidate's error when none plans.
+[[nodiscard]] core::Result<PlannedPart> plan_mesh(const mesh::TriangleMesh& mesh,
+                                                  const PlanJobSettings& settings,
+                                                  const core::Progress* progress = nullptr);
+
+/// The plan as JSON (docs/plan-format.md, "format": "maxslice-plan", "version": 1).
+[[nodiscard]] std::string plan_json(const PlannedPart& planned, const PreparedPart& part);
+/// The hierarchy graph in Graphviz DOT: one cluster per region, nodes are layers.
+[[nodiscard]] std::string plan_dot(const plan::Plan& plan);
+/// The layers' boundary walls (each wire swept over its layer's thickness) as an ASCII PLY
+/// with per-vertex colours by region: opens in MeshLab, CloudCompare, Blender, ParaView.
+[[nodiscard]] std::string plan_ply(const plan::Plan& plan);
+/// One SVG per region (region_NNN.svg) in dir: its layers' wires in its base frame,
+/// coloured from the first layer (blue) to the last (red). Creates dir.
+[[nodiscard]] core::Result<void> write_plan_svgs(const std::filesystem::path& dir,
+                                                 const plan::Plan& plan);
+/// A short human summary (regions, splits, tilts wanted, layers, volume, time).
+[[nodiscard]] std::string plan_summary(const PlannedPart& planned, double mesh_volume_mm3);
+
+}  // namespace maxslice::pipeline

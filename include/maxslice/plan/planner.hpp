@@ -1,0 +1,125 @@
+#pragma once
+// The multi-axis planner: regions, layers, decisions and the hierarchy graph
+// (METHOD.md sections 3 to 6). See docs/decisions/0007-multi-axis-planner.md.
+
+#include <string>
+#include <vector>
+
+#include "maxslice/core/progress.hpp"
+#include "maxslice/core/result.hpp"
+#include "maxslice/core/vec3.hpp"
+#include "maxslice/geom2d/wire_tree.hpp"
+#include "maxslice/mesh/triangle_mesh.hpp"
+#include "maxslice/plan/analysis.hpp"
+#include "maxslice/slice/layers.hpp"
+#include "maxslice/slice/plane_frame.hpp"
+
+namespace maxslice::plan {
+
+/// Settings of the planner, in mm and degrees.
+struct PlanSettings {
+    double layer_mm = 0.5;              ///< layer thickness h
+    double track_width_mm = 2.5;        ///< bead width (slivers narrower than this are ignored)
+    double self_supporting_deg = 20.0;  ///< phi_self
+    double alpha_deg = 30.0;            ///< Ang_i <= alpha: the process holds the overhang
+    double beta_deg = 60.0;           ///< Ang_i > beta: turn the direction by 90 degrees (a split)
+    double min_piece_area_mm2 = 0.0;  ///< area tolerance; 0 = one track width squared
+    int max_regions = 64;             ///< a part needing more regions is refused
+};
+
+/// Checks ranges (positive sizes, 0 <= alpha <= beta < 180, phi_self in [0, 90), ...);
+/// errors (kInvalidInput) name the setting.
+[[nodiscard]] core::Result<void> validate(const PlanSettings& settings);
+
+/// A half-space {x : (x - point) . normal >= 0} (mm, part frame; unit normal).
+struct HalfSpace {
+    core::Vec3d point;
+    core::Vec3d normal;
+    [[nodiscard]] bool contains(const core::Vec3d& x, double slack_mm = 0.0) const {
+        return core::dot(x - point, normal) >= -slack_mm;
+    }
+};
+
+/// A region: the solid intersected with a convex cell (METHOD.md section 5), built along
+/// one direction from its base plane.
+struct Region {
+    int id = 0;
+    int parent = -1;              ///< the region it was split from (-1: the base region)
+    core::Vec3d direction;        ///< unit build direction
+    slice::PlaneFrame base;       ///< base plane: heights of its layers are measured from it
+    std::vector<HalfSpace> cell;  ///< the convex cell (empty: all of space)
+    std::string reason;           ///< why it exists
+    std::vector<int> layers;      ///< its layers' ids, from the base up
+};
+
+/// One layer: a slice of a region with the thickness of material under it.
+struct Layer {
+    int id = 0;
+    int region = 0;
+    int index_in_region = 0;
+    slice::PlaneFrame plane;        ///< the cutting plane (mid-height), normal = build direction
+    slice::LayerSpan span;          ///< heights above the region's base plane
+    double thickness_min_mm = 0.0;  ///< local thickness range (planar layers: equal)
+    double thickness_max_mm = 0.0;
+    geom2d::WireTree wires;  ///< the section clipped to the region's cell (plane frame, um)
+    double area_mm2 = 0.0;
+    std::vector<int> parents;   ///< layers it is deposited directly on
+    std::vector<int> children;  ///< layers deposited directly on it
+    bool on_plate = false;      ///< the first layer of the base region stands on the plate
+};
+
+/// What the planner decided at a layer, and why.
+struct Decision {
+    enum class Kind {
+        kSplit,       ///< Ang > beta: a new region along N_s from a split plane
+        kTiltWanted,  ///< alpha < Ang <= beta: a tilted layer is wanted (see docs)
+        kFloating,    ///< a piece that does not touch the layer below: a split towards it
+    };
+    Kind kind = Kind::kSplit;
+    int region = 0;          ///< the region in which the overhang was found
+    int layer = -1;          ///< the lower layer L (-1 when L is in the parent region)
+    double height_mm = 0.0;  ///< U's cut height above the region's base plane
+    OverhangPiece piece;     ///< the piece that caused it
+    int new_region = -1;     ///< the region built sideways (splits)
+    int continuation = -1;   ///< the region that carries on along the old direction
+    HalfSpace split_plane;   ///< the split plane, normal N_s (splits)
+    std::string reason;      ///< one line, for people
+};
+
+/// The plan of a part.
+struct Plan {
+    PlanSettings settings;
+    core::Vec3d base_direction;
+    std::vector<Region> regions;
+    std::vector<Layer> layers;  ///< ids are indices; regions' layers are contiguous
+    std::vector<Decision> decisions;
+
+    [[nodiscard]] int split_count() const;
+    [[nodiscard]] int tilt_wanted_count() const;
+    /// Sum over layers of area x mean thickness (mm^3).
+    [[nodiscard]] double volume_mm3() const;
+};
+
+/// Plans a part standing on the plate along base_direction (its lowest point on the base
+/// plane): the base region is sliced in uniform layers; every pair of neighbouring layers is
+/// analysed (analyse_neighbours); an overhang piece with Ang > beta (or one that does not
+/// touch the layer below) splits the region at the lower layer L: what lies beyond the split
+/// plane (normal N_s = the part of V_i normal to N_b, through the centre of the contact line)
+/// and above L becomes a region built along N_s from the split plane, and what lies on the
+/// near side above L a region that carries on along N_b; regions are planned recursively in
+/// the order they are made. Then the hierarchy graph is built: within a region each layer
+/// is deposited on the one below where they overlap; a region's first layer is deposited on
+/// the layers of other regions it touches across its base plane. Acyclic by construction
+/// (edges follow region creation order and heights; checked). Deterministic. Errors:
+/// invalid settings, an empty mesh, more than max_regions regions (kInvalidInput, naming the
+/// layer); cancelled (kCancelled).
+[[nodiscard]] core::Result<Plan> plan_part(const mesh::TriangleMesh& mesh,
+                                           const core::Vec3d& base_direction,
+                                           const PlanSettings& settings,
+                                           const core::Progress* progress = nullptr);
+
+/// The layers in an order that respects the graph (Kahn's algorithm, smallest id first);
+/// empty when the graph has a cycle.
+[[nodiscard]] std::vector<int> topological_order(const Plan& plan);
+
+}  // namespace maxslice::plan

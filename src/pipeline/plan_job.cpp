@@ -1,0 +1,435 @@
+#include "maxslice/pipeline/plan_job.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <system_error>
+
+#include "maxslice/core/units.hpp"
+#include "output.hpp"
+
+namespace maxslice::pipeline {
+namespace {
+
+using nlohmann::ordered_json;
+
+// Facets whose unit normals agree within this (1 - cos) are grouped as one flat face; and
+// faces of less than this share of the surface are not offered as bases.
+constexpr double kSameNormalCos = 1e-6;
+constexpr double kMinFaceShare = 0.05;
+constexpr int kMaxFaceCandidates = 4;
+// Two candidate directions closer than this (1 - cos) are the same.
+constexpr double kSameDirectionCos = 1e-9;
+
+ordered_json frame_json(const slice::PlaneFrame& f) {
+    return {{"origin", detail::vec_json(f.origin)},
+            {"normal", detail::vec_json(f.normal)},
+            {"u", detail::vec_json(f.u)},
+            {"v", detail::vec_json(f.v)}};
+}
+
+ordered_json half_space_json(const plan::HalfSpace& h) {
+    return {{"point", detail::vec_json(h.point)}, {"normal", detail::vec_json(h.normal)}};
+}
+
+const char* kind_name(plan::Decision::Kind k) {
+    switch (k) {
+        case plan::Decision::Kind::kSplit: return "split";
+        case plan::Decision::Kind::kTiltWanted: return "tilt_wanted";
+        case plan::Decision::Kind::kFloating: return "split_floating";
+    }
+    return "unknown";
+}
+
+// A colour per region (fixed palette, repeated).
+std::array<int, 3> region_colour(int region) {
+    static constexpr std::array<std::array<int, 3>, 10> kPalette{{{31, 119, 180},
+                                                                  {255, 127, 14},
+                                                                  {44, 160, 44},
+                                                                  {214, 39, 40},
+                                                                  {148, 103, 189},
+                                                                  {140, 86, 75},
+                                                                  {227, 119, 194},
+                                                                  {127, 127, 127},
+                                                                  {188, 189, 34},
+                                                                  {23, 190, 207}}};
+    return kPalette[static_cast<std::size_t>(region) % kPalette.size()];
+}
+
+template <class... A>
+void put(fmt::memory_buffer& out, fmt::format_string<A...> format, A&&... args) {
+    fmt::format_to(std::back_inserter(out), format, std::forward<A>(args)...);
+}
+
+std::string direction_label(const core::Vec3d& d) {
+    return fmt::format("({:.4f}, {:.4f}, {:.4f})", d.x, d.y, d.z);
+}
+
+}  // namespace
+
+std::vector<OrientCandidate> orientation_candidates(const mesh::TriangleMesh& mesh) {
+    std::vector<OrientCandidate> out;
+    const auto add = [&](core::Vec3d d, std::string source) {
+        d = core::normalized(d);
+        for (const OrientCandidate& c : out) {
+            if (core::dot(c.direction, d) > 1.0 - kSameDirectionCos) return;
+        }
+        out.push_back({d, std::move(source)});
+    };
+    add({0, 0, 1}, "+Z (as given)");
+    add({0, 0, -1}, "-Z");
+    add({1, 0, 0}, "+X");
+    add({-1, 0, 0}, "-X");
+    add({0, 1, 0}, "+Y");
+    add({0, -1, 0}, "-Y");
+    // Flat faces: facets grouped by (unit normal, plane offset).
+    struct Face {
+        core::Vec3d normal;
+        double offset;
+        double area;
+    };
+    std::vector<Face> faces;
+    double total = 0.0;
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+        const core::Vec3d a = mesh::area_vector(mesh, t);
+        const double area = 0.5 * core::norm(a);
+        if (!(area > 0.0)) continue;
+        total += area;
+        const core::Vec3d n = core::normalized(a);
+        const double offset = core::dot(n, mesh.corner(t, 0));
+        bool merged = false;
+        for (Face& f : faces) {
+            if (core::dot(f.normal, n) > 1.0 - kSameNormalCos &&
+                std::abs(f.offset - offset) < 1e-6 * (1.0 + std::abs(offset))) {
+                f.area += area;
+                merged = true;
+                break;
+            }
+        }
+        if (!merged) {
+            if (faces.size() > 4096) continue;  // a freeform scan: no dominant flat faces
+            faces.push_back({n, offset, area});
+        }
+    }
+    std::stable_sort(faces.begin(), faces.end(),
+                     [](const Face& a, const Face& b) { return a.area > b.area; });
+    int taken = 0;
+    for (const Face& f : faces) {
+        if (taken == kMaxFaceCandidates || f.area < kMinFaceShare * total) break;
+        // Standing on a face: its outward normal points down, the build goes along -n.
+        add(-f.normal, fmt::format("largest flat face {} ({:.0f} mm2)", taken + 1, f.area));
+        ++taken;
+    }
+    return out;
+}
+
+core::Result<PlannedPart> plan_mesh(const mesh::TriangleMesh& mesh, const PlanJobSettings& s,
+                                    const core::Progress* progress) {
+    const auto t0 = std::chrono::steady_clock::now();
+    PlannedPart out;
+    if (s.orient == Orient::kGiven) {
+        auto p = plan::plan_part(mesh, s.direction, s.plan, progress);
+        if (!p) return std::unexpected(p.error());
+        out.plan = std::move(*p);
+    } else {
+        out.candidates = orientation_candidates(mesh);
+        std::optional<core::Error> first_error;
+        for (std::size_t i = 0; i < out.candidates.size(); ++i) {
+            OrientCandidate& c = out.candidates[i];
+            auto p = plan::plan_part(mesh, c.direction, s.plan, progress);
+            if (!p) {
+                if (p.error().code == core::ErrorCode::kCancelled)
+                    return std::unexpected(p.error());
+                c.error = p.error().describe();
+                if (!first_error) first_error = p.error();
+                continue;
+            }
+            c.planned = true;
+            c.splits = p->split_count();
+            c.tilts_wanted = p->tilt_wanted_count();
+            c.regions = static_cast<int>(p->regions.size());
+            const bool better =
+                out.chosen < 0 ||
+                std::pair{c.splits, c.tilts_wanted} <
+                    std::pair{out.candidates[static_cast<std::size_t>(out.chosen)].splits,
+                              out.candidates[static_cast<std::size_t>(out.chosen)].tilts_wanted};
+            if (better) {
+                out.chosen = static_cast<int>(i);
+                out.plan = std::move(*p);
+            }
+        }
+        if (out.chosen < 0) return std::unexpected(*first_error);
+    }
+    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return out;
+}
+
+std::string plan_json(const PlannedPart& planned, const PreparedPart& part) {
+    const plan::Plan& p = planned.plan;
+    ordered_json j;
+    j["format"] = "maxslice-plan";
+    j["version"] = 1;
+    j["units"] = {{"length", "mm"},
+                  {"angle", "deg"},
+                  {"wire_points", "mm in the layer plane's (u, v) frame"}};
+    j["part"] = {{"format", io::format_name(part.imported.format)},
+                 {"triangles", part.report.triangles},
+                 {"volume_mm3", part.report.volume_mm3}};
+    const plan::PlanSettings& s = p.settings;
+    j["settings"] = {{"layer_mm", s.layer_mm},
+                     {"track_width_mm", s.track_width_mm},
+                     {"self_supporting_deg", s.self_supporting_deg},
+                     {"alpha_deg", s.alpha_deg},
+                     {"beta_deg", s.beta_deg},
+                     {"min_piece_area_mm2", s.min_piece_area_mm2},
+                     {"max_regions", s.max_regions}};
+    ordered_json orient;
+    orient["mode"] = planned.candidates.empty() ? "given" : "auto";
+    orient["base_direction"] = detail::vec_json(p.base_direction);
+    if (!planned.candidates.empty()) {
+        ordered_json cands = ordered_json::array();
+        for (const OrientCandidate& c : planned.candidates) {
+            ordered_json cj{{"direction", detail::vec_json(c.direction)},
+                            {"source", c.source},
+                            {"planned", c.planned}};
+            if (c.planned) {
+                cj["splits"] = c.splits;
+                cj["tilts_wanted"] = c.tilts_wanted;
+                cj["regions"] = c.regions;
+            } else {
+                cj["error"] = c.error;
+            }
+            cands.push_back(std::move(cj));
+        }
+        orient["candidates"] = std::move(cands);
+        orient["chosen"] = planned.chosen;
+        orient["rule"] = "fewest splits, then fewest tilts wanted, then the first tried";
+    }
+    j["orientation"] = std::move(orient);
+    j["summary"] = {{"regions", p.regions.size()},       {"layers", p.layers.size()},
+                    {"splits", p.split_count()},         {"tilts_wanted", p.tilt_wanted_count()},
+                    {"plan_volume_mm3", p.volume_mm3()}, {"seconds", planned.seconds}};
+    ordered_json regions = ordered_json::array();
+    for (const plan::Region& r : p.regions) {
+        ordered_json cell = ordered_json::array();
+        for (const plan::HalfSpace& h : r.cell) cell.push_back(half_space_json(h));
+        regions.push_back({{"id", r.id},
+                           {"parent", r.parent},
+                           {"direction", detail::vec_json(r.direction)},
+                           {"base", frame_json(r.base)},
+                           {"cell", std::move(cell)},
+                           {"layers", r.layers},
+                           {"reason", r.reason}});
+    }
+    j["regions"] = std::move(regions);
+    ordered_json layers = ordered_json::array();
+    for (const plan::Layer& l : p.layers) {
+        ordered_json wires = ordered_json::array();
+        for (const geom2d::WireNode& n : l.wires.nodes) {
+            ordered_json pts = ordered_json::array();
+            for (const geom2d::Point2& q : n.wire) {
+                pts.push_back({core::um_to_mm(q.x), core::um_to_mm(q.y)});
+            }
+            wires.push_back(
+                {{"hole", n.is_hole}, {"parent", n.parent}, {"points", std::move(pts)}});
+        }
+        layers.push_back({{"id", l.id},
+                          {"region", l.region},
+                          {"index_in_region", l.index_in_region},
+                          {"plane", frame_json(l.plane)},
+                          {"bottom_mm", l.span.bottom},
+                          {"top_mm", l.span.top},
+                          {"cut_mm", l.span.cut},
+                          {"thickness_min_mm", l.thickness_min_mm},
+                          {"thickness_max_mm", l.thickness_max_mm},
+                          {"area_mm2", l.area_mm2},
+                          {"on_plate", l.on_plate},
+                          {"parents", l.parents},
+                          {"children", l.children},
+                          {"wires", std::move(wires)}});
+    }
+    j["layers"] = std::move(layers);
+    ordered_json decisions = ordered_json::array();
+    for (const plan::Decision& d : p.decisions) {
+        ordered_json dj{{"kind", kind_name(d.kind)},
+                        {"region", d.region},
+                        {"lower_layer", d.layer},
+                        {"height_mm", d.height_mm},
+                        {"piece",
+                         {{"area_mm2", d.piece.area_mm2},
+                          {"C", detail::vec_json(d.piece.C)},
+                          {"P", detail::vec_json(d.piece.P)},
+                          {"V", detail::vec_json(d.piece.V)},
+                          {"ang_deg", d.piece.ang_deg},
+                          {"touches_lower", d.piece.touches_lower}}},
+                        {"reason", d.reason}};
+        if (d.kind != plan::Decision::Kind::kTiltWanted) {
+            dj["new_region"] = d.new_region;
+            dj["continuation"] = d.continuation;
+            dj["split_plane"] = half_space_json(d.split_plane);
+        }
+        decisions.push_back(std::move(dj));
+    }
+    j["decisions"] = std::move(decisions);
+    j["order"] = plan::topological_order(p);
+    return j.dump(1) + "\n";
+}
+
+std::string plan_dot(const plan::Plan& p) {
+    fmt::memory_buffer out;
+    put(out, "digraph maxslice_plan {{\n  rankdir=BT;\n  node [shape=box, fontsize=9];\n");
+    for (const plan::Region& r : p.regions) {
+        const auto c = region_colour(r.id);
+        put(out, "  subgraph cluster_region_{} {{\n    label=\"region {} along {}\";\n", r.id, r.id,
+            direction_label(r.direction));
+        for (const int id : r.layers) {
+            const plan::Layer& l = p.layers[static_cast<std::size_t>(id)];
+            put(out,
+                "    L{} [label=\"L{} r{} #{}\\n{:.2f} mm, {:.1f} mm2\", style=filled, "
+                "fillcolor=\"#{:02x}{:02x}{:02x}\"];\n",
+                id, id, r.id, l.index_in_region, l.span.cut, l.area_mm2, c[0], c[1], c[2]);
+        }
+        put(out, "  }}\n");
+    }
+    for (const plan::Layer& l : p.layers) {
+        for (const int child : l.children) put(out, "  L{} -> L{};\n", l.id, child);
+    }
+    put(out, "}}\n");
+    return fmt::to_string(out);
+}
+
+std::string plan_ply(const plan::Plan& p) {
+    fmt::memory_buffer verts, faces;
+    std::size_t nv = 0, nf = 0;
+    for (const plan::Layer& l : p.layers) {
+        const auto c = region_colour(l.region);
+        const double lo = l.span.bottom - l.span.cut, hi = l.span.top - l.span.cut;
+        for (const geom2d::WireNode& n : l.wires.nodes) {
+            const std::size_t k = n.wire.size();
+            if (k < 3) continue;
+            for (const geom2d::Point2& q : n.wire) {
+                for (const double h : {lo, hi}) {
+                    const core::Vec3d x = l.plane.to_3d(q, h);
+                    fmt::format_to(std::back_inserter(verts), "{:.4f} {:.4f} {:.4f} {} {} {}\n",
+                                   x.x, x.y, x.z, c[0], c[1], c[2]);
+                }
+            }
+            for (std::size_t i = 0; i < k; ++i) {
+                const std::size_t a = nv + 2 * i, b = nv + 2 * ((i + 1) % k);
+                // Outward for outers (CCW seen from +normal), inward for holes: both face
+                // away from the material.
+                fmt::format_to(std::back_inserter(faces), "4 {} {} {} {}\n", a, b, b + 1, a + 1);
+                ++nf;
+            }
+            nv += 2 * k;
+        }
+    }
+    return fmt::format(
+        "ply\nformat ascii 1.0\ncomment maxslice plan: layer walls coloured by region\n"
+        "element vertex {}\nproperty float x\nproperty float y\nproperty float z\n"
+        "property uchar red\nproperty uchar green\nproperty uchar blue\n"
+        "element face {}\nproperty list uchar int vertex_indices\nend_header\n{}{}",
+        nv, nf, fmt::to_string(verts), fmt::to_string(faces));
+}
+
+core::Result<void> write_plan_svgs(const std::filesystem::path& dir, const plan::Plan& p) {
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec)
+        return core::fail(core::ErrorCode::kIo, "cannot create folder: " + ec.message(),
+                          dir.string());
+    for (const plan::Region& r : p.regions) {
+        // Every layer's wires in the region's base frame (layers are parallel to it).
+        double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
+        std::vector<std::vector<std::vector<std::pair<double, double>>>> drawn;
+        for (const int id : r.layers) {
+            const plan::Layer& l = p.layers[static_cast<std::size_t>(id)];
+            auto& layer = drawn.emplace_back();
+            for (const geom2d::WireNode& n : l.wires.nodes) {
+                auto& loop = layer.emplace_back();
+                for (const geom2d::Point2& q : n.wire) {
+                    const geom2d::Point2 b = r.base.to_2d(l.plane.to_3d(q));
+                    const double x = core::um_to_mm(b.x), y = -core::um_to_mm(b.y);
+                    loop.emplace_back(x, y);
+                    x0 = std::min(x0, x);
+                    y0 = std::min(y0, y);
+                    x1 = std::max(x1, x);
+                    y1 = std::max(y1, y);
+                }
+            }
+        }
+        if (x0 > x1) x0 = y0 = 0.0, x1 = y1 = 1.0;
+        const double margin = 2.0;
+        fmt::memory_buffer out;
+        fmt::format_to(std::back_inserter(out),
+                       "<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"{:.3f} {:.3f} {:.3f} "
+                       "{:.3f}\" width=\"800\">\n<title>region {} along {}: {} layers</title>\n",
+                       x0 - margin, y0 - margin, x1 - x0 + 2 * margin, y1 - y0 + 2 * margin, r.id,
+                       direction_label(r.direction), r.layers.size());
+        for (std::size_t i = 0; i < drawn.size(); ++i) {
+            const double t = drawn.size() > 1
+                                 ? static_cast<double>(i) / static_cast<double>(drawn.size() - 1)
+                                 : 0.0;
+            const int red = static_cast<int>(255 * t), blue = 255 - red;
+            fmt::format_to(
+                std::back_inserter(out),
+                "<path fill=\"none\" stroke=\"#{:02x}40{:02x}\" stroke-width=\"0.1\" d=\"", red,
+                blue);
+            for (const auto& loop : drawn[i]) {
+                for (std::size_t k = 0; k < loop.size(); ++k) {
+                    fmt::format_to(std::back_inserter(out), "{}{:.3f} {:.3f} ", k == 0 ? "M" : "L",
+                                   loop[k].first, loop[k].second);
+                }
+                fmt::format_to(std::back_inserter(out), "Z ");
+            }
+            fmt::format_to(std::back_inserter(out), "\"/>\n");
+        }
+        fmt::format_to(std::back_inserter(out), "</svg>\n");
+        if (auto ok = detail::write_text(dir / fmt::format("region_{:03}.svg", r.id),
+                                         fmt::to_string(out));
+            !ok) {
+            return ok;
+        }
+    }
+    return {};
+}
+
+std::string plan_summary(const PlannedPart& planned, double mesh_volume_mm3) {
+    const plan::Plan& p = planned.plan;
+    fmt::memory_buffer out;
+    if (!planned.candidates.empty()) {
+        put(out, "orientation     auto: {} candidates\n", planned.candidates.size());
+        for (std::size_t i = 0; i < planned.candidates.size(); ++i) {
+            const OrientCandidate& c = planned.candidates[i];
+            put(out, "  {} {:<32} {}\n", static_cast<int>(i) == planned.chosen ? "*" : " ",
+                c.source,
+                c.planned ? fmt::format("{} splits, {} tilts wanted, {} regions", c.splits,
+                                        c.tilts_wanted, c.regions)
+                          : "failed: " + c.error);
+        }
+    }
+    put(out, "base direction  {}\n", direction_label(p.base_direction));
+    put(out, "regions         {}\n", p.regions.size());
+    for (const plan::Region& r : p.regions) {
+        put(out, "  region {:<3} along {}  {} layers{}\n", r.id, direction_label(r.direction),
+            r.layers.size(), r.parent >= 0 ? fmt::format(", from region {}", r.parent) : "");
+    }
+    put(out, "splits          {}\n", p.split_count());
+    put(out, "tilts wanted    {} (planar layers kept: tilted layers are not planned yet)\n",
+        p.tilt_wanted_count());
+    for (const plan::Decision& d : p.decisions) {
+        if (d.kind != plan::Decision::Kind::kTiltWanted) put(out, "  {}\n", d.reason);
+    }
+    put(out, "layers          {}\n", p.layers.size());
+    const double v = p.volume_mm3();
+    put(out, "plan volume     {:.6g} mm3 (mesh {:.6g} mm3, {:+.3f}%)\n", v, mesh_volume_mm3,
+        mesh_volume_mm3 != 0.0 ? 100.0 * (v - mesh_volume_mm3) / mesh_volume_mm3 : 0.0);
+    put(out, "planning time   {:.3f} s\n", planned.seconds);
+    return fmt::to_string(out);
+}
+
+}  // namespace maxslice::pipeline

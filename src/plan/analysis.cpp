@@ -1,0 +1,188 @@
+#include "maxslice/plan/analysis.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "maxslice/core/units.hpp"
+#include "maxslice/geom2d/wire_tree.hpp"
+
+namespace maxslice::plan {
+namespace {
+
+using geom2d::Path2;
+using geom2d::Paths2;
+using geom2d::Point2;
+
+// The contact line between a piece and L is found within this distance (um) beyond the
+// self-supporting allowance: the piece's boundary and L's lie that far apart at most after
+// the integer offsets' rounding.
+constexpr std::int64_t kContactSlackUm = 20;
+// Half the side of the squares that cut a piece into quadrants (um): far beyond any part.
+constexpr std::int64_t kQuadrantUm = geom2d::kMaxCoordinateUm / 4;
+
+std::unexpected<core::Error> invalid(const std::string& what) {
+    return core::fail(core::ErrorCode::kInvalidInput, what, "neighbour analysis");
+}
+
+core::Vec3d to_3d(const slice::PlaneFrame& f, geom2d::Centroid2 c) {
+    return f.origin + f.u * (c.x / core::kMicronsPerMm) + f.v * (c.y / core::kMicronsPerMm);
+}
+
+// The region's loops moved from one plane to another along the other's normal (orthogonal
+// projection onto it).
+Paths2 project(const Paths2& region, const slice::PlaneFrame& from, const slice::PlaneFrame& to) {
+    Paths2 out;
+    out.reserve(region.size());
+    for (const Path2& path : region) {
+        Path2& q = out.emplace_back();
+        q.reserve(path.size());
+        for (const Point2& p : path) q.push_back(to.to_2d(from.to_3d(p)));
+    }
+    return out;
+}
+
+// The pieces of a region: each outer wire with its holes.
+std::vector<Paths2> pieces_of(const Paths2& region) {
+    const geom2d::WireTree tree = geom2d::build_wire_tree(region, geom2d::FillRule::kPositive);
+    std::vector<Paths2> out;
+    for (const geom2d::WireNode& node : tree.nodes) {
+        if (node.is_hole) continue;
+        Paths2& piece = out.emplace_back();
+        piece.push_back(node.wire);
+        for (const int c : node.children) {
+            piece.push_back(tree.nodes[static_cast<std::size_t>(c)].wire);
+        }
+    }
+    return out;
+}
+
+// The four quadrants of a piece about point c, along the frame's axes.
+std::vector<Paths2> quadrants(const Paths2& piece, geom2d::Centroid2 c) {
+    const Point2 o{std::llround(c.x), std::llround(c.y)};
+    std::vector<Paths2> out;
+    for (const auto [sx, sy] : {std::pair{1, 1}, {-1, 1}, {-1, -1}, {1, -1}}) {
+        const std::int64_t x1 = o.x + sx * kQuadrantUm, y1 = o.y + sy * kQuadrantUm;
+        Path2 square{{std::min(o.x, x1), std::min(o.y, y1)},
+                     {std::max(o.x, x1), std::min(o.y, y1)},
+                     {std::max(o.x, x1), std::max(o.y, y1)},
+                     {std::min(o.x, x1), std::max(o.y, y1)}};
+        for (Paths2& q : pieces_of(geom2d::intersection_of(piece, {square}))) {
+            out.push_back(std::move(q));
+        }
+    }
+    return out;
+}
+
+}  // namespace
+
+double angle_deg(const core::Vec3d& a, const core::Vec3d& b) {
+    const double na = core::norm(a), nb = core::norm(b);
+    if (na <= 0.0 || nb <= 0.0) return 0.0;
+    const double c = std::clamp(core::dot(a, b) / (na * nb), -1.0, 1.0);
+    return std::acos(c) * 180.0 / std::numbers::pi;
+}
+
+core::Result<NeighbourAnalysis> analyse_neighbours(const Paths2& lower,
+                                                   const slice::PlaneFrame& lower_plane,
+                                                   const Paths2& upper,
+                                                   const slice::PlaneFrame& upper_plane,
+                                                   const AnalysisSettings& s) {
+    if (!(s.track_width_mm > 0.0) || !std::isfinite(s.track_width_mm)) {
+        return invalid("track_width_mm must be a positive number of mm");
+    }
+    if (!(s.self_supporting_deg >= 0.0) || !(s.self_supporting_deg < 90.0)) {
+        return invalid("the self-supporting angle must be at least 0 and below 90 degrees");
+    }
+    if (!(s.min_piece_area_mm2 >= 0.0) || !std::isfinite(s.min_piece_area_mm2)) {
+        return invalid("min_piece_area_mm2 must be a non-negative number");
+    }
+    NeighbourAnalysis out;
+    const Paths2 u = project(upper, upper_plane, lower_plane);
+    if (geom2d::signed_area_mm2(u) <= 0.0) return out;  // nothing above: carried
+
+    // h: the distance between the planes along N_b, at U's centroid.
+    const geom2d::Centroid2 uc = geom2d::centroid_um(upper);
+    const double h = lower_plane.height(to_3d(upper_plane, uc));
+    const auto allowance =
+        core::mm_to_um(std::max(0.0, h) * std::tan(s.self_supporting_deg * std::numbers::pi / 180));
+    const Paths2 grown = allowance > 0 ? geom2d::offset_of(lower, allowance) : lower;
+    const Paths2 raw = geom2d::difference_of(u, grown);
+    if (raw.empty()) return out;
+
+    // Slivers narrower than a track: a morphological opening by half a track.
+    const auto half = core::mm_to_um(s.track_width_mm / 2);
+    const Paths2 opened =
+        geom2d::intersection_of(geom2d::offset_of(geom2d::offset_of(raw, -half), half), raw);
+
+    const bool lower_empty = geom2d::signed_area_mm2(lower) <= 0.0;
+    std::vector<Paths2> pieces;
+    for (Paths2& piece : pieces_of(opened)) {
+        if (geom2d::signed_area_mm2(piece) < s.min_piece_area_mm2) continue;
+        const geom2d::Centroid2 c = geom2d::centroid_um(piece);
+        const Point2 ci{std::llround(c.x), std::llround(c.y)};
+        if (!lower_empty && geom2d::locate_point(grown, ci) != geom2d::Containment::kOutside) {
+            for (Paths2& q : quadrants(piece, c)) {
+                if (geom2d::signed_area_mm2(q) >= s.min_piece_area_mm2) pieces.push_back(q);
+            }
+        } else {
+            pieces.push_back(std::move(piece));
+        }
+    }
+    if (pieces.empty()) return out;
+
+    bool any_touching = false;
+    for (Paths2& piece : pieces) {
+        OverhangPiece p;
+        p.area_mm2 = geom2d::signed_area_mm2(piece);
+        const geom2d::Centroid2 c = geom2d::centroid_um(piece);
+        const core::Vec3d c_low = to_3d(lower_plane, c);
+        // C_i on U's plane: along N_b from L's plane.
+        const double denom = core::dot(lower_plane.normal, upper_plane.normal);
+        const double t = std::abs(denom) > 1e-12
+                             ? core::dot(upper_plane.origin - c_low, upper_plane.normal) / denom
+                             : h;
+        p.C = c_low + lower_plane.normal * t;
+        if (lower_empty) {
+            p.P = c_low;
+            p.touches_lower = false;
+        } else {
+            const geom2d::ClosestPoint cp = geom2d::closest_boundary_point(lower, c);
+            p.P = lower_plane.to_3d(cp.point);
+            const Paths2 contact = geom2d::intersection_of(
+                geom2d::offset_of(piece, allowance + kContactSlackUm), lower);
+            p.touches_lower = !contact.empty();
+            if (p.touches_lower) {
+                std::int64_t x0 = INT64_MAX, y0 = INT64_MAX, x1 = INT64_MIN, y1 = INT64_MIN;
+                for (const Path2& q : contact) {
+                    for (const Point2& pt : q) {
+                        x0 = std::min(x0, pt.x);
+                        y0 = std::min(y0, pt.y);
+                        x1 = std::max(x1, pt.x);
+                        y1 = std::max(y1, pt.y);
+                    }
+                }
+                p.contact_center = to_3d(lower_plane, {0.5 * static_cast<double>(x0 + x1),
+                                                       0.5 * static_cast<double>(y0 + y1)});
+            }
+        }
+        if (!p.touches_lower) p.contact_center = p.P;
+        any_touching = any_touching || p.touches_lower;
+        p.V = p.C - p.P;
+        p.ang_deg = angle_deg(p.V, lower_plane.normal);
+        p.region = std::move(piece);
+        out.pieces.push_back(std::move(p));
+    }
+    std::stable_sort(out.pieces.begin(), out.pieces.end(),
+                     [](const OverhangPiece& a, const OverhangPiece& b) {
+                         if (a.ang_deg != b.ang_deg) return a.ang_deg > b.ang_deg;
+                         return a.area_mm2 > b.area_mm2;
+                     });
+    // dA = U: nothing of U rests on L.
+    const bool u_on_l = !geom2d::intersection_of(u, grown).empty();
+    out.support = u_on_l || any_touching ? Support::kOverhang : Support::kUnrelated;
+    return out;
+}
+
+}  // namespace maxslice::plan

@@ -1,0 +1,417 @@
+#include "maxslice/plan/planner.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <optional>
+#include <queue>
+
+#include "cell.hpp"
+#include "maxslice/core/units.hpp"
+#include "maxslice/slice/slicer.hpp"
+
+namespace maxslice::plan {
+namespace {
+
+using geom2d::Paths2;
+
+// A sideways direction N_s shorter than this (V_i almost along N_b) cannot be normalised.
+constexpr double kMinSidewaysNorm = 1e-6;
+// A first layer rests on a layer of another region when their footprints on its base plane
+// overlap by at least this share of a track width squared.
+constexpr double kContactAreaShare = 0.05;
+
+std::unexpected<core::Error> invalid(const std::string& message, const std::string& context) {
+    return core::fail(core::ErrorCode::kInvalidInput, message, context);
+}
+
+// The lower layer a region's first layer is analysed against (a continuation region's
+// first layer stands on its parent's last layer).
+struct Seed {
+    int layer = -1;
+};
+
+struct RegionJob {
+    int region = 0;
+    Seed seed;
+};
+
+class Planner {
+public:
+    Planner(const mesh::TriangleMesh& mesh, const PlanSettings& settings,
+            const core::Progress* progress)
+        : mesh_(mesh), s_(settings), progress_(progress) {
+        analysis_.track_width_mm = s_.track_width_mm;
+        analysis_.self_supporting_deg = s_.self_supporting_deg;
+        analysis_.min_piece_area_mm2 = s_.min_piece_area_mm2 > 0.0
+                                           ? s_.min_piece_area_mm2
+                                           : s_.track_width_mm * s_.track_width_mm;
+    }
+
+    core::Result<Plan> run(const core::Vec3d& base_direction) {
+        plan_.settings = s_;
+        plan_.base_direction = core::normalized(base_direction);
+        Region base;
+        base.id = 0;
+        base.direction = plan_.base_direction;
+        base.base = slice::base_frame(mesh_, plan_.base_direction);
+        base.reason = "base region: the part stands on the plate along the base direction";
+        plan_.regions.push_back(base);
+        jobs_.push_back({0, {}});
+        while (!jobs_.empty()) {
+            const RegionJob job = jobs_.front();
+            jobs_.pop_front();
+            if (progress_ != nullptr && progress_->cancelled()) {
+                return core::fail(core::ErrorCode::kCancelled, "cancelled", "planning");
+            }
+            if (auto ok = plan_region(job); !ok) return std::unexpected(ok.error());
+            if (progress_ != nullptr) {
+                progress_->report("planning", static_cast<double>(job.region + 1) /
+                                                  static_cast<double>(plan_.regions.size()));
+            }
+        }
+        if (auto ok = build_graph(); !ok) return std::unexpected(ok.error());
+        return std::move(plan_);
+    }
+
+private:
+    // Slices one region and walks up its layers; stops at the first split (the rest goes to
+    // the new regions).
+    core::Result<void> plan_region(RegionJob job) {
+        for (;;) {
+            Region& r = plan_.regions[static_cast<std::size_t>(job.region)];
+            const auto [lo, hi] = slice::extent_along(mesh_, r.base);
+            (void)lo;
+            if (!(hi > 0.0)) return {};
+            const std::vector<slice::LayerSpan> spans = slice::uniform_layers(0.0, hi, s_.layer_mm);
+            auto slices = slice::slice_mesh(mesh_, r.base, spans);
+            if (!slices) return std::unexpected(slices.error());
+            auto outcome = walk(job, *slices);
+            if (!outcome) return std::unexpected(outcome.error());
+            if (!*outcome) return {};  // walked to the top, or split after some layers
+            // Split at the region's first layer: its cell changed, walk it again.
+        }
+    }
+
+    // Walks a region's slices. Returns true when the region must be walked again (its cell
+    // changed before it had any layer), false when done.
+    core::Result<bool> walk(const RegionJob& job, std::vector<slice::Slice>& slices) {
+        const int rid = job.region;
+        int lower = job.seed.layer;  // L: a layer id, or -1
+        for (slice::Slice& s : slices) {
+            Region& r = plan_.regions[static_cast<std::size_t>(rid)];
+            const Paths2 clipped = detail::clip_to_cell(s.wires.paths(), r.cell, s.plane);
+            if (geom2d::signed_area_mm2(clipped) <= 0.0) continue;
+            if (lower >= 0) {
+                const Layer& l = plan_.layers[static_cast<std::size_t>(lower)];
+                auto a = analyse_neighbours(l.wires.paths(), l.plane, clipped, s.plane, analysis_);
+                if (!a) {
+                    return std::unexpected(core::with_context(
+                        a.error(), fmt::format("region {}, height {:.3f} mm", rid, s.span.cut)));
+                }
+                for (const OverhangPiece& p : a->pieces) {
+                    if (p.ang_deg > s_.beta_deg || !p.touches_lower) {
+                        auto again = split(rid, lower, s, p);
+                        if (!again) return std::unexpected(again.error());
+                        return *again;
+                    }
+                }
+                for (const OverhangPiece& p : a->pieces) {
+                    if (p.ang_deg > s_.alpha_deg) record_tilt(rid, lower, s, p);
+                }
+            }
+            Layer layer;
+            layer.id = static_cast<int>(plan_.layers.size());
+            layer.region = rid;
+            layer.index_in_region = static_cast<int>(r.layers.size());
+            layer.plane = s.plane;
+            layer.span = s.span;
+            layer.thickness_min_mm = layer.thickness_max_mm = s.span.thickness();
+            layer.wires = geom2d::build_wire_tree(clipped, geom2d::FillRule::kPositive);
+            layer.area_mm2 = layer.wires.area_mm2();
+            layer.on_plate = rid == 0 && r.layers.empty();
+            r.layers.push_back(layer.id);
+            lower = layer.id;
+            plan_.layers.push_back(std::move(layer));
+        }
+        return false;
+    }
+
+    void record_tilt(int rid, int lower, const slice::Slice& s, const OverhangPiece& p) {
+        Decision d;
+        d.kind = Decision::Kind::kTiltWanted;
+        d.region = rid;
+        d.layer = lower;
+        d.height_mm = s.span.cut;
+        d.piece = p;
+        d.reason = fmt::format(
+            "layer above L{} at {:.3f} mm: overhang piece of {:.1f} mm2 with Ang = {:.1f} deg "
+            "in (alpha {:.0f}, beta {:.0f}]: a tilted layer is wanted; planar layers kept (tilted "
+            "3D layers are not planned yet)",
+            lower, s.span.cut, p.area_mm2, p.ang_deg, s_.alpha_deg, s_.beta_deg);
+        plan_.decisions.push_back(std::move(d));
+    }
+
+    // Splits region rid above its layer `lower` for piece p (METHOD.md section 5). Returns
+    // true when rid had no layer yet: its own cell was narrowed to the near side and it
+    // must be walked again; false when rid ends at `lower` and a continuation region
+    // carries on.
+    core::Result<bool> split(int rid, int lower, const slice::Slice& s, const OverhangPiece& p) {
+        const Region parent = plan_.regions[static_cast<std::size_t>(rid)];
+        const core::Vec3d n = parent.direction;
+        const core::Vec3d sideways = p.V - n * core::dot(p.V, n);
+        const std::string context = fmt::format("region {}, height {:.3f} mm", rid, s.span.cut);
+        if (core::norm(sideways) < kMinSidewaysNorm) {
+            return invalid(fmt::format("an overhang piece of {:.1f} mm2 at ({:.3f}, {:.3f}, "
+                                       "{:.3f}) floats straight above the layer below: no "
+                                       "sideways build direction reaches it",
+                                       p.area_mm2, p.C.x, p.C.y, p.C.z),
+                           context);
+        }
+        if (static_cast<int>(plan_.regions.size()) + 2 > s_.max_regions) {
+            return invalid(fmt::format("the part needs more than {} regions (max_regions); is it "
+                                       "a lattice or a scan with many small overhangs?",
+                                       s_.max_regions),
+                           context);
+        }
+        const core::Vec3d ns = core::normalized(sideways);
+        const Layer& l = plan_.layers[static_cast<std::size_t>(lower)];
+        const HalfSpace above{l.plane.origin + l.plane.normal * (l.span.top - l.span.cut), n};
+        const HalfSpace beyond{p.contact_center, ns};
+        const HalfSpace near{p.contact_center, -ns};
+
+        Region child;
+        child.id = static_cast<int>(plan_.regions.size());
+        child.parent = rid;
+        child.direction = ns;
+        child.base = slice::PlaneFrame::from_normal(p.contact_center, ns);
+        child.cell = parent.cell;
+        child.cell.push_back(above);
+        child.cell.push_back(beyond);
+
+        Decision d;
+        d.kind = p.touches_lower ? Decision::Kind::kSplit : Decision::Kind::kFloating;
+        d.region = rid;
+        d.layer = lower;
+        d.height_mm = s.span.cut;
+        d.piece = p;
+        d.new_region = child.id;
+        d.split_plane = beyond;
+        d.reason = fmt::format(
+            "above layer L{}: overhang piece of {:.1f} mm2 with Ang = {:.1f} deg {}: split plane "
+            "through ({:.3f}, {:.3f}, {:.3f}) with normal ({:.4f}, {:.4f}, {:.4f}); region {} is "
+            "built along it",
+            lower, p.area_mm2, p.ang_deg,
+            p.touches_lower ? fmt::format("> beta {:.0f}", s_.beta_deg)
+                            : std::string("(does not touch the layer below)"),
+            p.contact_center.x, p.contact_center.y, p.contact_center.z, ns.x, ns.y, ns.z, child.id);
+        child.reason = fmt::format("split from region {}: {}", rid, d.reason);
+        plan_.regions.push_back(child);
+        jobs_.push_back({child.id, {}});
+
+        Region& r = plan_.regions[static_cast<std::size_t>(rid)];
+        if (r.layers.empty()) {
+            // The region had not started: it becomes the near side and is walked again.
+            r.cell.push_back(near);
+            d.continuation = rid;
+            plan_.decisions.push_back(std::move(d));
+            return true;
+        }
+        Region cont;
+        cont.id = static_cast<int>(plan_.regions.size());
+        cont.parent = rid;
+        cont.direction = n;
+        cont.base = parent.base.shifted(l.span.top);
+        cont.cell = parent.cell;
+        cont.cell.push_back(above);
+        cont.cell.push_back(near);
+        cont.reason = fmt::format(
+            "carries on along region {}'s direction above layer L{}, on "
+            "the near side of the split plane of region {}",
+            rid, lower, child.id);
+        d.continuation = cont.id;
+        plan_.decisions.push_back(std::move(d));
+        plan_.regions.push_back(cont);
+        jobs_.push_back({cont.id, {lower}});
+        return false;
+    }
+
+    // The hierarchy graph (METHOD.md section 6).
+    core::Result<void> build_graph() {
+        std::vector<Layer>& layers = plan_.layers;
+        const double min_area = kContactAreaShare * s_.track_width_mm * s_.track_width_mm;
+        const auto link = [&](int from, int to) {
+            layers[static_cast<std::size_t>(from)].children.push_back(to);
+            layers[static_cast<std::size_t>(to)].parents.push_back(from);
+        };
+        for (const Region& r : plan_.regions) {
+            if (r.layers.empty()) continue;
+            // Within the region (and from a continuation's seed): overlap of the projection.
+            int below = -1;
+            for (const Decision& d : plan_.decisions) {
+                if (d.continuation == r.id && d.continuation != d.region) below = d.layer;
+            }
+            for (const int id : r.layers) {
+                if (below >= 0 && overlap_mm2(layers[static_cast<std::size_t>(below)],
+                                              layers[static_cast<std::size_t>(id)]) > 0.0) {
+                    link(below, id);
+                }
+                below = id;
+            }
+            // A sideways region's first layer: on the layers of other regions across its base.
+            if (r.parent < 0 ||
+                r.direction == plan_.regions[static_cast<std::size_t>(r.parent)].direction) {
+                continue;
+            }
+            const Layer& first = layers[static_cast<std::size_t>(r.layers.front())];
+            for (const Region& other : plan_.regions) {
+                if (other.id == r.id || descends_from(other.id, r.id)) continue;
+                for (const int q : other.layers) {
+                    if (contact_mm2(layers[static_cast<std::size_t>(q)], first, r) >= min_area) {
+                        link(q, first.id);
+                    }
+                }
+            }
+        }
+        for (Layer& l : layers) {
+            std::sort(l.parents.begin(), l.parents.end());
+            std::sort(l.children.begin(), l.children.end());
+        }
+        if (topological_order(plan_).size() != layers.size()) {
+            return core::fail(core::ErrorCode::kInternal,
+                              "the hierarchy graph has a cycle (a bug in maxslice)", "planning");
+        }
+        return {};
+    }
+
+    bool descends_from(int region, int ancestor) const {
+        for (int r = region; r >= 0; r = plan_.regions[static_cast<std::size_t>(r)].parent) {
+            if (r == ancestor) return true;
+        }
+        return false;
+    }
+
+    // Area (mm2) where upper, projected onto lower's plane, overlaps lower.
+    static double overlap_mm2(const Layer& lower, const Layer& upper) {
+        Paths2 u;
+        for (const geom2d::Path2& path : upper.wires.paths()) {
+            geom2d::Path2& q = u.emplace_back();
+            for (const geom2d::Point2& p : path)
+                q.push_back(lower.plane.to_2d(upper.plane.to_3d(p)));
+        }
+        return geom2d::signed_area_mm2(geom2d::intersection_of(u, lower.wires.paths()));
+    }
+
+    // Area (mm2) where layer q's material just behind the base plane of region r meets the
+    // footprint of r's first layer.
+    double contact_mm2(const Layer& q, const Layer& first, const Region& r) const {
+        const core::Vec3d ns = r.direction;
+        const core::Vec3d s = r.base.origin;
+        const double depth = std::max(s_.layer_mm, q.span.thickness());
+        const HalfSpace strip[] = {{s, -ns}, {s - ns * depth, ns}};
+        const Paths2 near = detail::clip_to_cell(q.wires.paths(), strip, q.plane);
+        if (near.empty()) return 0.0;
+        // q's slab: its section between its bottom and top, seen on r's base plane.
+        geom2d::Paths2 hulls;
+        for (const geom2d::Path2& path : near) {
+            if (geom2d::signed_area_um2(path) <= 0.0) continue;
+            geom2d::Path2 pts;
+            for (const geom2d::Point2& p : path) {
+                for (const double h : {q.span.bottom - q.span.cut, q.span.top - q.span.cut}) {
+                    pts.push_back(first.plane.to_2d(q.plane.to_3d(p, h)));
+                }
+            }
+            geom2d::Path2 hull = geom2d::convex_hull({pts});
+            if (hull.size() >= 3) hulls.push_back(std::move(hull));
+        }
+        if (hulls.empty()) return 0.0;
+        return geom2d::signed_area_mm2(
+            geom2d::intersection_of(geom2d::union_of(hulls), first.wires.paths()));
+    }
+
+    const mesh::TriangleMesh& mesh_;
+    PlanSettings s_;
+    const core::Progress* progress_;
+    AnalysisSettings analysis_;
+    Plan plan_;
+    std::deque<RegionJob> jobs_;
+};
+
+}  // namespace
+
+core::Result<void> validate(const PlanSettings& s) {
+    const std::string ctx = "plan settings";
+    if (!(s.layer_mm > 0.0) || !std::isfinite(s.layer_mm)) {
+        return invalid("layer height must be a positive number of mm", ctx);
+    }
+    if (!(s.track_width_mm > 0.0) || !std::isfinite(s.track_width_mm)) {
+        return invalid("track width must be a positive number of mm", ctx);
+    }
+    if (!(s.self_supporting_deg >= 0.0 && s.self_supporting_deg < 90.0)) {
+        return invalid(fmt::format("self-supporting angle must be in [0, 90) degrees (got {})",
+                                   s.self_supporting_deg),
+                       ctx);
+    }
+    if (!(s.alpha_deg >= 0.0 && s.alpha_deg <= s.beta_deg && s.beta_deg < 180.0)) {
+        return invalid(fmt::format("alpha and beta must satisfy 0 <= alpha <= beta < 180 degrees "
+                                   "(got alpha {}, beta {})",
+                                   s.alpha_deg, s.beta_deg),
+                       ctx);
+    }
+    if (!(s.min_piece_area_mm2 >= 0.0) || !std::isfinite(s.min_piece_area_mm2)) {
+        return invalid("min_piece_area_mm2 must be 0 or more", ctx);
+    }
+    if (s.max_regions < 1) return invalid("max_regions must be at least 1", ctx);
+    return {};
+}
+
+int Plan::split_count() const {
+    return static_cast<int>(
+        std::count_if(decisions.begin(), decisions.end(),
+                      [](const Decision& d) { return d.kind != Decision::Kind::kTiltWanted; }));
+}
+
+int Plan::tilt_wanted_count() const {
+    return static_cast<int>(decisions.size()) - split_count();
+}
+
+double Plan::volume_mm3() const {
+    double v = 0.0;
+    for (const Layer& l : layers) v += l.area_mm2 * 0.5 * (l.thickness_min_mm + l.thickness_max_mm);
+    return v;
+}
+
+core::Result<Plan> plan_part(const mesh::TriangleMesh& mesh, const core::Vec3d& base_direction,
+                             const PlanSettings& settings, const core::Progress* progress) {
+    if (auto ok = validate(settings); !ok) return std::unexpected(ok.error());
+    if (mesh.triangles.empty()) return invalid("the mesh has no triangles", "planning");
+    if (!core::is_finite(base_direction) || core::norm(base_direction) <= 0.0) {
+        return invalid("the base direction must be a non-zero finite vector", "planning");
+    }
+    return Planner(mesh, settings, progress).run(base_direction);
+}
+
+std::vector<int> topological_order(const Plan& plan) {
+    std::vector<int> indegree(plan.layers.size(), 0);
+    for (const Layer& l : plan.layers)
+        indegree[static_cast<std::size_t>(l.id)] = static_cast<int>(l.parents.size());
+    std::priority_queue<int, std::vector<int>, std::greater<>> ready;
+    for (const Layer& l : plan.layers) {
+        if (indegree[static_cast<std::size_t>(l.id)] == 0) ready.push(l.id);
+    }
+    std::vector<int> order;
+    order.reserve(plan.layers.size());
+    while (!ready.empty()) {
+        const int id = ready.top();
+        ready.pop();
+        order.push_back(id);
+        for (const int c : plan.layers[static_cast<std::size_t>(id)].children) {
+            if (--indegree[static_cast<std::size_t>(c)] == 0) ready.push(c);
+        }
+    }
+    return order;
+}
+
+}  // namespace maxslice::plan

@@ -1,0 +1,118 @@
+// `maxslice plan` as a process engineer runs it: on every valid shared part, and its
+// exports (plan JSON with its documented schema, DOT, PLY, SVG).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "cli_runner.hpp"
+
+namespace fs = std::filesystem;
+using maxslice::test::CliRun;
+using maxslice::test::run_cli;
+using maxslice::test::slurp;
+
+namespace {
+
+const fs::path kTestData = MAXSLICE_TESTDATA_DIR;
+const fs::path kSource = MAXSLICE_SOURCE_DIR;
+const fs::path kExample = kSource / "examples/parts/flanged_bushing.stl";
+
+fs::path temp_dir(const std::string& name) {
+    const fs::path d = fs::temp_directory_path() / ("maxslice_plan_test_" + name);
+    fs::remove_all(d);
+    fs::create_directories(d);
+    return d;
+}
+
+// The properties every plan file has (docs/plan-format.md).
+void check_plan_file(const fs::path& file) {
+    const nlohmann::json j = nlohmann::json::parse(slurp(file));
+    EXPECT_EQ(j.at("format"), "maxslice-plan");
+    EXPECT_EQ(j.at("version"), 1);
+    const auto& layers = j.at("layers");
+    const auto& regions = j.at("regions");
+    ASSERT_GE(regions.size(), 1u);
+    EXPECT_EQ(j.at("summary").at("regions"), regions.size());
+    EXPECT_EQ(j.at("summary").at("layers"), layers.size());
+    EXPECT_EQ(j.at("order").size(), layers.size()) << "the hierarchy graph must be acyclic";
+    // The order respects every edge, and parents/children mirror each other.
+    std::vector<std::size_t> rank(layers.size());
+    for (std::size_t i = 0; i < j.at("order").size(); ++i)
+        rank[j.at("order")[i].get<std::size_t>()] = i;
+    std::size_t on_plate = 0;
+    for (const auto& l : layers) {
+        const auto id = l.at("id").get<std::size_t>();
+        for (const auto& c : l.at("children")) EXPECT_LT(rank[id], rank[c.get<std::size_t>()]);
+        if (l.at("on_plate").get<bool>()) ++on_plate;
+        if (!l.at("on_plate").get<bool>()) EXPECT_FALSE(l.at("parents").empty()) << "layer " << id;
+        EXPECT_GE(l.at("thickness_min_mm").get<double>(), 0.0);
+        EXPECT_GT(l.at("area_mm2").get<double>(), 0.0);
+    }
+    EXPECT_EQ(on_plate, 1u);
+    for (const auto& d : j.at("decisions")) EXPECT_FALSE(d.at("reason").get<std::string>().empty());
+}
+
+TEST(PlanCli, ExampleWithEveryExport) {
+    const fs::path dir = temp_dir("example");
+    const CliRun r =
+        run_cli({"plan", kExample.string(), "--plan", (dir / "plan.json").string(), "--dot",
+                 (dir / "graph.dot").string(), "--svg", (dir / "svg").string(), "--mesh-out",
+                 (dir / "regions.ply").string()});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("regions"), std::string::npos);
+    check_plan_file(dir / "plan.json");
+    const std::string dot = slurp(dir / "graph.dot");
+    EXPECT_EQ(dot.rfind("digraph", 0), 0u);
+    EXPECT_NE(dot.find("->"), std::string::npos);
+    const std::string ply = slurp(dir / "regions.ply");
+    EXPECT_EQ(ply.rfind("ply\nformat ascii 1.0\n", 0), 0u);
+    EXPECT_TRUE(fs::exists(dir / "svg" / "region_000.svg"));
+}
+
+TEST(PlanCli, OrientAutoListsItsCandidates) {
+    const fs::path dir = temp_dir("auto");
+    const CliRun r = run_cli(
+        {"plan", kExample.string(), "--orient", "auto", "--plan", (dir / "plan.json").string()});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const nlohmann::json j = nlohmann::json::parse(slurp(dir / "plan.json"));
+    EXPECT_EQ(j.at("orientation").at("mode"), "auto");
+    EXPECT_GE(j.at("orientation").at("candidates").size(), 6u);
+    const int chosen = j.at("orientation").at("chosen");
+    ASSERT_GE(chosen, 0);
+    // The chosen one has the fewest splits.
+    const auto& cands = j.at("orientation").at("candidates");
+    for (const auto& c : cands) {
+        if (c.at("planned").get<bool>()) {
+            EXPECT_LE(cands[static_cast<std::size_t>(chosen)].at("splits").get<int>(),
+                      c.at("splits").get<int>());
+        }
+    }
+}
+
+TEST(PlanCli, BadOptionsExitTwo) {
+    EXPECT_EQ(run_cli({"plan", kExample.string(), "--alpha", "70", "--beta", "60"}).exit_code, 2);
+    EXPECT_EQ(run_cli({"plan", kExample.string(), "--orient", "sideways"}).exit_code, 2);
+    EXPECT_EQ(run_cli({"plan", (kTestData / "no_such_file.stl").string()}).exit_code, 2);
+}
+
+TEST(PlanCli, EverySharedMeshPlans) {
+    const fs::path dir = temp_dir("shared");
+    int planned = 0;
+    for (const auto& e : fs::recursive_directory_iterator(kTestData / "meshes")) {
+        if (!e.is_regular_file()) continue;
+        SCOPED_TRACE(e.path().string());
+        const fs::path out = dir / "plan.json";
+        fs::remove(out);
+        const CliRun r =
+            run_cli({"plan", e.path().string(), "--repair", "--plan", out.string()}, 300);
+        EXPECT_EQ(r.exit_code, 0) << r.err;
+        if (r.exit_code != 0) continue;
+        ++planned;
+        check_plan_file(out);
+    }
+    EXPECT_GE(planned, 20);
+}
+
+}  // namespace

@@ -1,0 +1,102 @@
+#include "maxslice/plan/analysis.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "maxslice/geom2d/wire_tree.hpp"
+
+namespace maxslice::plan {
+namespace {
+
+using geom2d::Path2;
+using geom2d::Paths2;
+
+Path2 rect(double x0, double y0, double x1, double y1) {
+    auto um = [](double mm) { return std::llround(mm * 1000.0); };
+    return {{um(x0), um(y0)}, {um(x1), um(y0)}, {um(x1), um(y1)}, {um(x0), um(y1)}};
+}
+
+const slice::PlaneFrame kLower = slice::PlaneFrame::from_normal({0, 0, 10}, {0, 0, 1});
+const slice::PlaneFrame kUpper = kLower.shifted(0.5);
+
+NeighbourAnalysis analyse(const Paths2& lower, const Paths2& upper) {
+    auto a = analyse_neighbours(lower, kLower, upper, kUpper, AnalysisSettings{});
+    EXPECT_TRUE(a.has_value()) << (a ? "" : a.error().describe());
+    return a ? *a : NeighbourAnalysis{};
+}
+
+TEST(Neighbours, SameSectionIsCarried) {
+    const auto a = analyse({rect(0, 0, 20, 20)}, {rect(0, 0, 20, 20)});
+    EXPECT_EQ(a.support, Support::kCarried);
+    EXPECT_TRUE(a.pieces.empty());
+    // A shift within h tan(phi_self) = 0.18 mm, and smaller sections, are carried too.
+    EXPECT_TRUE(analyse({rect(0, 0, 20, 20)}, {rect(0.15, 0, 20.15, 20)}).pieces.empty());
+    EXPECT_TRUE(analyse({rect(0, 0, 20, 20)}, {rect(5, 5, 15, 15)}).pieces.empty());
+}
+
+TEST(Neighbours, SliversNarrowerThanATrackAreIgnored) {
+    // A 45 degree wall moves out by h = 0.5 mm per layer; a 2 mm ledge is still narrower
+    // than the 2.5 mm track.
+    EXPECT_TRUE(analyse({rect(0, 0, 20, 20)}, {rect(0, 0, 20.5, 20)}).pieces.empty());
+    EXPECT_TRUE(analyse({rect(0, 0, 20, 20)}, {rect(0, 0, 22, 20)}).pieces.empty());
+}
+
+TEST(Neighbours, AShelfIsOneOverhangPieceWithItsQuantities) {
+    // L: 20 x 20; U: L plus a 10 mm shelf along +x, 8 mm wide.
+    const Paths2 upper = geom2d::union_of({rect(0, 0, 20, 20), rect(20, 6, 30, 14)});
+    const auto a = analyse({rect(0, 0, 20, 20)}, upper);
+    EXPECT_EQ(a.support, Support::kOverhang);
+    ASSERT_EQ(a.pieces.size(), 1u);
+    const OverhangPiece& p = a.pieces.front();
+    // dA: the shelf minus the 0.18 mm allowance.
+    const double allowance = 0.5 * std::tan(20.0 * std::numbers::pi / 180.0);
+    EXPECT_NEAR(p.area_mm2, (10.0 - allowance) * 8.0, 0.05);
+    EXPECT_NEAR(p.C.x, 20.0 + allowance + (10.0 - allowance) / 2, 0.01);
+    EXPECT_NEAR(p.C.y, 10.0, 0.01);
+    EXPECT_NEAR(p.C.z, 10.5, 1e-9);  // on U's plane
+    EXPECT_NEAR(p.P.x, 20.0, 0.01);  // on L's edge
+    EXPECT_NEAR(p.P.z, 10.0, 1e-9);
+    EXPECT_NEAR(p.ang_deg, std::atan2(p.C.x - 20.0, 0.5) * 180.0 / std::numbers::pi, 0.1);
+    EXPECT_GT(p.ang_deg, 80.0);
+    EXPECT_TRUE(p.touches_lower);
+    // The contact line is the shelf's root: x = 20, y in [6, 14].
+    EXPECT_NEAR(p.contact_center.x, 20.0, 0.05);
+    EXPECT_NEAR(p.contact_center.y, 10.0, 0.05);
+}
+
+TEST(Neighbours, ASeparateIslandIsUnrelated) {
+    const auto a = analyse({rect(0, 0, 20, 20)}, {rect(40, 0, 50, 10)});
+    EXPECT_EQ(a.support, Support::kUnrelated);
+    ASSERT_EQ(a.pieces.size(), 1u);
+    EXPECT_FALSE(a.pieces.front().touches_lower);
+    EXPECT_GT(a.pieces.front().ang_deg, 80.0);
+}
+
+TEST(Neighbours, ARingAllRoundIsCutIntoFourWays) {
+    // A mushroom: a 10 x 10 stem under a 40 x 40 cap: the overhang's centroid lies inside
+    // the stem, so it is cut into quadrants, each pointing out its own way.
+    const auto a = analyse({rect(15, 15, 25, 25)}, {rect(0, 0, 40, 40)});
+    EXPECT_EQ(a.support, Support::kOverhang);
+    ASSERT_EQ(a.pieces.size(), 4u);
+    for (const OverhangPiece& p : a.pieces) {
+        EXPECT_GT(p.ang_deg, 80.0);
+        // V points out from the stem.
+        EXPECT_GT((p.C.x - 20.0) * p.V.x + (p.C.y - 20.0) * p.V.y, 0.0);
+    }
+}
+
+TEST(Neighbours, BadSettingsAreRefused) {
+    AnalysisSettings s;
+    s.track_width_mm = 0;
+    EXPECT_FALSE(analyse_neighbours({}, kLower, {}, kUpper, s).has_value());
+    s = {};
+    s.self_supporting_deg = 95;
+    EXPECT_FALSE(analyse_neighbours({}, kLower, {}, kUpper, s).has_value());
+    EXPECT_NEAR(angle_deg({1, 0, 0}, {0, 0, 1}), 90.0, 1e-12);
+    EXPECT_EQ(angle_deg({0, 0, 0}, {0, 0, 1}), 0.0);
+}
+
+}  // namespace
+}  // namespace maxslice::plan
