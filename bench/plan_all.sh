@@ -26,8 +26,8 @@ echo "# maxslice plan on the shared parts  ($(date -u '+%Y-%m-%d %H:%M UTC'), co
 echo
 echo "machine: $(nproc) cores; options: --repair $*; default profile (2.5 mm track, 0.5 mm layers, phi_self 20 deg, alpha 30, beta 60)"
 echo
-echo "| part | triangles | exit | regions | splits | tilts wanted | layers | plan / mesh volume | planning s | wall s |"
-echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+echo "| part | triangles | exit | regions | splits | tilts wanted | layers | unsupported layers | plan / mesh volume | planning s | wall s |"
+echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
 { find "$data/meshes" -type f | sort; echo "$data/large/Spiral_lattice_cone_2_occt.stl"; } | while read -r f; do
     [ -f "$f" ] || continue
     rel=${f#"$data/"}
@@ -39,7 +39,7 @@ echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
     wall=$(awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.2f", b - a }')
     if [ "$rc" != 0 ]; then
         msg=$(grep -m1 "error" "$work/err" | sed 's/|/\\|/g' | cut -c1-120)
-        echo "| $rel | ${tris:--} | $rc | - | - | - | - | $msg | - | $wall |"
+        echo "| $rel | ${tris:--} | $rc | - | - | - | - | - | $msg | - | $wall |"
         continue
     fi
     awk -v rel="$rel" -v tris="${tris:--}" -v wall="$wall" '
@@ -47,7 +47,8 @@ echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
         /^splits/ { splits = $2 }
         /^tilts wanted/ { tilts = $3 }
         /^layers/ { layers = $2 }
+        /^unsupported/ { uns = $2 }
         /^plan volume/ { vol = $NF; sub(/\)$/, "", vol) }
         /^planning time/ { t = $3 }
-        END { printf "| %s | %s | 0 | %s | %s | %s | %s | %s | %s | %s |\n", rel, tris, regions, splits, tilts, layers, vol, t, wall }' "$work/out"
+        END { printf "| %s | %s | 0 | %s | %s | %s | %s | %d | %s | %s | %s |\n", rel, tris, regions, splits, tilts, layers, uns, vol, t, wall }' "$work/out"
 done

@@ -211,7 +211,7 @@ std::string plan_json(const PlannedPart& planned, const PreparedPart& part) {
     }
     j["orientation"] = std::move(orient);
     j["summary"] = {{"regions", p.regions.size()},       {"layers", p.layers.size()},
-                    {"splits", p.split_count()},         {"tilts_wanted", p.tilt_wanted_count()},
+                    {"splits", p.split_count()},         {"tilts_wanted", p.tilt_wanted_count()}, {"unsupported_layers", p.unsupported_layers.size()},
                     {"plan_volume_mm3", p.volume_mm3()}, {"seconds", planned.seconds}};
     ordered_json regions = ordered_json::array();
     for (const plan::Region& r : p.regions) {
@@ -275,6 +275,7 @@ std::string plan_json(const PlannedPart& planned, const PreparedPart& part) {
         decisions.push_back(std::move(dj));
     }
     j["decisions"] = std::move(decisions);
+    j["unsupported_layers"] = p.unsupported_layers;
     j["order"] = plan::topological_order(p);
     return j.dump(1) + "\n";
 }
@@ -425,6 +426,15 @@ std::string plan_summary(const PlannedPart& planned, double mesh_volume_mm3) {
         if (d.kind != plan::Decision::Kind::kTiltWanted) put(out, "  {}\n", d.reason);
     }
     put(out, "layers          {}\n", p.layers.size());
+    if (!p.unsupported_layers.empty()) {
+        const plan::Layer& l = p.layers[static_cast<std::size_t>(p.unsupported_layers.front())];
+        const core::Vec3d at = l.plane.origin;
+        put(out,
+            "unsupported     {} layers rest on nothing (a body floating free of the rest, or "
+            "material reached across a gap), first: layer {} of region {} near ({:.3f}, {:.3f}, "
+            "{:.3f}); they need support or another base (--orient auto)\n",
+            p.unsupported_layers.size(), l.id, l.region, at.x, at.y, at.z);
+    }
     const double v = p.volume_mm3();
     put(out, "plan volume     {:.6g} mm3 (mesh {:.6g} mm3, {:+.3f}%)\n", v, mesh_volume_mm3,
         mesh_volume_mm3 != 0.0 ? 100.0 * (v - mesh_volume_mm3) / mesh_volume_mm3 : 0.0);

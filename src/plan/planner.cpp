@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <numbers>
 #include <optional>
 #include <queue>
 
@@ -269,7 +270,11 @@ private:
             for (const Region& other : plan_.regions) {
                 if (other.id == r.id || descends_from(other.id, r.id)) continue;
                 for (const int q : other.layers) {
-                    if (contact_mm2(layers[static_cast<std::size_t>(q)], first, r) >= min_area) {
+                    // Two first layers may touch each other across both base planes (sideways
+                    // regions meeting at a corner): the edge that would close a cycle is left
+                    // out, so the earlier-made one goes first and the graph stays acyclic.
+                    if (contact_mm2(layers[static_cast<std::size_t>(q)], first, r) >= min_area &&
+                        !reaches(first.id, q)) {
                         link(q, first.id);
                     }
                 }
@@ -278,12 +283,28 @@ private:
         for (Layer& l : layers) {
             std::sort(l.parents.begin(), l.parents.end());
             std::sort(l.children.begin(), l.children.end());
+            if (l.parents.empty() && !l.on_plate) plan_.unsupported_layers.push_back(l.id);
         }
         if (topological_order(plan_).size() != layers.size()) {
             return core::fail(core::ErrorCode::kInternal,
                               "the hierarchy graph has a cycle (a bug in maxslice)", "planning");
         }
         return {};
+    }
+
+    // Whether `to` can be reached from `from` along the edges made so far.
+    bool reaches(int from, int to) const {
+        std::vector<char> seen(plan_.layers.size(), 0);
+        std::vector<int> stack{from};
+        while (!stack.empty()) {
+            const int id = stack.back();
+            stack.pop_back();
+            if (id == to) return true;
+            if (seen[static_cast<std::size_t>(id)] != 0) continue;
+            seen[static_cast<std::size_t>(id)] = 1;
+            for (const int c : plan_.layers[static_cast<std::size_t>(id)].children) stack.push_back(c);
+        }
+        return false;
     }
 
     bool descends_from(int region, int ancestor) const {
@@ -294,14 +315,21 @@ private:
     }
 
     // Area (mm2) where upper, projected onto lower's plane, overlaps lower.
-    static double overlap_mm2(const Layer& lower, const Layer& upper) {
+    // Area (mm2) where upper, projected onto lower's plane, overlaps lower grown by the
+    // self-supporting allowance and a track: what the analysis calls carried (slivers
+    // narrower than a track included) rests on lower.
+    double overlap_mm2(const Layer& lower, const Layer& upper) const {
         Paths2 u;
         for (const geom2d::Path2& path : upper.wires.paths()) {
             geom2d::Path2& q = u.emplace_back();
             for (const geom2d::Point2& p : path)
                 q.push_back(lower.plane.to_2d(upper.plane.to_3d(p)));
         }
-        return geom2d::signed_area_mm2(geom2d::intersection_of(u, lower.wires.paths()));
+        const double h = std::max(0.0, lower.plane.height(upper.plane.origin));
+        const auto grow = core::mm_to_um(
+            h * std::tan(s_.self_supporting_deg * std::numbers::pi / 180.0) + s_.track_width_mm);
+        return geom2d::signed_area_mm2(
+            geom2d::intersection_of(u, geom2d::offset_of(lower.wires.paths(), grow)));
     }
 
     // Area (mm2) where layer q's material just behind the base plane of region r meets the

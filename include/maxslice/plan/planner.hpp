@@ -93,6 +93,10 @@ struct Plan {
     std::vector<Region> regions;
     std::vector<Layer> layers;  ///< ids are indices; regions' layers are contiguous
     std::vector<Decision> decisions;
+    /// Layers that rest on nothing: not on the plate and without parents (a body floating
+    /// free of the rest of the part, material reached only through a gap). They cannot be
+    /// built without support from this base; the summary and the plan file list them.
+    std::vector<int> unsupported_layers;
 
     [[nodiscard]] int split_count() const;
     [[nodiscard]] int tilt_wanted_count() const;
