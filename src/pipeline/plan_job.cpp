@@ -210,9 +210,13 @@ std::string plan_json(const PlannedPart& planned, const PreparedPart& part) {
         orient["rule"] = "fewest splits, then fewest tilts wanted, then the first tried";
     }
     j["orientation"] = std::move(orient);
-    j["summary"] = {{"regions", p.regions.size()},       {"layers", p.layers.size()},
-                    {"splits", p.split_count()},         {"tilts_wanted", p.tilt_wanted_count()}, {"unsupported_layers", p.unsupported_layers.size()},
-                    {"plan_volume_mm3", p.volume_mm3()}, {"seconds", planned.seconds}};
+    j["summary"] = {{"regions", p.regions.size()},
+                    {"layers", p.layers.size()},
+                    {"splits", p.split_count()},
+                    {"tilts_wanted", p.tilt_wanted_count()},
+                    {"unsupported_layers", p.unsupported_layers.size()},
+                    {"plan_volume_mm3", p.volume_mm3()},
+                    {"seconds", planned.seconds}};
     ordered_json regions = ordered_json::array();
     for (const plan::Region& r : p.regions) {
         ordered_json cell = ordered_json::array();

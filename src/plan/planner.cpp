@@ -49,6 +49,8 @@ public:
         analysis_.min_piece_area_mm2 = s_.min_piece_area_mm2 > 0.0
                                            ? s_.min_piece_area_mm2
                                            : s_.track_width_mm * s_.track_width_mm;
+        look_back_ =
+            std::max(1, static_cast<int>(std::ceil(s_.track_width_mm / s_.layer_mm - 1e-9)));
     }
 
     core::Result<Plan> run(const core::Vec3d& base_direction) {
@@ -106,21 +108,38 @@ private:
             const Paths2 clipped = detail::clip_to_cell(s.wires.paths(), r.cell, s.plane);
             if (geom2d::signed_area_mm2(clipped) <= 0.0) continue;
             if (lower >= 0) {
-                const Layer& l = plan_.layers[static_cast<std::size_t>(lower)];
-                auto a = analyse_neighbours(l.wires.paths(), l.plane, clipped, s.plane, analysis_);
-                if (!a) {
-                    return std::unexpected(core::with_context(
-                        a.error(), fmt::format("region {}, height {:.3f} mm", rid, s.span.cut)));
-                }
-                for (const OverhangPiece& p : a->pieces) {
-                    if (p.ang_deg > s_.beta_deg || !p.touches_lower) {
-                        auto again = split(rid, lower, s, p);
-                        if (!again) return std::unexpected(again.error());
-                        return *again;
+                // U against L, then against the layer a track's height below (look-back):
+                // an overhang that grows by less than a track per layer (the underside of a
+                // horizontal cylinder, a shallow shelf) is all slivers layer by layer, but a
+                // piece wider than a track over that height. Splits happen at the lower of
+                // the two; the layers in between go to the new regions.
+                std::vector<int> refs{lower};
+                const Region& rr = plan_.regions[static_cast<std::size_t>(rid)];
+                const auto k = static_cast<std::size_t>(look_back_);
+                if (k > 1 && rr.layers.size() >= k) refs.push_back(rr.layers[rr.layers.size() - k]);
+                for (const int ref : refs) {
+                    const Layer& l = plan_.layers[static_cast<std::size_t>(ref)];
+                    auto a =
+                        analyse_neighbours(l.wires.paths(), l.plane, clipped, s.plane, analysis_);
+                    if (!a) {
+                        return std::unexpected(core::with_context(
+                            a.error(),
+                            fmt::format("region {}, height {:.3f} mm", rid, s.span.cut)));
                     }
-                }
-                for (const OverhangPiece& p : a->pieces) {
-                    if (p.ang_deg > s_.alpha_deg) record_tilt(rid, lower, s, p);
+                    for (const OverhangPiece& p : a->pieces) {
+                        if (p.ang_deg > s_.beta_deg || !p.touches_lower) {
+                            roll_back(rid, ref);
+                            auto again = split(rid, ref, s, p);
+                            if (!again) return std::unexpected(again.error());
+                            return *again;
+                        }
+                    }
+                    for (const OverhangPiece& p : a->pieces) {
+                        if (p.ang_deg > s_.alpha_deg) {
+                            record_tilt(rid, ref, s, p);
+                            break;
+                        }
+                    }
                 }
             }
             Layer layer;
@@ -138,6 +157,19 @@ private:
             plan_.layers.push_back(std::move(layer));
         }
         return false;
+    }
+
+    // Removes region rid's layers above layer `keep` (the last ones made), and the tilt
+    // decisions taken for them.
+    void roll_back(int rid, int keep) {
+        Region& r = plan_.regions[static_cast<std::size_t>(rid)];
+        while (!r.layers.empty() && r.layers.back() > keep) {
+            r.layers.pop_back();
+            plan_.layers.pop_back();
+        }
+        std::erase_if(plan_.decisions, [&](const Decision& d) {
+            return d.kind == Decision::Kind::kTiltWanted && d.region == rid && d.layer > keep;
+        });
     }
 
     void record_tilt(int rid, int lower, const slice::Slice& s, const OverhangPiece& p) {
@@ -302,7 +334,8 @@ private:
             if (id == to) return true;
             if (seen[static_cast<std::size_t>(id)] != 0) continue;
             seen[static_cast<std::size_t>(id)] = 1;
-            for (const int c : plan_.layers[static_cast<std::size_t>(id)].children) stack.push_back(c);
+            for (const int c : plan_.layers[static_cast<std::size_t>(id)].children)
+                stack.push_back(c);
         }
         return false;
     }
@@ -363,6 +396,7 @@ private:
     PlanSettings s_;
     const core::Progress* progress_;
     AnalysisSettings analysis_;
+    int look_back_ = 1;  // layers in a track's height: the look-back distance
     Plan plan_;
     std::deque<RegionJob> jobs_;
 };

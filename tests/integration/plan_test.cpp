@@ -50,8 +50,10 @@ void check_plan_file(const fs::path& file) {
         for (const auto& c : l.at("children")) EXPECT_LT(rank[id], rank[c.get<std::size_t>()]);
         if (l.at("on_plate").get<bool>()) ++on_plate;
         // Every layer stands on the plate, on parents, or is reported as resting on nothing.
-        const bool listed = std::find(unsupported.begin(), unsupported.end(), id) != unsupported.end();
-        EXPECT_EQ(!l.at("on_plate").get<bool>() && l.at("parents").empty(), listed) << "layer " << id;
+        const bool listed =
+            std::find(unsupported.begin(), unsupported.end(), id) != unsupported.end();
+        EXPECT_EQ(!l.at("on_plate").get<bool>() && l.at("parents").empty(), listed)
+            << "layer " << id;
         EXPECT_GE(l.at("thickness_min_mm").get<double>(), 0.0);
         EXPECT_GT(l.at("area_mm2").get<double>(), 0.0);
     }

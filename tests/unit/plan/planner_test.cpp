@@ -10,6 +10,7 @@
 #include "maxslice/geom2d/wire_tree.hpp"
 #include "maxslice/mesh/triangle_mesh.hpp"
 #include "support/fixtures.hpp"
+#include "support/planner_fixtures.hpp"
 
 namespace maxslice::plan {
 namespace {
@@ -175,6 +176,95 @@ TEST(Planner, TShapeSplitsOncePerArmAlongItsAxis) {
     expect_graph_is_sound(p);
     expect_support_free(p);
     expect_volume(p, test::t_shape_volume(t));
+}
+
+// ---- The fixtures of tests/support/planner_fixtures.hpp ---------------------------------
+
+int regions_along(const Plan& p, const Vec3d& d) {
+    int n = 0;
+    for (const Region& r : p.regions) n += parallel(r.direction, d) && !r.layers.empty() ? 1 : 0;
+    return n;
+}
+
+void expect_sound(const Plan& p, const test::PlannerFixture& f) {
+    expect_graph_is_sound(p);
+    expect_support_free(p);
+    EXPECT_TRUE(p.unsupported_layers.empty());
+    expect_volume(p, f.volume_mm3);
+}
+
+TEST(PlannerFixtures, PrismAndHoledCylinderAreOneRegionWithoutTilt) {
+    for (const auto& f : {test::vertical_prism(), test::cylinder_with_holes()}) {
+        SCOPED_TRACE(f.name);
+        const Plan p = plan_of(f.mesh);
+        EXPECT_EQ(p.regions.size(), 1u);
+        EXPECT_EQ(p.split_count(), 0);
+        EXPECT_EQ(p.tilt_wanted_count(), 0);
+        expect_sound(p, f);
+    }
+}
+
+TEST(PlannerFixtures, RampAndConeNeedNoSplit) {
+    for (const auto& f : {test::ramp_45(), test::cone()}) {
+        SCOPED_TRACE(f.name);
+        const Plan p = plan_of(f.mesh);
+        EXPECT_EQ(p.split_count(), 0);
+        EXPECT_EQ(p.regions.size(), 1u);
+        expect_sound(p, f);
+    }
+}
+
+TEST(PlannerFixtures, BearingSeatRegionsAndSplitPlane) {
+    const test::BearingSeatSpec spec;
+    const auto f = test::bearing_seat(spec);
+    const Plan p = plan_of(f.mesh);
+    ASSERT_EQ(p.regions.size(), 3u);
+    EXPECT_TRUE(parallel(p.regions[0].direction, {0, 0, 1}));
+    EXPECT_TRUE(parallel(p.regions[1].direction, {1, 0, 0}));
+    EXPECT_TRUE(parallel(p.regions[2].direction, {0, 0, 1}));
+    const Decision& d = p.decisions.front();
+    EXPECT_EQ(d.kind, Decision::Kind::kSplit);
+    EXPECT_NEAR(d.split_plane.point.x, spec.block_length, 0.05);
+    const Layer& first = p.layers[static_cast<std::size_t>(p.regions[1].layers.front())];
+    const Vec3d bottom =
+        first.plane.origin - first.plane.normal * (first.span.cut - first.span.bottom);
+    EXPECT_NEAR(core::dot(bottom - d.split_plane.point, d.split_plane.normal), 0.0, 1e-6);
+    EXPECT_FALSE(first.parents.empty());
+    expect_sound(p, f);
+}
+
+TEST(PlannerFixtures, EveryHorizontalArmIsSplitAndBuiltAlongItsAxis) {
+    struct Case {
+        test::PlannerFixture f;
+        int plus_x, minus_x;
+    };
+    test::ColumnCylinderSpec one_side;
+    one_side.overhang_left = 0;
+    const Case cases[] = {{test::cylinder_on_column(), 1, 1},
+                          {test::cylinder_on_column(one_side), 1, 0},
+                          {test::t_shape_arms(), 1, 1},
+                          {test::l_bracket(), 1, 0}};
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.f.name);
+        const Plan p = plan_of(c.f.mesh);
+        EXPECT_EQ(p.split_count(), c.plus_x + c.minus_x);
+        EXPECT_EQ(regions_along(p, {1, 0, 0}), c.plus_x);
+        EXPECT_EQ(regions_along(p, {-1, 0, 0}), c.minus_x);
+        expect_sound(p, c.f);
+    }
+}
+
+TEST(PlannerFixtures, AutoOrientationAndRotationKeepTheDecisions) {
+    for (const auto& f : {test::bearing_seat(), test::l_bracket(), test::t_shape_arms()}) {
+        SCOPED_TRACE(f.name);
+        const Plan a = plan_of(f.mesh);
+        const Vec3d axis = core::normalized({-2.0, 1.0, 0.5});
+        const Vec3d dir = rotated(mesh::TriangleMesh{{{0, 0, 1}}, {}}, axis, 71.0).vertices[0];
+        const Plan b = plan_of(rotated(f.mesh, axis, 71.0), dir);
+        EXPECT_EQ(a.regions.size(), b.regions.size());
+        EXPECT_EQ(a.split_count(), b.split_count());
+        expect_volume(b, f.volume_mm3);
+    }
 }
 
 TEST(Planner, RotatedPartGivesTheSameDecisions) {
