@@ -332,11 +332,14 @@ int run_plan(const PartOptions& opt, const PlanOptions& po, bool layer_given) {
     ps.plan.layer_mm = profiles->process.layer_height_mm;
     ps.plan.track_width_mm = profiles->process.track_width_mm;
     ps.plan.self_supporting_deg = profiles->process.self_supporting_angle_deg;
+    ps.plan.h_min_mm = std::min(profiles->process.h_min_mm, ps.plan.layer_mm);
+    ps.plan.h_max_mm = std::max(profiles->process.h_max_mm, ps.plan.layer_mm);
     if (po.alpha) ps.plan.alpha_deg = *po.alpha;
     if (po.beta) ps.plan.beta_deg = *po.beta;
     ps.plan.max_regions = po.max_regions;
     if (auto ok = plan::validate(ps.plan); !ok) {
-        return report_error(core::with_context(ok.error(), "--alpha/--beta"));
+        return report_error(
+            core::with_context(ok.error(), "plan settings (profile, --alpha, --beta)"));
     }
     if (po.orient == "auto") {
         ps.orient = pipeline::Orient::kAuto;

@@ -40,6 +40,8 @@ const char* kind_name(plan::Decision::Kind k) {
     switch (k) {
         case plan::Decision::Kind::kSplit: return "split";
         case plan::Decision::Kind::kTiltWanted: return "tilt_wanted";
+        case plan::Decision::Kind::kTilt: return "tilt";
+        case plan::Decision::Kind::kTiltGaveUp: return "tilt_gave_up";
         case plan::Decision::Kind::kFloating: return "split_floating";
     }
     return "unknown";
@@ -186,7 +188,11 @@ std::string plan_json(const PlannedPart& planned, const PreparedPart& part) {
                      {"alpha_deg", s.alpha_deg},
                      {"beta_deg", s.beta_deg},
                      {"min_piece_area_mm2", s.min_piece_area_mm2},
-                     {"max_regions", s.max_regions}};
+                     {"max_regions", s.max_regions},
+                     {"h_min_mm", s.h_min_mm},
+                     {"h_max_mm", s.h_max_mm},
+                     {"tilt_trigger_deg", s.tilt_trigger_deg},
+                     {"max_tilt_tries", s.max_tilt_tries}};
     ordered_json orient;
     orient["mode"] = planned.candidates.empty() ? "given" : "auto";
     orient["base_direction"] = detail::vec_json(p.base_direction);
@@ -250,6 +256,9 @@ std::string plan_json(const PlannedPart& planned, const PreparedPart& part) {
                           {"cut_mm", l.span.cut},
                           {"thickness_min_mm", l.thickness_min_mm},
                           {"thickness_max_mm", l.thickness_max_mm},
+                          {"thickness_mean_mm", l.thickness_mean_mm},
+                          {"tilted", l.tilted},
+                          {"top", frame_json(l.top)},
                           {"area_mm2", l.area_mm2},
                           {"on_plate", l.on_plate},
                           {"parents", l.parents},
@@ -271,7 +280,7 @@ std::string plan_json(const PlannedPart& planned, const PreparedPart& part) {
                           {"ang_deg", d.piece.ang_deg},
                           {"touches_lower", d.piece.touches_lower}}},
                         {"reason", d.reason}};
-        if (d.kind != plan::Decision::Kind::kTiltWanted) {
+        if (d.kind == plan::Decision::Kind::kSplit || d.kind == plan::Decision::Kind::kFloating) {
             dj["new_region"] = d.new_region;
             dj["continuation"] = d.continuation;
             dj["split_plane"] = half_space_json(d.split_plane);
@@ -424,11 +433,19 @@ std::string plan_summary(const PlannedPart& planned, double mesh_volume_mm3) {
             r.layers.size(), r.parent >= 0 ? fmt::format(", from region {}", r.parent) : "");
     }
     put(out, "splits          {}\n", p.split_count());
-    put(out, "tilts wanted    {} (planar layers kept: tilted layers are not planned yet)\n",
-        p.tilt_wanted_count());
     for (const plan::Decision& d : p.decisions) {
-        if (d.kind != plan::Decision::Kind::kTiltWanted) put(out, "  {}\n", d.reason);
+        if (d.kind == plan::Decision::Kind::kSplit || d.kind == plan::Decision::Kind::kFloating) {
+            put(out, "  {}\n", d.reason);
+        }
     }
+    put(out, "tilted layers   {}\n", p.tilted_layer_count());
+    for (const plan::Decision& d : p.decisions) {
+        if (d.kind == plan::Decision::Kind::kTilt || d.kind == plan::Decision::Kind::kTiltGaveUp) {
+            put(out, "  {}\n", d.reason);
+        }
+    }
+    put(out, "tilts wanted    {} (overhangs with alpha < Ang <= beta left planar)\n",
+        p.tilt_wanted_count());
     put(out, "layers          {}\n", p.layers.size());
     if (!p.unsupported_layers.empty()) {
         const plan::Layer& l = p.layers[static_cast<std::size_t>(p.unsupported_layers.front())];

@@ -62,7 +62,7 @@ std::vector<Paths2> pieces_of(const Paths2& region) {
 std::vector<Paths2> quadrants(const Paths2& piece, geom2d::Centroid2 c) {
     const Point2 o{std::llround(c.x), std::llround(c.y)};
     std::vector<Paths2> out;
-    for (const auto [sx, sy] : {std::pair{1, 1}, {-1, 1}, {-1, -1}, {1, -1}}) {
+    for (const auto& [sx, sy] : {std::pair{1, 1}, {-1, 1}, {-1, -1}, {1, -1}}) {
         const std::int64_t x1 = o.x + sx * kQuadrantUm, y1 = o.y + sy * kQuadrantUm;
         Path2 square{{std::min(o.x, x1), std::min(o.y, y1)},
                      {std::max(o.x, x1), std::min(o.y, y1)},

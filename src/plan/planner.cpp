@@ -18,6 +18,25 @@ namespace {
 
 using geom2d::Paths2;
 
+// Tilts smaller than this (rad) are not made.
+constexpr double kMinTiltRad = 0.5 * std::numbers::pi / 180.0;
+// A plan with more layers is refused (a runaway march).
+constexpr std::size_t kMaxLayers = 1'000'000;
+
+// The centroid chain is followed only while sections keep their area within this share of
+// the section a track's height below.
+constexpr double kTiltAreaChange = 0.1;
+
+bool steady_area(double area, double below) {
+    return std::abs(area - below) <= kTiltAreaChange * below;
+}
+
+// The area centroid of a section lifted to 3D (mm).
+core::Vec3d centroid3(const geom2d::Paths2& region, const slice::PlaneFrame& f) {
+    const geom2d::Centroid2 c = geom2d::centroid_um(region);
+    return f.origin + f.u * (c.x / core::kMicronsPerMm) + f.v * (c.y / core::kMicronsPerMm);
+}
+
 // A sideways direction N_s shorter than this (V_i almost along N_b) cannot be normalised.
 constexpr double kMinSidewaysNorm = 1e-6;
 // A first layer rests on a layer of another region when their footprints on its base plane
@@ -113,33 +132,31 @@ private:
                 // horizontal cylinder, a shallow shelf) is all slivers layer by layer, but a
                 // piece wider than a track over that height. Splits happen at the lower of
                 // the two; the layers in between go to the new regions.
-                std::vector<int> refs{lower};
+                auto splits = check_splits(rid, lower, clipped, s);
+                if (!splits) return std::unexpected(splits.error());
+                if (*splits) return **splits;
+            }
+            if (lower >= 0 && s_.tilt_trigger_deg > 0.0) {
+                // The centroid chain over a track's height (METHOD.md section 4).
                 const Region& rr = plan_.regions[static_cast<std::size_t>(rid)];
                 const auto k = static_cast<std::size_t>(look_back_);
-                if (k > 1 && rr.layers.size() >= k) refs.push_back(rr.layers[rr.layers.size() - k]);
-                for (const int ref : refs) {
-                    const Layer& l = plan_.layers[static_cast<std::size_t>(ref)];
-                    auto a =
-                        analyse_neighbours(l.wires.paths(), l.plane, clipped, s.plane, analysis_);
-                    if (!a) {
-                        return std::unexpected(core::with_context(
-                            a.error(),
-                            fmt::format("region {}, height {:.3f} mm", rid, s.span.cut)));
-                    }
-                    for (const OverhangPiece& p : a->pieces) {
-                        if (p.ang_deg > s_.beta_deg || !p.touches_lower) {
-                            roll_back(rid, ref);
-                            auto again = split(rid, ref, s, p);
-                            if (!again) return std::unexpected(again.error());
-                            return *again;
-                        }
-                    }
-                    for (const OverhangPiece& p : a->pieces) {
-                        if (p.ang_deg > s_.alpha_deg) {
-                            record_tilt(rid, ref, s, p);
-                            break;
-                        }
-                    }
+                const int ref = rr.layers.size() >= k ? rr.layers[rr.layers.size() - k] : lower;
+                const Layer& lr = plan_.layers[static_cast<std::size_t>(ref)];
+                const core::Vec3d d =
+                    centroid3(clipped, s.plane) - centroid3(lr.wires.paths(), lr.plane);
+                if (angle_deg(d, lr.plane.normal) > s_.tilt_trigger_deg &&
+                    steady_area(geom2d::signed_area_mm2(clipped), lr.area_mm2)) {
+                    Decision dec;
+                    dec.kind = Decision::Kind::kTilt;
+                    dec.region = rid;
+                    dec.layer = lower;
+                    dec.height_mm = s.span.cut;
+                    dec.reason = fmt::format(
+                        "above layer L{}: the chain of centroids leans {:.1f} deg from the build "
+                        "direction (> {:.0f}): tilted 3D layers follow it from here",
+                        lower, angle_deg(d, lr.plane.normal), s_.tilt_trigger_deg);
+                    plan_.decisions.push_back(std::move(dec));
+                    return march(rid, lower);
                 }
             }
             Layer layer;
@@ -147,8 +164,12 @@ private:
             layer.region = rid;
             layer.index_in_region = static_cast<int>(r.layers.size());
             layer.plane = s.plane;
-            layer.span = s.span;
-            layer.thickness_min_mm = layer.thickness_max_mm = s.span.thickness();
+            // Heights above the region's base (slices of a resumed walk start elsewhere).
+            const double off = r.base.height(s.plane.origin) - s.span.cut;
+            layer.span = {s.span.bottom + off, s.span.top + off, s.span.cut + off};
+            layer.thickness_min_mm = layer.thickness_max_mm = layer.thickness_mean_mm =
+                s.span.thickness();
+            layer.top = s.plane.shifted(s.span.top - s.span.cut);
             layer.wires = geom2d::build_wire_tree(clipped, geom2d::FillRule::kPositive);
             layer.area_mm2 = layer.wires.area_mm2();
             layer.on_plate = rid == 0 && r.layers.empty();
@@ -157,6 +178,190 @@ private:
             plan_.layers.push_back(std::move(layer));
         }
         return false;
+    }
+
+    // One section of the mesh by an arbitrary plane, clipped to region rid's cell.
+    core::Result<Paths2> section(int rid, const slice::PlaneFrame& plane, double thickness) {
+        const slice::LayerSpan span{-thickness / 2, thickness / 2, 0.0};
+        auto slices = slice::slice_mesh(mesh_, plane, std::span(&span, 1));
+        if (!slices) return std::unexpected(slices.error());
+        const Region& r = plan_.regions[static_cast<std::size_t>(rid)];
+        return detail::clip_to_cell(slices->front().wires.paths(), r.cell, slices->front().plane);
+    }
+
+    // Splits for U above `lower` (and above the look-back layer): nullopt when U may be
+    // added, else the walk's result after the split.
+    core::Result<std::optional<bool>> check_splits(int rid, int lower, const Paths2& u,
+                                                   const slice::Slice& s) {
+        std::vector<int> refs{lower};
+        const Region& rr = plan_.regions[static_cast<std::size_t>(rid)];
+        const auto k = static_cast<std::size_t>(look_back_);
+        if (k > 1 && rr.layers.size() >= k) refs.push_back(rr.layers[rr.layers.size() - k]);
+        for (const int ref : refs) {
+            const Layer& l = plan_.layers[static_cast<std::size_t>(ref)];
+            auto a = analyse_neighbours(l.wires.paths(), l.plane, u, s.plane, analysis_);
+            if (!a) {
+                return std::unexpected(core::with_context(
+                    a.error(), fmt::format("region {}, height {:.3f} mm", rid, s.span.cut)));
+            }
+            for (const OverhangPiece& p : a->pieces) {
+                if (p.ang_deg > s_.beta_deg || !p.touches_lower) {
+                    roll_back(rid, ref);
+                    auto again = split(rid, ref, s, p);
+                    if (!again) return std::unexpected(again.error());
+                    return std::optional<bool>(*again);
+                }
+            }
+            for (const OverhangPiece& p : a->pieces) {
+                if (p.ang_deg > s_.alpha_deg) {
+                    record_tilt(rid, ref, s, p);
+                    break;
+                }
+            }
+        }
+        return std::optional<bool>();
+    }
+
+    // Tilted 3D layers (METHOD.md section 4): from layer `lower` up, each layer's top plane
+    // turns towards the chain of centroids by at most what keeps its local thickness in
+    // [h_min, h_max] over the layer below (the per-layer bound atan((h_max - h_min) / W));
+    // a tilt that breaks the range is halved, up to max_tilt_tries times, then dropped for
+    // that layer (recorded). Each plane is cut on its own. Ends at the top of the part or at
+    // a split.
+    core::Result<bool> march(int rid, int lower) {
+        const double h = s_.layer_mm;
+        const auto k = static_cast<std::size_t>(look_back_);
+        for (;;) {
+            const Layer l = plan_.layers[static_cast<std::size_t>(lower)];
+            const core::Vec3d nl = l.top.normal;
+            const slice::PlaneFrame flat_mid = l.top.shifted(h / 2);
+            auto u0 = section(rid, flat_mid, h);
+            if (!u0) return std::unexpected(u0.error());
+            if (geom2d::signed_area_mm2(*u0) <= 0.0) return resume_walk(rid, lower);
+
+            const Region& rr = plan_.regions[static_cast<std::size_t>(rid)];
+            const int ref = rr.layers.size() >= k ? rr.layers[rr.layers.size() - k] : lower;
+            const Layer& lr = plan_.layers[static_cast<std::size_t>(ref)];
+            const core::Vec3d d = centroid3(*u0, flat_mid) - centroid3(lr.wires.paths(), lr.plane);
+            const core::Vec3d cl = centroid3(l.wires.paths(), l.plane);
+            const core::Vec3d c_top = cl - nl * l.top.height(cl);
+            const core::Vec3d g = c_top + nl * h;
+
+            // Points whose thickness matters: L's section on its top plane.
+            std::vector<core::Vec3d> pts;
+            for (const geom2d::Path2& path : l.wires.paths()) {
+                for (const geom2d::Point2& q : path) {
+                    const core::Vec3d x = l.plane.to_3d(q);
+                    pts.push_back(x - nl * l.top.height(x));
+                }
+            }
+            const auto thickness = [&](const core::Vec3d& x, const core::Vec3d& n) {
+                return core::dot(g - x, n) / core::dot(nl, n);
+            };
+            core::Vec3d n_new = nl;
+            const core::Vec3d t_raw = d - nl * core::dot(d, nl);
+            const double want = std::atan2(core::norm(t_raw), core::dot(d, nl));
+            double t_min = h, t_max = h;
+            // Follow the chain while it leans more than half the trigger angle from this
+            // layer's direction and the sections keep their size (a section that grows or
+            // shrinks fast, at a branch or the part's top, moves its centroid sideways
+            // without the part leaning).
+            if (core::norm(t_raw) > 0.0 && want > kMinTiltRad &&
+                want * 180.0 / std::numbers::pi > 0.5 * s_.tilt_trigger_deg &&
+                steady_area(geom2d::signed_area_mm2(*u0), lr.area_mm2)) {
+                const core::Vec3d t = core::normalized(t_raw);
+                double lo = 1e300, hi = -1e300;
+                for (const core::Vec3d& x : pts) {
+                    lo = std::min(lo, core::dot(x, t));
+                    hi = std::max(hi, core::dot(x, t));
+                }
+                const double width = std::max(hi - lo, 1e-3);
+                double delta = std::min(want, std::atan((s_.h_max_mm - s_.h_min_mm) / width));
+                bool ok = false;
+                for (int tries = 0; tries <= s_.max_tilt_tries && !ok; ++tries) {
+                    n_new = core::normalized(nl * std::cos(delta) + t * std::sin(delta));
+                    t_min = 1e300;
+                    t_max = -1e300;
+                    for (const core::Vec3d& x : pts) {
+                        const double tx = thickness(x, n_new);
+                        t_min = std::min(t_min, tx);
+                        t_max = std::max(t_max, tx);
+                    }
+                    ok = t_min >= s_.h_min_mm - 1e-9 && t_max <= s_.h_max_mm + 1e-9;
+                    if (!ok) delta *= 0.5;
+                }
+                if (!ok) {
+                    Decision dec;
+                    dec.kind = Decision::Kind::kTiltGaveUp;
+                    dec.region = rid;
+                    dec.layer = lower;
+                    dec.reason = fmt::format(
+                        "above layer L{}: no tilt towards the centroid chain keeps the thickness "
+                        "in [{}, {}] mm after {} tries: a planar layer",
+                        lower, s_.h_min_mm, s_.h_max_mm, s_.max_tilt_tries);
+                    plan_.decisions.push_back(std::move(dec));
+                    n_new = nl;
+                    t_min = t_max = h;
+                }
+            }
+            const bool tilted = core::dot(n_new, nl) < 1.0 - 1e-12;
+            slice::PlaneFrame top = l.top.shifted(h);
+            slice::PlaneFrame mid = flat_mid;
+            Paths2 u = *u0;
+            if (tilted) {
+                top = slice::PlaneFrame::from_normal(g, n_new);
+                mid =
+                    slice::PlaneFrame::from_normal((c_top + g) * 0.5, core::normalized(nl + n_new));
+                auto ut = section(rid, mid, h);
+                if (!ut) return std::unexpected(ut.error());
+                if (geom2d::signed_area_mm2(*ut) <= 0.0) return resume_walk(rid, lower);
+                u = std::move(*ut);
+            }
+            Region& r = plan_.regions[static_cast<std::size_t>(rid)];
+            const double cut = r.base.height(mid.origin);
+            const slice::Slice s{0, mid, {cut - h / 2, cut + h / 2, cut}, {}, 0, 0};
+            auto splits = check_splits(rid, lower, u, s);
+            if (!splits) return std::unexpected(splits.error());
+            if (*splits) return **splits;
+
+            Layer layer;
+            layer.id = static_cast<int>(plan_.layers.size());
+            layer.region = rid;
+            layer.index_in_region = static_cast<int>(r.layers.size());
+            layer.plane = mid;
+            layer.top = top;
+            layer.tilted = tilted;
+            layer.thickness_min_mm = t_min;
+            layer.thickness_max_mm = t_max;
+            const core::Vec3d cu = centroid3(u, mid);
+            layer.thickness_mean_mm = tilted ? thickness(cu - nl * l.top.height(cu), n_new) : h;
+            layer.span = {cut - layer.thickness_mean_mm / 2, cut + layer.thickness_mean_mm / 2,
+                          cut};
+            layer.wires = geom2d::build_wire_tree(u, geom2d::FillRule::kPositive);
+            layer.area_mm2 = layer.wires.area_mm2();
+            r.layers.push_back(layer.id);
+            lower = layer.id;
+            plan_.layers.push_back(std::move(layer));
+            if (plan_.layers.size() > kMaxLayers) {
+                return invalid(fmt::format("more than {} layers", kMaxLayers),
+                               fmt::format("region {}", rid));
+            }
+        }
+    }
+
+    // A march met an empty section: the part's top, or a gap with more of the part above
+    // (another body, a branch): the region goes on in planar layers from L's top, as a walk
+    // does (empty sections skipped; what comes next is analysed against L).
+    core::Result<bool> resume_walk(int rid, int lower) {
+        const Layer& l = plan_.layers[static_cast<std::size_t>(lower)];
+        const slice::PlaneFrame base = l.top;
+        const auto [lo, hi] = slice::extent_along(mesh_, base);
+        (void)lo;
+        if (!(hi > s_.layer_mm / 2)) return false;
+        auto slices = slice::slice_mesh(mesh_, base, slice::uniform_layers(0.0, hi, s_.layer_mm));
+        if (!slices) return std::unexpected(slices.error());
+        // The first of them is the empty one the march met.
+        return walk({rid, {lower}}, *slices);
     }
 
     // Removes region rid's layers above layer `keep` (the last ones made), and the tilt
@@ -193,7 +398,7 @@ private:
     // carries on.
     core::Result<bool> split(int rid, int lower, const slice::Slice& s, const OverhangPiece& p) {
         const Region parent = plan_.regions[static_cast<std::size_t>(rid)];
-        const core::Vec3d n = parent.direction;
+        const core::Vec3d n = plan_.layers[static_cast<std::size_t>(lower)].top.normal;
         const core::Vec3d sideways = p.V - n * core::dot(p.V, n);
         const std::string context = fmt::format("region {}, height {:.3f} mm", rid, s.span.cut);
         if (core::norm(sideways) < kMinSidewaysNorm) {
@@ -211,7 +416,7 @@ private:
         }
         const core::Vec3d ns = core::normalized(sideways);
         const Layer& l = plan_.layers[static_cast<std::size_t>(lower)];
-        const HalfSpace above{l.plane.origin + l.plane.normal * (l.span.top - l.span.cut), n};
+        const HalfSpace above{l.top.origin, n};
         const HalfSpace beyond{p.contact_center, ns};
         const HalfSpace near{p.contact_center, -ns};
 
@@ -256,7 +461,7 @@ private:
         cont.id = static_cast<int>(plan_.regions.size());
         cont.parent = rid;
         cont.direction = n;
-        cont.base = parent.base.shifted(l.span.top);
+        cont.base = l.top;
         cont.cell = parent.cell;
         cont.cell.push_back(above);
         cont.cell.push_back(near);
@@ -426,22 +631,41 @@ core::Result<void> validate(const PlanSettings& s) {
         return invalid("min_piece_area_mm2 must be 0 or more", ctx);
     }
     if (s.max_regions < 1) return invalid("max_regions must be at least 1", ctx);
+    if (!(s.h_min_mm > 0.0 && s.h_min_mm <= s.layer_mm && s.layer_mm <= s.h_max_mm) ||
+        !std::isfinite(s.h_max_mm)) {
+        return invalid(fmt::format("layer heights must satisfy 0 < h_min <= layer <= h_max (got "
+                                   "{}, {}, {})",
+                                   s.h_min_mm, s.layer_mm, s.h_max_mm),
+                       ctx);
+    }
+    if (!(s.tilt_trigger_deg >= 0.0 && s.tilt_trigger_deg < 90.0)) {
+        return invalid("tilt_trigger_deg must be in [0, 90) degrees", ctx);
+    }
+    if (s.max_tilt_tries < 0) return invalid("max_tilt_tries must be 0 or more", ctx);
     return {};
 }
 
 int Plan::split_count() const {
     return static_cast<int>(
-        std::count_if(decisions.begin(), decisions.end(),
-                      [](const Decision& d) { return d.kind != Decision::Kind::kTiltWanted; }));
+        std::count_if(decisions.begin(), decisions.end(), [](const Decision& d) {
+            return d.kind == Decision::Kind::kSplit || d.kind == Decision::Kind::kFloating;
+        }));
 }
 
 int Plan::tilt_wanted_count() const {
-    return static_cast<int>(decisions.size()) - split_count();
+    return static_cast<int>(
+        std::count_if(decisions.begin(), decisions.end(),
+                      [](const Decision& d) { return d.kind == Decision::Kind::kTiltWanted; }));
+}
+
+int Plan::tilted_layer_count() const {
+    return static_cast<int>(
+        std::count_if(layers.begin(), layers.end(), [](const Layer& l) { return l.tilted; }));
 }
 
 double Plan::volume_mm3() const {
     double v = 0.0;
-    for (const Layer& l : layers) v += l.area_mm2 * 0.5 * (l.thickness_min_mm + l.thickness_max_mm);
+    for (const Layer& l : layers) v += l.area_mm2 * l.thickness_mean_mm;
     return v;
 }
 

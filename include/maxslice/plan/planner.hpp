@@ -25,6 +25,12 @@ struct PlanSettings {
     double beta_deg = 60.0;           ///< Ang_i > beta: turn the direction by 90 degrees (a split)
     double min_piece_area_mm2 = 0.0;  ///< area tolerance; 0 = one track width squared
     int max_regions = 64;             ///< a part needing more regions is refused
+    double h_min_mm = 0.3;            ///< thinnest local thickness of a tilted (wedge) layer
+    double h_max_mm = 0.7;            ///< thickest local thickness of a tilted layer
+    /// Tilted layers start where the chain of section centroids over a track's height
+    /// leans more than this from the build direction (0 = never tilt).
+    double tilt_trigger_deg = 10.0;
+    int max_tilt_tries = 8;  ///< halvings of a tilt that breaks [h_min, h_max] before giving up
 };
 
 /// Checks ranges (positive sizes, 0 <= alpha <= beta < 180, phi_self in [0, 90), ...);
@@ -61,7 +67,10 @@ struct Layer {
     slice::LayerSpan span;          ///< heights above the region's base plane
     double thickness_min_mm = 0.0;  ///< local thickness range (planar layers: equal)
     double thickness_max_mm = 0.0;
-    geom2d::WireTree wires;  ///< the section clipped to the region's cell (plane frame, um)
+    double thickness_mean_mm = 0.0;  ///< mean over the section (at its centroid for a wedge)
+    slice::PlaneFrame top;           ///< the plane the layer's top lies on
+    bool tilted = false;             ///< its top is not parallel to its bottom
+    geom2d::WireTree wires;          ///< the section clipped to the region's cell (plane frame, um)
     double area_mm2 = 0.0;
     std::vector<int> parents;   ///< layers it is deposited directly on
     std::vector<int> children;  ///< layers deposited directly on it
@@ -74,6 +83,8 @@ struct Decision {
         kSplit,       ///< Ang > beta: a new region along N_s from a split plane
         kTiltWanted,  ///< alpha < Ang <= beta: a tilted layer is wanted (see docs)
         kFloating,    ///< a piece that does not touch the layer below: a split towards it
+        kTilt,        ///< the centroid chain leans: tilted 3D layers start here
+        kTiltGaveUp,  ///< no tilt kept the thickness in [h_min, h_max]: a planar layer there
     };
     Kind kind = Kind::kSplit;
     int region = 0;          ///< the region in which the overhang was found
@@ -100,6 +111,7 @@ struct Plan {
 
     [[nodiscard]] int split_count() const;
     [[nodiscard]] int tilt_wanted_count() const;
+    [[nodiscard]] int tilted_layer_count() const;
     /// Sum over layers of area x mean thickness (mm^3).
     [[nodiscard]] double volume_mm3() const;
 };

@@ -69,8 +69,11 @@ void expect_support_free(const Plan& p) {
         geom2d::Paths2 projected;
         for (const int pid : l.parents) {
             const Layer& q = p.layers[static_cast<std::size_t>(pid)];
-            if (!parallel(q.plane.normal, l.plane.normal)) continue;
-            const double h = q.plane.height(l.plane.origin);
+            // Parents of the layer's own direction (tilted layers turn by a few degrees).
+            if (core::dot(q.top.normal, l.top.normal) < std::cos(30.0 * std::numbers::pi / 180)) {
+                continue;
+            }
+            const double h = std::max(l.thickness_max_mm, q.plane.height(l.plane.origin));
             const auto grow =
                 core::mm_to_um(h * std::tan(s.self_supporting_deg * std::numbers::pi / 180));
             for (const auto& w : geom2d::offset_of(q.wires.paths(), grow)) carried.push_back(w);
@@ -200,6 +203,7 @@ TEST(PlannerFixtures, PrismAndHoledCylinderAreOneRegionWithoutTilt) {
         EXPECT_EQ(p.regions.size(), 1u);
         EXPECT_EQ(p.split_count(), 0);
         EXPECT_EQ(p.tilt_wanted_count(), 0);
+        EXPECT_EQ(p.tilted_layer_count(), 0);
         expect_sound(p, f);
     }
 }
@@ -212,6 +216,41 @@ TEST(PlannerFixtures, RampAndConeNeedNoSplit) {
         EXPECT_EQ(p.regions.size(), 1u);
         expect_sound(p, f);
     }
+}
+
+TEST(PlannerFixtures, LeaningColumnGetsTiltedLayersAlongItsSpine) {
+    const test::LeaningColumnSpec spec;
+    const auto f = test::leaning_column(spec);
+    const PlanSettings s = settings();
+    const Plan p = plan_of(f.mesh);
+    EXPECT_EQ(p.split_count(), 0);
+    EXPECT_GT(p.tilted_layer_count(), 20);
+    double largest_turn = 0.0;
+    for (const Layer& l : p.layers) {
+        SCOPED_TRACE("layer " + std::to_string(l.id));
+        // Local thickness in [h_min, h_max] everywhere.
+        EXPECT_GE(l.thickness_min_mm, s.h_min_mm - 1e-9);
+        EXPECT_LE(l.thickness_max_mm, s.h_max_mm + 1e-9);
+        EXPECT_LE(l.thickness_min_mm, l.thickness_mean_mm + 1e-9);
+        EXPECT_GE(l.thickness_max_mm, l.thickness_mean_mm - 1e-9);
+        if (l.parents.empty()) continue;
+        const Layer& below = p.layers[static_cast<std::size_t>(l.parents.front())];
+        largest_turn = std::max(largest_turn, angle_deg(below.top.normal, l.top.normal));
+        // The layers follow the spine: planar until it leans past the tilt trigger, then
+        // within the trigger angle and a little (the chain of centroids over a track's
+        // height lags the spine by about 5 degrees) of the spine's tangent at their height.
+        const double t = std::clamp(l.plane.origin.z / spec.height, 0.0, 1.0);
+        EXPECT_LT(angle_deg(test::leaning_column_axis(spec, t), l.top.normal),
+                  s.tilt_trigger_deg + 2.0);
+    }
+    // The per-layer bound atan((h_max - h_min) / W) for a section W = 2 r wide.
+    const double bound =
+        std::atan((s.h_max_mm - s.h_min_mm) / (2.0 * spec.radius)) * 180.0 / std::numbers::pi;
+    EXPECT_GT(largest_turn, 0.0);
+    EXPECT_LE(largest_turn, bound * 1.05);
+    // The top layer leans with the column.
+    EXPECT_GT(angle_deg(p.layers.back().top.normal, {0, 0, 1}), spec.lean_deg - 10.0);
+    expect_sound(p, f);
 }
 
 TEST(PlannerFixtures, BearingSeatRegionsAndSplitPlane) {
