@@ -133,6 +133,7 @@ struct SliceOptions {
     double cusp = 0.1;
     std::optional<double> min_layer, max_layer;
     std::string svg_dir, contact_sheet, json_file;
+    bool allow_overhangs = false;
 };
 
 // The profiles for a program: the files given, or the built-in reference cell, with the
@@ -222,6 +223,45 @@ int run_slice(const PartOptions& opt, const SliceOptions& so) {
     if (!stack) return report_error(stack.error());
 
     std::optional<pipeline::PlannedProgram> planned;
+    if (program_mode && profiles->machine.kinematics == machine::Kinematics::kXyz) {
+        // A 3-axis machine builds every layer along one direction: refuse a part whose
+        // overhangs need a split (the multi-axis planner's analysis), never deposit on air.
+        plan::PlanSettings ps;
+        ps.layer_mm = profiles->process.layer_height_mm;
+        ps.track_width_mm = profiles->process.track_width_mm;
+        ps.self_supporting_deg = profiles->process.self_supporting_angle_deg;
+        ps.h_min_mm = std::min(profiles->process.h_min_mm, ps.layer_mm);
+        ps.h_max_mm = std::max(profiles->process.h_max_mm, ps.layer_mm);
+        auto check = plan::check_planar(stack->slices, ps);
+        if (!check) return report_error(check.error());
+        if (check->overhangs > 0 && so.allow_overhangs) {
+            std::fprintf(stderr,
+                         "maxslice: warning: --allow-overhangs: overhangs a planar build cannot "
+                         "hold from %.3f mm up are deposited on nothing\n",
+                         check->heights_mm.front());
+        } else if (check->overhangs > 0) {
+            const plan::OverhangPiece& p = check->examples.front();
+            return report_error(
+                {core::ErrorCode::kInvalidInput,
+                 fmt::format("the part needs a multi-axis build: overhangs a planar build cannot "
+                             "hold from {:.3f} mm up ({} of the first {} layers; first: a piece of "
+                             "{:.1f} mm2 at "
+                             "({:.3f}, {:.3f}, {:.3f}) with Ang = {:.1f} deg > beta {:.0f}{}); the "
+                             "machine profile is 3-axis (kinematics xyz), so no program is "
+                             "written. See where it splits: maxslice plan PART --orient auto",
+                             check->heights_mm.front(), check->overhangs, check->checked_up_to,
+                             p.area_mm2, p.C.x, p.C.y, p.C.z, p.ang_deg, ps.beta_deg,
+                             p.touches_lower ? "" : ", floating"),
+                 opt.path});
+        }
+        if (check->tilts_wanted > 0) {
+            std::fprintf(
+                stderr,
+                "maxslice: warning: %d layers overhang by an angle between alpha (%.0f) and "
+                "beta (%.0f) deg: a multi-axis build would tilt them\n",
+                check->tilts_wanted, ps.alpha_deg, ps.beta_deg);
+        }
+    }
     if (program_mode) {
         const std::string name = std::filesystem::path(opt.path).filename().string();
         auto t0 = std::chrono::steady_clock::now();
@@ -425,6 +465,9 @@ int run(int argc, char** argv) {
     slice->add_option("--svg", so.svg_dir, "Write one SVG per layer into this folder");
     slice->add_option("--contact-sheet", so.contact_sheet, "Write all layers into one SVG");
     slice->add_option("--json", so.json_file, "Write the slices' summary as JSON");
+    slice->add_flag("--allow-overhangs", so.allow_overhangs,
+                    "Write a 3-axis program even for a part whose overhangs need a multi-axis "
+                    "build (they are deposited on nothing; for trials)");
 
     PartOptions plan_opt;
     PlanOptions po;

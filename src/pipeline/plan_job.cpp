@@ -220,6 +220,7 @@ std::string plan_json(const PlannedPart& planned, const PreparedPart& part) {
                     {"layers", p.layers.size()},
                     {"splits", p.split_count()},
                     {"tilts_wanted", p.tilt_wanted_count()},
+                    {"tilted_layers", p.tilted_layer_count()},
                     {"unsupported_layers", p.unsupported_layers.size()},
                     {"plan_volume_mm3", p.volume_mm3()},
                     {"seconds", planned.seconds}};

@@ -19,6 +19,9 @@ using geom2d::Point2;
 // self-supporting allowance: the piece's boundary and L's lie that far apart at most after
 // the integer offsets' rounding.
 constexpr std::int64_t kContactSlackUm = 20;
+// Boundaries are simplified to this share of a track before the analysis (0.01: 25 um at a
+// 2.5 mm track; the pieces it decides about are a track wide).
+constexpr double kSimplifyShare = 0.01;
 // Half the side of the squares that cut a piece into quadrants (um): far beyond any part.
 constexpr std::int64_t kQuadrantUm = geom2d::kMaxCoordinateUm / 4;
 
@@ -84,7 +87,7 @@ double angle_deg(const core::Vec3d& a, const core::Vec3d& b) {
     return std::acos(c) * 180.0 / std::numbers::pi;
 }
 
-core::Result<NeighbourAnalysis> analyse_neighbours(const Paths2& lower,
+core::Result<NeighbourAnalysis> analyse_neighbours(const Paths2& lower_in,
                                                    const slice::PlaneFrame& lower_plane,
                                                    const Paths2& upper,
                                                    const slice::PlaneFrame& upper_plane,
@@ -99,7 +102,13 @@ core::Result<NeighbourAnalysis> analyse_neighbours(const Paths2& lower,
         return invalid("min_piece_area_mm2 must be a non-negative number");
     }
     NeighbourAnalysis out;
-    const Paths2 u = project(upper, upper_plane, lower_plane);
+    // Vertices that move a boundary by less than this are dropped first: finely tessellated
+    // round sections would otherwise make every offset resolve thousands of tiny edges.
+    const auto tolerance =
+        std::max<std::int64_t>(1, core::mm_to_um(kSimplifyShare * s.track_width_mm));
+    const Paths2 lower_s = geom2d::simplify(lower_in, tolerance);
+    const Paths2& lower = lower_s;
+    const Paths2 u = geom2d::simplify(project(upper, upper_plane, lower_plane), tolerance);
     if (geom2d::signed_area_mm2(u) <= 0.0) return out;  // nothing above: carried
 
     // h: the distance between the planes along N_b, at U's centroid.

@@ -9,6 +9,8 @@
 #include <optional>
 #include <queue>
 
+#include <tbb/parallel_for.h>
+
 #include "cell.hpp"
 #include "maxslice/core/units.hpp"
 #include "maxslice/slice/slicer.hpp"
@@ -677,6 +679,66 @@ core::Result<Plan> plan_part(const mesh::TriangleMesh& mesh, const core::Vec3d& 
         return invalid("the base direction must be a non-zero finite vector", "planning");
     }
     return Planner(mesh, settings, progress).run(base_direction);
+}
+
+core::Result<PlanarCheck> check_planar(std::span<const slice::Slice> slices,
+                                       const PlanSettings& s) {
+    if (auto ok = validate(s); !ok) return std::unexpected(ok.error());
+    AnalysisSettings a;
+    a.track_width_mm = s.track_width_mm;
+    a.self_supporting_deg = s.self_supporting_deg;
+    a.min_piece_area_mm2 =
+        s.min_piece_area_mm2 > 0.0 ? s.min_piece_area_mm2 : s.track_width_mm * s.track_width_mm;
+    const auto k = static_cast<std::size_t>(
+        std::max(1, static_cast<int>(std::ceil(s.track_width_mm / s.layer_mm - 1e-9))));
+    // Per layer: 0 carried, 1 tilt wanted, 2 overhang; and its first overhang piece. Each
+    // layer is compared with the one a track's height below (or the first layer): a shelf
+    // or a floating piece shows there as well as against the layer right below, and so do
+    // overhangs that grow in slivers. Layers go in chunks, in parallel inside a chunk, and
+    // the check stops after the chunk with the first overhang: a refused part costs only
+    // up to there, and the result does not depend on the thread count.
+    std::vector<int> kind(slices.size(), 0);
+    std::vector<OverhangPiece> first(slices.size());
+    std::vector<std::optional<core::Error>> errors(slices.size());
+    constexpr std::size_t kChunk = 64;
+    PlanarCheck out;
+    for (std::size_t c0 = 1; c0 < slices.size(); c0 += kChunk) {
+        const std::size_t c1 = std::min(slices.size(), c0 + kChunk);
+        tbb::parallel_for(c0, c1, [&](std::size_t i) {
+            const slice::Slice& l = slices[i >= k ? i - k : 0];
+            auto r = analyse_neighbours(l.wires.paths(), l.plane, slices[i].wires.paths(),
+                                        slices[i].plane, a);
+            if (!r) {
+                errors[i] = r.error();
+                return;
+            }
+            for (const OverhangPiece& p : r->pieces) {
+                if (p.ang_deg > s.beta_deg || !p.touches_lower) {
+                    if (kind[i] < 2) first[i] = p;
+                    kind[i] = 2;
+                } else if (p.ang_deg > s.alpha_deg && kind[i] == 0) {
+                    kind[i] = 1;
+                }
+            }
+        });
+        for (std::size_t i = c0; i < c1; ++i) {
+            if (errors[i]) return std::unexpected(*errors[i]);
+            if (kind[i] == 1) ++out.tilts_wanted;
+            if (kind[i] == 2) {
+                ++out.overhangs;
+                if (out.examples.size() < 3) {
+                    out.examples.push_back(first[i]);
+                    out.heights_mm.push_back(slices[i].span.cut);
+                }
+            }
+        }
+        if (out.overhangs > 0) {
+            out.checked_up_to = c1;
+            return out;
+        }
+    }
+    out.checked_up_to = slices.size();
+    return out;
 }
 
 std::vector<int> topological_order(const Plan& plan) {

@@ -8,6 +8,9 @@
 #include <string>
 
 #include "cli_runner.hpp"
+#include "maxslice/io/read_mesh.hpp"
+#include "support/fixtures.hpp"
+#include "support/planner_fixtures.hpp"
 
 namespace fs = std::filesystem;
 using maxslice::test::CliRun;
@@ -96,6 +99,60 @@ TEST(PlanCli, OrientAutoListsItsCandidates) {
                       c.at("splits").get<int>());
         }
     }
+}
+
+// A fixture written as STL for the CLI.
+fs::path fixture_stl(const fs::path& dir, const std::string& name,
+                     const maxslice::mesh::TriangleMesh& mesh) {
+    const fs::path file = dir / (name + ".stl");
+    EXPECT_TRUE(maxslice::io::write_stl_binary(file, mesh).has_value());
+    return file;
+}
+
+TEST(PlanCli, ThreeAxisProgramIsRefusedForAPartThatNeedsASplit) {
+    const fs::path dir = temp_dir("three_axis");
+    const fs::path seat = fixture_stl(dir, "bearing_seat", maxslice::test::bearing_seat().mesh);
+    const fs::path out = dir / "seat.gm";
+    const CliRun refused = run_cli({"slice", seat.string(), "-o", out.string()});
+    EXPECT_EQ(refused.exit_code, 2) << refused.err;
+    EXPECT_NE(refused.err.find("multi-axis build"), std::string::npos) << refused.err;
+    EXPECT_FALSE(fs::exists(out)) << "no program is written for a part that needs more axes";
+    // The same part planned: three regions; forced on 3 axes: a program and a warning.
+    const CliRun planned = run_cli({"plan", seat.string(), "--plan", (dir / "p.json").string()});
+    ASSERT_EQ(planned.exit_code, 0) << planned.err;
+    EXPECT_EQ(nlohmann::json::parse(slurp(dir / "p.json")).at("regions").size(), 3u);
+    const CliRun forced =
+        run_cli({"slice", seat.string(), "-o", out.string(), "--allow-overhangs"});
+    EXPECT_EQ(forced.exit_code, 0) << forced.err;
+    EXPECT_NE(forced.err.find("--allow-overhangs"), std::string::npos);
+    EXPECT_TRUE(fs::exists(out));
+    // A prism needs no split: written without a word.
+    const fs::path prism = fixture_stl(dir, "prism", maxslice::test::vertical_prism().mesh);
+    const CliRun ok = run_cli({"slice", prism.string(), "-o", out.string()});
+    EXPECT_EQ(ok.exit_code, 0) << ok.err;
+    EXPECT_EQ(ok.err.find("multi-axis"), std::string::npos);
+}
+
+TEST(PlanCli, OrientAutoFindsTheSameBuildForATurnedPart) {
+    // The bearing seat turned arbitrarily: --orient auto stands it back on its base (a
+    // largest flat face) and takes the same decisions as the part as modelled.
+    const fs::path dir = temp_dir("turned");
+    const auto seat = maxslice::test::bearing_seat().mesh;
+    const fs::path upright = fixture_stl(dir, "upright", seat);
+    const fs::path turned =
+        fixture_stl(dir, "turned", maxslice::test::rotated(seat, {0.3, -0.8, 0.5}, 117.0));
+    nlohmann::json a, b;
+    for (const auto& [file, j] : {std::pair{upright, &a}, std::pair{turned, &b}}) {
+        const fs::path out = dir / (file.stem().string() + ".json");
+        const CliRun r =
+            run_cli({"plan", file.string(), "--orient", "auto", "--plan", out.string()});
+        ASSERT_EQ(r.exit_code, 0) << r.err;
+        *j = nlohmann::json::parse(slurp(out));
+    }
+    EXPECT_EQ(a.at("summary").at("regions"), b.at("summary").at("regions"));
+    EXPECT_EQ(a.at("summary").at("splits"), b.at("summary").at("splits"));
+    EXPECT_EQ(a.at("summary").at("tilted_layers").get<int>() > 0,
+              b.at("summary").at("tilted_layers").get<int>() > 0);
 }
 
 TEST(PlanCli, BadOptionsExitTwo) {

@@ -2,6 +2,7 @@
 // The multi-axis planner: regions, layers, decisions and the hierarchy graph
 // (METHOD.md sections 3 to 6). See docs/decisions/0007-multi-axis-planner.md.
 
+#include <span>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,7 @@
 #include "maxslice/plan/analysis.hpp"
 #include "maxslice/slice/layers.hpp"
 #include "maxslice/slice/plane_frame.hpp"
+#include "maxslice/slice/slicer.hpp"
 
 namespace maxslice::plan {
 
@@ -133,6 +135,24 @@ struct Plan {
                                            const core::Vec3d& base_direction,
                                            const PlanSettings& settings,
                                            const core::Progress* progress = nullptr);
+
+/// What a planar (single-direction) build of a slice stack would leave unsupported.
+struct PlanarCheck {
+    int overhangs = 0;     ///< layers with a piece over beta or floating: splits needed
+    int tilts_wanted = 0;  ///< layers with a piece in (alpha, beta] only
+    std::vector<OverhangPiece> examples;  ///< the first overhang piece of up to 3 layers
+    std::vector<double> heights_mm;       ///< their slices' cut heights
+    std::size_t checked_up_to = 0;        ///< slices checked (the check stops after the
+                                          ///< block of 64 with the first overhang)
+};
+
+/// Checks a planar stack (consecutive slices of one direction, as slice_mesh makes them)
+/// with the planner's neighbour analysis and look-back, without planning regions: what a
+/// 3-axis program of it would deposit on nothing. Each layer is compared with the layer a
+/// track's height below. Parallel over layers; stops after the block of 64 layers that
+/// holds the first overhang; deterministic.
+[[nodiscard]] core::Result<PlanarCheck> check_planar(std::span<const slice::Slice> slices,
+                                                     const PlanSettings& settings);
 
 /// The layers in an order that respects the graph (Kahn's algorithm, smallest id first);
 /// empty when the graph has a cycle.
