@@ -226,12 +226,7 @@ int run_slice(const PartOptions& opt, const SliceOptions& so) {
     if (program_mode && profiles->machine.kinematics == machine::Kinematics::kXyz) {
         // A 3-axis machine builds every layer along one direction: refuse a part whose
         // overhangs need a split (the multi-axis planner's analysis), never deposit on air.
-        plan::PlanSettings ps;
-        ps.layer_mm = profiles->process.layer_height_mm;
-        ps.track_width_mm = profiles->process.track_width_mm;
-        ps.self_supporting_deg = profiles->process.self_supporting_angle_deg;
-        ps.h_min_mm = std::min(profiles->process.h_min_mm, ps.layer_mm);
-        ps.h_max_mm = std::max(profiles->process.h_max_mm, ps.layer_mm);
+        const plan::PlanSettings ps = pipeline::plan_settings(profiles->process);
         auto check = plan::check_planar(stack->slices, ps);
         if (!check) return report_error(check.error());
         if (check->overhangs > 0 && so.allow_overhangs) {
@@ -369,11 +364,7 @@ int run_plan(const PartOptions& opt, const PlanOptions& po, bool layer_given) {
     auto profiles = load_profiles(so);
     if (!profiles) return report_error(profiles.error());
     pipeline::PlanJobSettings ps;
-    ps.plan.layer_mm = profiles->process.layer_height_mm;
-    ps.plan.track_width_mm = profiles->process.track_width_mm;
-    ps.plan.self_supporting_deg = profiles->process.self_supporting_angle_deg;
-    ps.plan.h_min_mm = std::min(profiles->process.h_min_mm, ps.plan.layer_mm);
-    ps.plan.h_max_mm = std::max(profiles->process.h_max_mm, ps.plan.layer_mm);
+    ps.plan = pipeline::plan_settings(profiles->process);
     if (po.alpha) ps.plan.alpha_deg = *po.alpha;
     if (po.beta) ps.plan.beta_deg = *po.beta;
     ps.plan.max_regions = po.max_regions;

@@ -107,6 +107,20 @@ double WireTree::area_mm2() const {
     return core::um2_to_mm2(sum);
 }
 
+std::vector<Paths2> WireTree::islands() const {
+    std::vector<Paths2> out;
+    for (const WireNode& node : nodes) {
+        if (node.is_hole) continue;
+        Paths2& island = out.emplace_back();
+        island.push_back(node.wire);
+        for (const int child : node.children) {
+            const WireNode& hole = nodes[static_cast<std::size_t>(child)];
+            if (hole.is_hole) island.push_back(hole.wire);
+        }
+    }
+    return out;
+}
+
 Paths2 WireTree::paths() const {
     Paths2 out;
     out.reserve(nodes.size());

@@ -60,22 +60,6 @@ std::unexpected<core::Error> invalid(std::string message) {
     return core::fail(core::ErrorCode::kInvalidInput, std::move(message), "path settings");
 }
 
-// One island: an outer wire with its holes (islands inside holes are islands of their own).
-// Hole wires without an outer wire enclose no material and are left out.
-std::vector<Paths2> islands_of(const geom2d::WireTree& tree) {
-    std::vector<Paths2> out;
-    for (const geom2d::WireNode& node : tree.nodes) {
-        if (node.is_hole) continue;
-        Paths2& island = out.emplace_back();
-        island.push_back(node.wire);
-        for (const int child : node.children) {
-            const geom2d::WireNode& hole = tree.nodes[static_cast<std::size_t>(child)];
-            if (hole.is_hole) island.push_back(hole.wire);
-        }
-    }
-    return out;
-}
-
 double length_um(const Path2& path) {
     double sum = 0.0;
     for (std::size_t i = 1; i < path.size(); ++i) {
@@ -242,7 +226,7 @@ struct PreparedLayer {
 PreparedLayer prepare_layer(const geom2d::WireTree& region, const PathSettings& settings) {
     const Widths widths(settings);
     PreparedLayer out;
-    std::vector<Paths2> islands = islands_of(region);
+    std::vector<Paths2> islands = region.islands();
     const auto tolerance = core::mm_to_um(kSimplifyShare * settings.track_width_mm);
     for (Paths2& island : islands) island = geom2d::simplify(island, tolerance);
     std::erase_if(islands, [](const Paths2& island) {

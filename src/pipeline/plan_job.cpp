@@ -73,6 +73,16 @@ std::string direction_label(const core::Vec3d& d) {
 
 }  // namespace
 
+plan::PlanSettings plan_settings(const machine::ProcessProfile& process) {
+    plan::PlanSettings s;
+    s.layer_mm = process.layer_height_mm;
+    s.track_width_mm = process.track_width_mm;
+    s.self_supporting_deg = process.self_supporting_angle_deg;
+    s.h_min_mm = std::min(process.h_min_mm, s.layer_mm);
+    s.h_max_mm = std::max(process.h_max_mm, s.layer_mm);
+    return s;
+}
+
 std::vector<OrientCandidate> orientation_candidates(const mesh::TriangleMesh& mesh) {
     std::vector<OrientCandidate> out;
     const auto add = [&](core::Vec3d d, std::string source) {

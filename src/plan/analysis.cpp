@@ -48,17 +48,7 @@ Paths2 project(const Paths2& region, const slice::PlaneFrame& from, const slice:
 
 // The pieces of a region: each outer wire with its holes.
 std::vector<Paths2> pieces_of(const Paths2& region) {
-    const geom2d::WireTree tree = geom2d::build_wire_tree(region, geom2d::FillRule::kPositive);
-    std::vector<Paths2> out;
-    for (const geom2d::WireNode& node : tree.nodes) {
-        if (node.is_hole) continue;
-        Paths2& piece = out.emplace_back();
-        piece.push_back(node.wire);
-        for (const int c : node.children) {
-            piece.push_back(tree.nodes[static_cast<std::size_t>(c)].wire);
-        }
-    }
-    return out;
+    return geom2d::build_wire_tree(region, geom2d::FillRule::kPositive).islands();
 }
 
 // The four quadrants of a piece about point c, along the frame's axes.

@@ -26,6 +26,20 @@ inline std::string shell_quote(const std::string& s) {
     return q + "'";
 }
 
+/// A fresh, empty folder under the system's temporary folder: maxslice_<suite>_<name>.
+inline std::filesystem::path fresh_temp_dir(const std::string& suite, const std::string& name) {
+    const std::filesystem::path d =
+        std::filesystem::temp_directory_path() / ("maxslice_" + suite + "_" + name);
+    std::filesystem::remove_all(d);
+    std::filesystem::create_directories(d);
+    return d;
+}
+
+/// The shared test data, the source tree and its bundled example part.
+inline const std::filesystem::path kTestData = MAXSLICE_TESTDATA_DIR;
+inline const std::filesystem::path kSource = MAXSLICE_SOURCE_DIR;
+inline const std::filesystem::path kExample = kSource / "examples/parts/flanged_bushing.stl";
+
 inline std::string slurp(const std::filesystem::path& p) {
     std::ifstream in(p, std::ios::binary);
     std::stringstream ss;

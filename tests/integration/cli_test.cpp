@@ -14,19 +14,16 @@
 
 namespace fs = std::filesystem;
 using maxslice::test::CliRun;
+using maxslice::test::kExample;
+using maxslice::test::kSource;
+using maxslice::test::kTestData;
 using maxslice::test::run_cli;
 using maxslice::test::slurp;
 
 namespace {
 
-const fs::path kTestData = MAXSLICE_TESTDATA_DIR;
-const fs::path kExample = fs::path(MAXSLICE_SOURCE_DIR) / "examples/parts/flanged_bushing.stl";
-
 fs::path temp_dir(const std::string& name) {
-    const fs::path d = fs::temp_directory_path() / ("maxslice_cli_test_" + name);
-    fs::remove_all(d);
-    fs::create_directories(d);
-    return d;
+    return maxslice::test::fresh_temp_dir("cli_test", name);
 }
 
 std::vector<fs::path> files_under(const fs::path& dir) {

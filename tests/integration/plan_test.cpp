@@ -14,20 +14,16 @@
 
 namespace fs = std::filesystem;
 using maxslice::test::CliRun;
+using maxslice::test::kExample;
+using maxslice::test::kSource;
+using maxslice::test::kTestData;
 using maxslice::test::run_cli;
 using maxslice::test::slurp;
 
 namespace {
 
-const fs::path kTestData = MAXSLICE_TESTDATA_DIR;
-const fs::path kSource = MAXSLICE_SOURCE_DIR;
-const fs::path kExample = kSource / "examples/parts/flanged_bushing.stl";
-
 fs::path temp_dir(const std::string& name) {
-    const fs::path d = fs::temp_directory_path() / ("maxslice_plan_test_" + name);
-    fs::remove_all(d);
-    fs::create_directories(d);
-    return d;
+    return maxslice::test::fresh_temp_dir("plan_test", name);
 }
 
 // The properties every plan file has (docs/plan-format.md).

@@ -16,23 +16,20 @@
 
 namespace fs = std::filesystem;
 using maxslice::test::CliRun;
+using maxslice::test::kExample;
+using maxslice::test::kSource;
+using maxslice::test::kTestData;
 using maxslice::test::run_cli;
 using maxslice::test::shell_quote;
 using maxslice::test::slurp;
 
 namespace {
 
-const fs::path kTestData = MAXSLICE_TESTDATA_DIR;
-const fs::path kSource = MAXSLICE_SOURCE_DIR;
-const fs::path kExample = kSource / "examples/parts/flanged_bushing.stl";
 const fs::path kReference = kSource / "examples/profiles/reference_lmd.toml";
 const fs::path kLinuxCnc = kSource / "examples/profiles/linuxcnc_generic.toml";
 
 fs::path temp_dir(const std::string& name) {
-    const fs::path d = fs::temp_directory_path() / ("maxslice_program_test_" + name);
-    fs::remove_all(d);
-    fs::create_directories(d);
-    return d;
+    return maxslice::test::fresh_temp_dir("program_test", name);
 }
 
 // One line of GM code: power and powder columns, then the block.

@@ -10,19 +10,16 @@
 #include <stdexcept>
 #include <utility>
 
+#include "support/fixture_checks.hpp"
+
 namespace maxslice::test {
 namespace {
 
 using core::Vec3d;
 using mesh::TriangleMesh;
 
-void require(bool condition, const char* what) {
-    if (!condition) throw std::invalid_argument(what);
-}
-
-double cross2(CapPoint o, CapPoint a, CapPoint b) {
-    return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
-}
+using detail::cross2;
+using detail::require;
 
 double radians(double deg) {
     return deg * std::numbers::pi / 180.0;

@@ -30,6 +30,9 @@ struct WireTree {
     [[nodiscard]] double area_mm2() const;
     /// All wires as paths, in node order.
     [[nodiscard]] Paths2 paths() const;
+    /// The islands: each outer wire with its holes (islands inside holes are islands of
+    /// their own), in node order. Hole wires without an outer wire are left out.
+    [[nodiscard]] std::vector<Paths2> islands() const;
 };
 
 /// Combines raw closed loops into a region (Clipper union with the given fill rule) and

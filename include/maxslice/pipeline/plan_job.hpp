@@ -8,6 +8,7 @@
 
 #include "maxslice/core/progress.hpp"
 #include "maxslice/core/result.hpp"
+#include "maxslice/machine/profile.hpp"
 #include "maxslice/mesh/triangle_mesh.hpp"
 #include "maxslice/pipeline/slice_job.hpp"
 #include "maxslice/plan/planner.hpp"
@@ -19,6 +20,11 @@ enum class Orient {
     kGiven,  ///< the part stands as given: build along `direction` (default +Z)
     kAuto,   ///< the candidate with the fewest splits, then the fewest tilts wanted
 };
+
+/// The planner's settings for a process profile: its layer height, h_min and h_max (widened
+/// to hold the layer height), track width and self-supporting angle; alpha and beta at
+/// their defaults.
+[[nodiscard]] plan::PlanSettings plan_settings(const machine::ProcessProfile& process);
 
 struct PlanJobSettings {
     plan::PlanSettings plan;
