@@ -350,7 +350,7 @@ struct PlanOptions {
     std::optional<double> alpha, beta;
     std::string orient = "given";
     std::vector<double> direction{0.0, 0.0, 1.0};
-    std::string plan_file, dot_file, svg_dir, mesh_out;
+    std::string plan_file, dot_file, svg_dir, mesh_out, order_out, sections_out;
     int max_regions = 64;
 };
 
@@ -388,6 +388,11 @@ int run_plan(const PartOptions& opt, const PlanOptions& po, bool layer_given) {
     const auto progress = make_progress();
     auto planned = pipeline::plan_mesh(part->imported.mesh, ps, progress.get());
     if (!planned) return report_error(planned.error());
+    std::string nozzle_source;
+    const plan::Nozzle nozzle = pipeline::nozzle_of(profiles->machine, &nozzle_source);
+    if (auto ok = pipeline::order_plan(*planned, nozzle, nozzle_source, progress.get()); !ok) {
+        return report_error(ok.error());
+    }
 
     if (!po.plan_file.empty()) {
         if (const int rc = write_text_file(po.plan_file, pipeline::plan_json(*planned, *part));
@@ -407,6 +412,17 @@ int run_plan(const PartOptions& opt, const PlanOptions& po, bool layer_given) {
             return rc;
         }
     }
+    const std::pair<const std::string*, pipeline::PlanColour> previews[] = {
+        {&po.order_out, pipeline::PlanColour::kOrder},
+        {&po.sections_out, pipeline::PlanColour::kSection}};
+    for (const auto& [file, colour] : previews) {
+        if (file->empty()) continue;
+        if (const int rc =
+                write_text_file(*file, pipeline::plan_ply(planned->plan, colour, &*planned->order));
+            rc != kExitOk) {
+            return rc;
+        }
+    }
     if (!po.svg_dir.empty()) {
         if (auto ok = pipeline::write_plan_svgs(po.svg_dir, planned->plan); !ok) {
             return report_error(ok.error());
@@ -414,6 +430,15 @@ int run_plan(const PartOptions& opt, const PlanOptions& po, bool layer_given) {
     }
     std::fputs(pipeline::plan_summary(*planned, part->report.volume_mm3).c_str(), stdout);
     if (opt.timings) print_timings(times);
+    if (!planned->order->complete()) {
+        const plan::Conflict& c = planned->order->conflicts.front();
+        return report_error(
+            {core::ErrorCode::kInvalidInput,
+             fmt::format("no collision-free build order exists with this nozzle "
+                         "({} conflicts; the plan file holds the partial order): {}",
+                         planned->order->conflicts.size(), c.reason),
+             "build order"});
+    }
     return kExitOk;
 }
 
@@ -493,6 +518,10 @@ int run(int argc, char** argv) {
     plan_cmd->add_option("--svg", po.svg_dir, "Write one SVG per region into this folder");
     plan_cmd->add_option("--mesh-out", po.mesh_out,
                          "Write the layers' walls coloured by region as a PLY mesh");
+    plan_cmd->add_option("--order-out", po.order_out,
+                         "Write the layers' walls coloured by build order (blue first) as PLY");
+    plan_cmd->add_option("--sections-out", po.sections_out,
+                         "Write the layers' walls coloured by section of the build order as PLY");
 
     try {
         app.parse(argc, argv);

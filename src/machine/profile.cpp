@@ -59,14 +59,17 @@ constexpr double kMaxPowderGMin = 1000.0;
 constexpr double kMaxAxisTravelMm = 100000.0;  // 100 m from the program origin
 constexpr double kMaxDwellMs = 60000.0;
 constexpr std::size_t kMaxBlockChars = 120;  // keeps written lines short
+constexpr double kMaxNozzleMm = 1000.0;      // a head a metre long is a unit mistake
 
-struct ProcessNumber {
+// A number key of a table: its name, the member it fills and its range.
+template <class Profile>
+struct NumberKey {
     std::string_view key;
-    double ProcessProfile::*member;
+    double Profile::*member;
     Range range;
 };
 
-constexpr std::array<ProcessNumber, 12> kProcessNumbers{{
+constexpr std::array<NumberKey<ProcessProfile>, 12> kProcessNumbers{{
     {"track_width_mm", &ProcessProfile::track_width_mm, {0.0, 50.0, true, false, "mm"}},
     {"layer_height_mm", &ProcessProfile::layer_height_mm, {0.0, 20.0, true, false, "mm"}},
     {"h_min_mm", &ProcessProfile::h_min_mm, {0.0, 20.0, true, false, "mm"}},
@@ -95,13 +98,7 @@ constexpr Range kContourPassesRange{0.0, 100.0, false, false, ""};
 constexpr std::string_view kCatchEfficiencyKey = "powder_catch_efficiency";
 constexpr Range kCatchEfficiencyRange{0.0, 1.0, true, false, ""};
 
-struct MachineNumber {
-    std::string_view key;
-    double MachineProfile::*member;
-    Range range;
-};
-
-constexpr std::array<MachineNumber, 5> kMachineNumbers{{
+constexpr std::array<NumberKey<MachineProfile>, 5> kMachineNumbers{{
     {"feed_min_mm_min",
      &MachineProfile::feed_min_mm_min,
      {0.0, kMaxFeedMmMin, true, false, "mm/min"}},
@@ -115,6 +112,17 @@ constexpr std::array<MachineNumber, 5> kMachineNumbers{{
      {0.0, kMaxPowderGMin, false, false, "g/min"}},
 }};
 constexpr Range kAxisRange{-kMaxAxisTravelMm, kMaxAxisTravelMm, false, false, "mm"};
+
+// The collision model of METHOD.md section 7. The half-angle stops short of 90 deg, where the
+// cone would be a plane; body_radius_mm may be below the cone's top radius (a slim head).
+constexpr std::array<NumberKey<NozzleProfile>, 6> kNozzleNumbers{{
+    {"half_angle_deg", &NozzleProfile::half_angle_deg, {0.0, 85.0, true, false, "deg"}},
+    {"cone_length_mm", &NozzleProfile::cone_length_mm, {0.0, kMaxNozzleMm, true, false, "mm"}},
+    {"standoff_mm", &NozzleProfile::standoff_mm, {0.0, kMaxNozzleMm, true, false, "mm"}},
+    {"body_radius_mm", &NozzleProfile::body_radius_mm, {0.0, kMaxNozzleMm, false, false, "mm"}},
+    {"body_length_mm", &NozzleProfile::body_length_mm, {0.0, kMaxNozzleMm, false, false, "mm"}},
+    {"clearance_mm", &NozzleProfile::clearance_mm, {0.0, 50.0, false, false, "mm"}},
+}};
 
 constexpr std::array<std::string_view, 3> kXyzAxes{"X", "Y", "Z"};
 constexpr std::array<std::string_view, 3> kRotaryAxes{"A", "B", "C"};
@@ -282,10 +290,15 @@ public:
                                                          std::string_view expected) const {
         const auto node = required(key, expected);
         if (!node) return std::unexpected(node.error());
-        if (const auto* t = (*node)->as_table()) return t;
-        return core::fail(
-            ErrorCode::kInvalidInput,
-            fmt::format("`{}` must be {}, got {}", path(key), expected, describe(**node)));
+        return as_table(key, **node, expected);
+    }
+
+    // nullptr when the key is absent.
+    [[nodiscard]] core::Result<const toml::table*> optional_table(std::string_view key,
+                                                                  std::string_view expected) const {
+        const toml::node* node = table_.get(key);
+        if (node == nullptr) return nullptr;
+        return as_table(key, *node, expected);
     }
 
     // A template is a string (one block, "" for none) or an array of strings (one block each).
@@ -337,6 +350,15 @@ private:
                                       range_text(range), describe(node)));
     }
 
+    [[nodiscard]] core::Result<const toml::table*> as_table(std::string_view key,
+                                                            const toml::node& node,
+                                                            std::string_view expected) const {
+        if (const auto* t = node.as_table()) return t;
+        return core::fail(
+            ErrorCode::kInvalidInput,
+            fmt::format("`{}` must be {}, got {}", path(key), expected, describe(node)));
+    }
+
     const toml::table& table_;
     std::string prefix_;
 };
@@ -346,20 +368,46 @@ std::unexpected<core::Error> pass(const core::Result<T>& r) {
     return std::unexpected(r.error());
 }
 
+template <class Profile, std::size_t N>
+std::vector<std::string_view> keys_of(const std::array<NumberKey<Profile>, N>& numbers) {
+    std::vector<std::string_view> keys;
+    for (const auto& f : numbers) keys.push_back(f.key);
+    return keys;
+}
+
+// Reads every key of `numbers` from the reader's table into `out`.
+template <class Profile, std::size_t N>
+core::Result<void> read_numbers(const TableReader& reader,
+                                const std::array<NumberKey<Profile>, N>& numbers, Profile& out) {
+    for (const auto& f : numbers) {
+        const auto v = reader.number(f.key, f.range);
+        if (!v) return pass(v);
+        out.*f.member = *v;
+    }
+    return {};
+}
+
+// Range-checks every key of `numbers` in `value`; errors name the key as "PREFIX.KEY".
+template <class Profile, std::size_t N>
+core::Result<void> check_numbers(std::string_view prefix, const Profile& value,
+                                 const std::array<NumberKey<Profile>, N>& numbers) {
+    for (const auto& f : numbers) {
+        if (auto ok = check_range(key_path(prefix, f.key), value.*f.member, f.range); !ok) {
+            return ok;
+        }
+    }
+    return {};
+}
+
 core::Result<ProcessProfile> read_process(const toml::table& table) {
     const TableReader reader(table, "process");
-    std::vector<std::string_view> known;
-    for (const auto& f : kProcessNumbers) known.push_back(f.key);
+    std::vector<std::string_view> known = keys_of(kProcessNumbers);
     known.push_back(kContourPassesKey);
     known.push_back(kCatchEfficiencyKey);
     if (auto ok = reader.only(known); !ok) return pass(ok);
 
     ProcessProfile p;
-    for (const auto& f : kProcessNumbers) {
-        const auto v = reader.number(f.key, f.range);
-        if (!v) return pass(v);
-        p.*f.member = *v;
-    }
+    if (auto ok = read_numbers(reader, kProcessNumbers, p); !ok) return pass(ok);
     const auto passes = reader.integer(kContourPassesKey, kContourPassesRange);
     if (!passes) return pass(passes);
     if (!in_range(static_cast<double>(*passes), kContourPassesRange)) {
@@ -408,9 +456,21 @@ core::Result<std::vector<AxisLimits>> read_axes(const TableReader& machine) {
     return out;
 }
 
+// The optional [machine.nozzle] table: all keys required when it is there.
+core::Result<std::optional<NozzleProfile>> read_nozzle(const TableReader& machine) {
+    const auto table = machine.optional_table("nozzle", "a table of nozzle (collision) sizes");
+    if (!table) return pass(table);
+    if (*table == nullptr) return std::optional<NozzleProfile>{};
+    const TableReader reader(**table, machine.path("nozzle"));
+    if (auto ok = reader.only(keys_of(kNozzleNumbers)); !ok) return pass(ok);
+    NozzleProfile n;
+    if (auto ok = read_numbers(reader, kNozzleNumbers, n); !ok) return pass(ok);
+    return std::optional<NozzleProfile>{n};
+}
+
 core::Result<MachineProfile> read_machine(const toml::table& table) {
     const TableReader reader(table, "machine");
-    std::vector<std::string_view> known{"name", "kinematics", "dialect", "axes", "codes"};
+    std::vector<std::string_view> known{"name", "kinematics", "dialect", "axes", "codes", "nozzle"};
     for (const auto& f : kMachineNumbers) known.push_back(f.key);
     if (auto ok = reader.only(known); !ok) return pass(ok);
 
@@ -446,11 +506,7 @@ core::Result<MachineProfile> read_machine(const toml::table& table) {
     if (!axes) return pass(axes);
     m.axes = *axes;
 
-    for (const auto& f : kMachineNumbers) {
-        const auto v = reader.number(f.key, f.range);
-        if (!v) return pass(v);
-        m.*f.member = *v;
-    }
+    if (auto ok = read_numbers(reader, kMachineNumbers, m); !ok) return pass(ok);
 
     const auto codes = reader.table("codes", "a table of M-code templates");
     if (!codes) return pass(codes);
@@ -463,6 +519,10 @@ core::Result<MachineProfile> read_machine(const toml::table& table) {
         if (!t) return pass(t);
         m.codes.*c.member = *t;
     }
+
+    auto nozzle = read_nozzle(reader);
+    if (!nozzle) return pass(nozzle);
+    m.nozzle = *nozzle;
 
     if (auto ok = validate(m); !ok) return pass(ok);
     return m;
@@ -502,6 +562,25 @@ core::Result<void> check_block(std::string_view key, std::size_t index, std::str
                                           where, name));
         }
         i = close;
+    }
+    return {};
+}
+
+core::Result<void> check_nozzle(const NozzleProfile& n) {
+    if (auto ok = check_numbers("machine.nozzle", n, kNozzleNumbers); !ok) return ok;
+    if (n.standoff_mm > n.cone_length_mm) {
+        return core::fail(
+            ErrorCode::kInvalidInput,
+            fmt::format("machine.nozzle.standoff_mm = {} is above "
+                        "machine.nozzle.cone_length_mm = {} (the tip lies within the cone)",
+                        n.standoff_mm, n.cone_length_mm));
+    }
+    if ((n.body_radius_mm > 0.0) != (n.body_length_mm > 0.0)) {
+        return core::fail(ErrorCode::kInvalidInput,
+                          fmt::format("machine.nozzle.body_radius_mm = {} and "
+                                      "machine.nozzle.body_length_mm = {}: both 0 (no head body) "
+                                      "or both above 0",
+                                      n.body_radius_mm, n.body_length_mm));
     }
     return {};
 }
@@ -556,11 +635,7 @@ const AxisLimits* MachineProfile::find_axis(std::string_view axis_name) const {
 }
 
 core::Result<void> validate(const ProcessProfile& p) {
-    for (const auto& f : kProcessNumbers) {
-        if (auto ok = check_range(key_path("process", f.key), p.*f.member, f.range); !ok) {
-            return ok;
-        }
-    }
+    if (auto ok = check_numbers("process", p, kProcessNumbers); !ok) return ok;
     if (!in_range(static_cast<double>(p.contour_passes), kContourPassesRange)) {
         return core::fail(
             ErrorCode::kInvalidInput,
@@ -630,11 +705,7 @@ core::Result<void> validate(const MachineProfile& m) {
             }
         }
     }
-    for (const auto& f : kMachineNumbers) {
-        if (auto ok = check_range(key_path("machine", f.key), m.*f.member, f.range); !ok) {
-            return ok;
-        }
-    }
+    if (auto ok = check_numbers("machine", m, kMachineNumbers); !ok) return ok;
     if (m.feed_min_mm_min > m.feed_max_mm_min) {
         return core::fail(ErrorCode::kInvalidInput,
                           fmt::format("machine.feed_min_mm_min = {} is above "
@@ -660,6 +731,9 @@ core::Result<void> validate(const MachineProfile& m) {
                               "machine.codes.laser_on and machine.codes.laser_off must not be "
                               "empty for dialect \"linuxcnc\" (nothing else switches the laser)");
         }
+    }
+    if (m.nozzle) {
+        if (auto ok = check_nozzle(*m.nozzle); !ok) return ok;
     }
     return {};
 }

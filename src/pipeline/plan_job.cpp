@@ -180,6 +180,82 @@ core::Result<PlannedPart> plan_mesh(const mesh::TriangleMesh& mesh, const PlanJo
     return out;
 }
 
+plan::Nozzle nozzle_of(const machine::MachineProfile& machine, std::string* source) {
+    plan::Nozzle n;
+    if (machine.nozzle) {
+        const machine::NozzleProfile& m = *machine.nozzle;
+        n.half_angle_deg = m.half_angle_deg;
+        n.cone_length_mm = m.cone_length_mm;
+        n.standoff_mm = m.standoff_mm;
+        n.body_radius_mm = m.body_radius_mm;
+        n.body_length_mm = m.body_length_mm;
+        n.clearance_mm = m.clearance_mm;
+        if (source != nullptr) *source = fmt::format("machine profile '{}'", machine.name);
+    } else if (source != nullptr) {
+        *source = "default (the machine profile has no [machine.nozzle] table)";
+    }
+    return n;
+}
+
+core::Result<void> order_plan(PlannedPart& planned, const plan::Nozzle& nozzle,
+                              std::string nozzle_source, const core::Progress* progress) {
+    const auto t0 = std::chrono::steady_clock::now();
+    plan::OrderSettings os;
+    os.nozzle = nozzle;
+    auto order = plan::order_layers(planned.plan, os, progress);
+    if (!order) return std::unexpected(order.error());
+    planned.order = std::move(*order);
+    planned.nozzle = nozzle;
+    planned.nozzle_source = std::move(nozzle_source);
+    planned.order_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return {};
+}
+
+namespace {
+
+// A margin as JSON: null when nothing is in reach (or the layer is not ordered).
+ordered_json margin_json(double m) {
+    return std::isfinite(m) ? ordered_json(m) : ordered_json();
+}
+
+ordered_json order_json(const PlannedPart& planned) {
+    const plan::BuildOrder& o = *planned.order;
+    const plan::Nozzle& n = planned.nozzle;
+    ordered_json sections = ordered_json::array();
+    for (const plan::Section& s : o.sections) {
+        sections.push_back(
+            {{"id", s.id}, {"side", s.side}, {"region", s.region}, {"layers", s.layers}});
+    }
+    ordered_json conflicts = ordered_json::array();
+    for (const plan::Conflict& c : o.conflicts) {
+        conflicts.push_back({{"layer", c.layer},
+                             {"other", c.other},
+                             {"apex", detail::vec_json(c.apex)},
+                             {"hit", detail::vec_json(c.hit)},
+                             {"margin_mm", c.margin_mm},
+                             {"reason", c.reason}});
+    }
+    return {{"complete", o.complete()},
+            {"nozzle",
+             {{"half_angle_deg", n.half_angle_deg},
+              {"cone_length_mm", n.cone_length_mm},
+              {"standoff_mm", n.standoff_mm},
+              {"body_radius_mm", n.body_radius_mm},
+              {"body_length_mm", n.body_length_mm},
+              {"clearance_mm", n.clearance_mm},
+              {"source", planned.nozzle_source}}},
+            {"jumps", o.jumps},
+            {"min_jumps", o.min_jumps},
+            {"collision_edges", o.collision_edges},
+            {"smallest_margin_mm", margin_json(o.smallest_margin_mm())},
+            {"seconds", planned.order_seconds},
+            {"sections", std::move(sections)},
+            {"conflicts", std::move(conflicts)}};
+}
+
+}  // namespace
+
 std::string plan_json(const PlannedPart& planned, const PreparedPart& part) {
     const plan::Plan& p = planned.plan;
     ordered_json j;
@@ -275,6 +351,13 @@ std::string plan_json(const PlannedPart& planned, const PreparedPart& part) {
                           {"parents", l.parents},
                           {"children", l.children},
                           {"wires", std::move(wires)}});
+        if (planned.order) {
+            const auto i = static_cast<std::size_t>(l.id);
+            ordered_json& lj = layers.back();
+            lj["side"] = planned.order->side_of[i];
+            lj["section"] = planned.order->section_of[i];
+            lj["margin_mm"] = margin_json(planned.order->margin_mm[i]);
+        }
     }
     j["layers"] = std::move(layers);
     ordered_json decisions = ordered_json::array();
@@ -300,7 +383,12 @@ std::string plan_json(const PlannedPart& planned, const PreparedPart& part) {
     }
     j["decisions"] = std::move(decisions);
     j["unsupported_layers"] = p.unsupported_layers;
-    j["order"] = plan::topological_order(p);
+    if (planned.order) {
+        j["order"] = planned.order->order;
+        j["build_order"] = order_json(planned);
+    } else {
+        j["order"] = plan::topological_order(p);
+    }
     return j.dump(1) + "\n";
 }
 
@@ -327,11 +415,37 @@ std::string plan_dot(const plan::Plan& p) {
     return fmt::to_string(out);
 }
 
-std::string plan_ply(const plan::Plan& p) {
+std::string plan_ply(const plan::Plan& p, PlanColour colour, const plan::BuildOrder* order) {
     fmt::memory_buffer verts, faces;
     std::size_t nv = 0, nf = 0;
+    if (order == nullptr) colour = PlanColour::kRegion;
+    std::vector<int> rank(p.layers.size(), -1);
+    if (order != nullptr) {
+        for (std::size_t k = 0; k < order->order.size(); ++k)
+            rank[static_cast<std::size_t>(order->order[k])] = static_cast<int>(k);
+    }
+    const auto colour_of = [&](const plan::Layer& l) -> std::array<int, 3> {
+        const auto i = static_cast<std::size_t>(l.id);
+        switch (colour) {
+            case PlanColour::kRegion: break;
+            case PlanColour::kOrder: {
+                if (rank[i] < 0) return {128, 128, 128};
+                const double t = order->order.size() > 1
+                                     ? rank[i] / static_cast<double>(order->order.size() - 1)
+                                     : 0.0;
+                return {static_cast<int>(255 * t), 64, 255 - static_cast<int>(255 * t)};
+            }
+            case PlanColour::kSection:
+                if (order->section_of[i] < 0) return {128, 128, 128};
+                return region_colour(order->section_of[i]);
+        }
+        return region_colour(l.region);
+    };
+    const char* what = colour == PlanColour::kOrder     ? "build order (blue first, red last)"
+                       : colour == PlanColour::kSection ? "section of the build order"
+                                                        : "region";
     for (const plan::Layer& l : p.layers) {
-        const auto c = region_colour(l.region);
+        const auto c = colour_of(l);
         const double lo = l.span.bottom - l.span.cut, hi = l.span.top - l.span.cut;
         for (const geom2d::WireNode& n : l.wires.nodes) {
             const std::size_t k = n.wire.size();
@@ -354,11 +468,11 @@ std::string plan_ply(const plan::Plan& p) {
         }
     }
     return fmt::format(
-        "ply\nformat ascii 1.0\ncomment maxslice plan: layer walls coloured by region\n"
+        "ply\nformat ascii 1.0\ncomment maxslice plan: layer walls coloured by {}\n"
         "element vertex {}\nproperty float x\nproperty float y\nproperty float z\n"
         "property uchar red\nproperty uchar green\nproperty uchar blue\n"
         "element face {}\nproperty list uchar int vertex_indices\nend_header\n{}{}",
-        nv, nf, fmt::to_string(verts), fmt::to_string(faces));
+        what, nv, nf, fmt::to_string(verts), fmt::to_string(faces));
 }
 
 core::Result<void> write_plan_svgs(const std::filesystem::path& dir, const plan::Plan& p) {
@@ -471,6 +585,26 @@ std::string plan_summary(const PlannedPart& planned, double mesh_volume_mm3) {
     put(out, "plan volume     {:.6g} mm3 (mesh {:.6g} mm3, {:+.3f}%)\n", v, mesh_volume_mm3,
         mesh_volume_mm3 != 0.0 ? 100.0 * (v - mesh_volume_mm3) / mesh_volume_mm3 : 0.0);
     put(out, "planning time   {:.3f} s\n", planned.seconds);
+    if (planned.order) {
+        const plan::BuildOrder& o = *planned.order;
+        const plan::Nozzle& n = planned.nozzle;
+        put(out,
+            "nozzle          cone {:.1f} deg half-angle, {:.1f} mm long, body {:.1f} x {:.1f} mm, "
+            "clearance {:.2f} mm ({})\n",
+            n.half_angle_deg, n.cone_length_mm, n.body_radius_mm, n.body_length_mm, n.clearance_mm,
+            planned.nozzle_source);
+        put(out, "build order     {} of {} layers{}\n", o.order.size(), p.layers.size(),
+            o.complete() ? ", collision-free" : ": NO collision-free order (conflicts below)");
+        put(out, "jumps           {} region changes (fewest possible {})\n", o.jumps, o.min_jumps);
+        put(out, "sections        {}\n", o.sections.size());
+        put(out, "nozzle orders   {} pairs the graph leaves free\n", o.collision_edges);
+        const double m = o.smallest_margin_mm();
+        put(out, "smallest margin {}\n",
+            std::isfinite(m) ? fmt::format("{:.3f} mm", m)
+                             : std::string("none in reach (every nozzle clears all material)"));
+        for (const plan::Conflict& c : o.conflicts) put(out, "  conflict: {}\n", c.reason);
+        put(out, "ordering time   {:.3f} s\n", planned.order_seconds);
+    }
     return fmt::to_string(out);
 }
 

@@ -3,11 +3,13 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <deque>
 #include <numbers>
 #include <optional>
 #include <queue>
+#include <string>
 
 #include <tbb/parallel_for.h>
 
@@ -37,6 +39,48 @@ bool steady_area(double area, double below) {
 core::Vec3d centroid3(const geom2d::Paths2& region, const slice::PlaneFrame& f) {
     const geom2d::Centroid2 c = geom2d::centroid_um(region);
     return f.origin + f.u * (c.x / core::kMicronsPerMm) + f.v * (c.y / core::kMicronsPerMm);
+}
+
+// An axis-aligned box in the part frame (mm).
+struct Box3 {
+    double lo[3] = {1e300, 1e300, 1e300};
+    double hi[3] = {-1e300, -1e300, -1e300};
+};
+
+Box3 box_of(const Layer& l) {
+    Box3 b;
+    for (const geom2d::WireNode& n : l.wires.nodes) {
+        for (const geom2d::Point2& p : n.wire) {
+            const core::Vec3d x = l.plane.to_3d(p);
+            const double c[3] = {x.x, x.y, x.z};
+            for (int k = 0; k < 3; ++k) {
+                b.lo[k] = std::min(b.lo[k], c[k]);
+                b.hi[k] = std::max(b.hi[k], c[k]);
+            }
+        }
+    }
+    return b;
+}
+
+// Rewrites the layer names "L<id>" in a reason with new ids.
+template <class Renumber>
+std::string renumber_layer_names(const std::string& text, const Renumber& renumber) {
+    std::string out;
+    out.reserve(text.size());
+    for (std::size_t i = 0; i < text.size();) {
+        const bool word_start = i == 0 || !std::isalnum(static_cast<unsigned char>(text[i - 1]));
+        std::size_t j = i + 1;
+        while (j < text.size() && std::isdigit(static_cast<unsigned char>(text[j])) != 0) ++j;
+        if (text[i] == 'L' && word_start && j > i + 1 &&
+            (j == text.size() || !std::isalnum(static_cast<unsigned char>(text[j])))) {
+            out += 'L';
+            out += std::to_string(renumber(std::stoi(text.substr(i + 1, j - i - 1))));
+            i = j;
+        } else {
+            out += text[i++];
+        }
+    }
+    return out;
 }
 
 // A sideways direction N_s shorter than this (V_i almost along N_b) cannot be normalised.
@@ -96,6 +140,7 @@ public:
                                                   static_cast<double>(plan_.regions.size()));
             }
         }
+        split_pieces();
         if (auto ok = build_graph(); !ok) return std::unexpected(ok.error());
         return std::move(plan_);
     }
@@ -478,6 +523,64 @@ private:
         return false;
     }
 
+    // One layer per piece (METHOD.md section 6): a slice whose section falls apart into
+    // separate islands (two legs, two branches) gives one layer per island, so that branches
+    // can merge and fork in the graph and the build order can grow them in turn. Pieces of a
+    // slice share its index_in_region; ids stay contiguous per region, and the layer ids the
+    // decisions name (fields and reasons) are renumbered to the slice's first piece.
+    void split_pieces() {
+        std::vector<Layer> out;
+        out.reserve(plan_.layers.size());
+        std::vector<int> first_piece(plan_.layers.size(), -1);
+        for (Region& r : plan_.regions) {
+            std::vector<int> ids;
+            ids.reserve(r.layers.size());
+            for (const int old : r.layers) {
+                Layer& l = plan_.layers[static_cast<std::size_t>(old)];
+                std::vector<Paths2> parts = l.wires.islands();
+                first_piece[static_cast<std::size_t>(old)] = static_cast<int>(out.size());
+                if (parts.size() <= 1) {
+                    l.id = static_cast<int>(out.size());
+                    ids.push_back(l.id);
+                    out.push_back(std::move(l));
+                    continue;
+                }
+                l.wires = {};
+                for (Paths2& part : parts) {
+                    Layer piece = l;
+                    piece.id = static_cast<int>(out.size());
+                    piece.wires = geom2d::build_wire_tree(part, geom2d::FillRule::kPositive);
+                    piece.area_mm2 = piece.wires.area_mm2();
+                    ids.push_back(piece.id);
+                    out.push_back(std::move(piece));
+                }
+            }
+            r.layers = std::move(ids);
+        }
+        const auto renumber = [&](int old) {
+            return old >= 0 && static_cast<std::size_t>(old) < first_piece.size()
+                       ? first_piece[static_cast<std::size_t>(old)]
+                       : old;
+        };
+        for (Decision& d : plan_.decisions) {
+            d.layer = renumber(d.layer);
+            d.reason = renumber_layer_names(d.reason, renumber);
+        }
+        for (Region& r : plan_.regions) r.reason = renumber_layer_names(r.reason, renumber);
+        plan_.layers = std::move(out);
+    }
+
+    // The pieces of region rid's slice that layer id belongs to.
+    std::vector<int> step_of(int id) const {
+        const Layer& l = plan_.layers[static_cast<std::size_t>(id)];
+        std::vector<int> out;
+        for (const int q : plan_.regions[static_cast<std::size_t>(l.region)].layers) {
+            if (plan_.layers[static_cast<std::size_t>(q)].index_in_region == l.index_in_region)
+                out.push_back(q);
+        }
+        return out;
+    }
+
     // The hierarchy graph (METHOD.md section 6).
     core::Result<void> build_graph() {
         std::vector<Layer>& layers = plan_.layers;
@@ -488,17 +591,32 @@ private:
         };
         for (const Region& r : plan_.regions) {
             if (r.layers.empty()) continue;
-            // Within the region (and from a continuation's seed): overlap of the projection.
-            int below = -1;
+            // Within the region (and from a continuation's seed): each piece on the pieces
+            // of the slice below whose projection it overlaps.
+            std::vector<int> below;
             for (const Decision& d : plan_.decisions) {
-                if (d.continuation == r.id && d.continuation != d.region) below = d.layer;
+                if (d.continuation == r.id && d.continuation != d.region) below = step_of(d.layer);
             }
-            for (const int id : r.layers) {
-                if (below >= 0 && overlap_mm2(layers[static_cast<std::size_t>(below)],
-                                              layers[static_cast<std::size_t>(id)]) > 0.0) {
-                    link(below, id);
+            for (std::size_t i = 0; i < r.layers.size();) {
+                std::size_t j = i;
+                const int step = layers[static_cast<std::size_t>(r.layers[i])].index_in_region;
+                while (j < r.layers.size() &&
+                       layers[static_cast<std::size_t>(r.layers[j])].index_in_region == step) {
+                    ++j;
                 }
-                below = id;
+                const std::vector<int> here(r.layers.begin() + static_cast<std::ptrdiff_t>(i),
+                                            r.layers.begin() + static_cast<std::ptrdiff_t>(j));
+                for (const int id : here) {
+                    const Layer& upper = layers[static_cast<std::size_t>(id)];
+                    for (const int b : below) {
+                        const Layer& lower = layers[static_cast<std::size_t>(b)];
+                        if (may_overlap(lower, upper) && overlap_mm2(lower, upper) > 0.0) {
+                            link(b, id);
+                        }
+                    }
+                }
+                below = here;
+                i = j;
             }
             // A sideways region's first layer: on the layers of other regions across its base.
             if (r.parent < 0 ||
@@ -554,7 +672,20 @@ private:
         return false;
     }
 
-    // Area (mm2) where upper, projected onto lower's plane, overlaps lower.
+    // Whether upper's footprint can reach lower's grown region (boxes of their wires in
+    // 3D, grown by the growth overlap_mm2 allows and the distance between the layers).
+    bool may_overlap(const Layer& lower, const Layer& upper) const {
+        const Box3 a = box_of(lower);
+        const Box3 b = box_of(upper);
+        const double gap = 2.0 * s_.track_width_mm + 2.0 * s_.h_max_mm +
+                           core::norm(upper.plane.origin - lower.plane.origin) *
+                               std::tan(s_.self_supporting_deg * std::numbers::pi / 180.0);
+        for (int k = 0; k < 3; ++k) {
+            if (a.lo[k] > b.hi[k] + gap || b.lo[k] > a.hi[k] + gap) return false;
+        }
+        return true;
+    }
+
     // Area (mm2) where upper, projected onto lower's plane, overlaps lower grown by the
     // self-supporting allowance and a track: what the analysis calls carried (slivers
     // narrower than a track included) rests on lower.

@@ -69,6 +69,18 @@ struct MachineCodes {
     CodeTemplate program_end;
 };
 
+/// The deposition head as the collision check sees it (METHOD.md section 7): a cone with its
+/// apex at the melt pool (the powder stream and nozzle), axis along the build direction, and
+/// optionally a cylinder for the head body above it. TOML table [machine.nozzle].
+struct NozzleProfile {
+    double half_angle_deg = 30.0;  ///< theta/2, in (0, 85]
+    double cone_length_mm = 40.0;  ///< H, > 0 and <= 1000
+    double standoff_mm = 10.0;     ///< melt pool to nozzle tip, in (0, cone_length_mm]
+    double body_radius_mm = 0.0;   ///< head body cylinder above the cone, >= 0 (0 = none)
+    double body_length_mm = 0.0;   ///< >= 0; > 0 when body_radius_mm > 0 and vice versa
+    double clearance_mm = 1.0;     ///< smallest accepted gap to deposited material, in [0, 50]
+};
+
 /// A machine: kinematics, axis limits, accepted feed and power ranges, dialect and codes.
 /// TOML table `[machine]`; see docs/profiles.md.
 struct MachineProfile {
@@ -82,6 +94,9 @@ struct MachineProfile {
     double laser_power_max_w = 1000.0;    ///< highest power, > 0
     double powder_feed_max_g_min = 50.0;  ///< highest powder feed, >= 0
     MachineCodes codes;
+    /// The head for the collision check; unset = no [machine.nozzle] table, and the planner
+    /// then uses NozzleProfile's defaults and says so.
+    std::optional<NozzleProfile> nozzle;
 
     /// The limits of the named axis, or nullptr when the machine has no such axis.
     [[nodiscard]] const AxisLimits* find_axis(std::string_view axis_name) const;
@@ -105,7 +120,9 @@ struct Profiles {
 [[nodiscard]] core::Result<void> validate(const ProcessProfile& process);
 
 /// Checks a machine profile: axes present with min < max, ranges, templates (known
-/// placeholders only, one line per block). Errors name the key ("machine.axes.X.min").
+/// placeholders only, one line per block), the nozzle when given (ranges, standoff_mm <=
+/// cone_length_mm, body radius and length both 0 or both > 0). Errors name the key
+/// ("machine.axes.X.min", "machine.nozzle.half_angle_deg").
 [[nodiscard]] core::Result<void> validate(const MachineProfile& machine);
 
 /// Checks that a machine can run a process: the process's feeds, laser power and powder feed

@@ -3,6 +3,7 @@
 // Graphviz DOT, per-region SVG, a PLY of the layers coloured by region).
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -11,6 +12,7 @@
 #include "maxslice/machine/profile.hpp"
 #include "maxslice/mesh/triangle_mesh.hpp"
 #include "maxslice/pipeline/slice_job.hpp"
+#include "maxslice/plan/order.hpp"
 #include "maxslice/plan/planner.hpp"
 
 namespace maxslice::pipeline {
@@ -48,7 +50,22 @@ struct PlannedPart {
     std::vector<OrientCandidate> candidates;  ///< with --orient auto, in the order tried
     int chosen = -1;                          ///< index into candidates (-1: given)
     double seconds = 0.0;                     ///< planning time (all candidates)
+    /// The build order with collision control (order_plan), when made.
+    std::optional<plan::BuildOrder> order;
+    plan::Nozzle nozzle;        ///< the nozzle the order was checked with
+    std::string nozzle_source;  ///< where its values came from
+    double order_seconds = 0.0;
 };
+
+/// The nozzle of a machine profile's [machine.nozzle] table; without one, plan::Nozzle's
+/// defaults (the source then says so).
+[[nodiscard]] plan::Nozzle nozzle_of(const machine::MachineProfile& machine, std::string* source);
+
+/// Orders the plan's layers with collision control (plan::order_layers) and keeps the result
+/// in planned.order, also when it has conflicts. Errors: those of order_layers.
+[[nodiscard]] core::Result<void> order_plan(PlannedPart& planned, const plan::Nozzle& nozzle,
+                                            std::string nozzle_source,
+                                            const core::Progress* progress = nullptr);
 
 /// The candidate base directions of --orient auto: the 6 axis directions and the directions
 /// that stand the part on each of its largest flat faces (up to 4 faces of at least 5% of
@@ -66,9 +83,18 @@ struct PlannedPart {
 [[nodiscard]] std::string plan_json(const PlannedPart& planned, const PreparedPart& part);
 /// The hierarchy graph in Graphviz DOT: one cluster per region, nodes are layers.
 [[nodiscard]] std::string plan_dot(const plan::Plan& plan);
+/// What the colours of a plan preview show.
+enum class PlanColour {
+    kRegion,   ///< a fixed colour per region
+    kOrder,    ///< the build order: blue (first) to red (last); grey when not ordered
+    kSection,  ///< a fixed colour per section of the build order
+};
+
 /// The layers' boundary walls (each wire swept over its layer's thickness) as an ASCII PLY
-/// with per-vertex colours by region: opens in MeshLab, CloudCompare, Blender, ParaView.
-[[nodiscard]] std::string plan_ply(const plan::Plan& plan);
+/// with per-vertex colours: opens in MeshLab, CloudCompare, Blender, ParaView. kOrder and
+/// kSection need an order (without one they fall back to regions).
+[[nodiscard]] std::string plan_ply(const plan::Plan& plan, PlanColour colour = PlanColour::kRegion,
+                                   const plan::BuildOrder* order = nullptr);
 /// One SVG per region (region_NNN.svg) in dir: its layers' wires in its base frame,
 /// coloured from the first layer (blue) to the last (red). Creates dir.
 [[nodiscard]] core::Result<void> write_plan_svgs(const std::filesystem::path& dir,

@@ -104,7 +104,9 @@ struct Plan {
     PlanSettings settings;
     core::Vec3d base_direction;
     std::vector<Region> regions;
-    std::vector<Layer> layers;  ///< ids are indices; regions' layers are contiguous
+    /// Ids are indices; regions' layers are contiguous. A slice whose section has several
+    /// separate islands gives one layer per island (the same index_in_region).
+    std::vector<Layer> layers;
     std::vector<Decision> decisions;
     /// Layers that rest on nothing: not on the plate and without parents (a body floating
     /// free of the rest of the part, material reached only through a gap). They cannot be

@@ -54,8 +54,23 @@ dwell_after_laser_on_ms = 500.0
 self_supporting_angle_deg = 20.0
 )";
 
+// Values away from NozzleProfile's defaults, so a key read into the wrong member shows.
+constexpr std::string_view kNozzle = R"(
+[machine.nozzle]
+half_angle_deg = 25.0
+cone_length_mm = 45.0
+standoff_mm = 9.0
+body_radius_mm = 30.0
+body_length_mm = 120.0
+clearance_mm = 1.5
+)";
+
 std::string base() {
     return std::string(kMachine) + std::string(kProcess);
+}
+
+std::string base_with_nozzle() {
+    return std::string(kMachine) + std::string(kNozzle) + std::string(kProcess);
 }
 
 // The base text with one line replaced (the whole line starting with `key =`).
@@ -272,6 +287,144 @@ TEST(Profile, ExpandBlock) {
               "M201 (LASER ON 70.00)");
     EXPECT_EQ(expand_block("M68 E1 Q{powder}", 700.0, 8.0, 1000.0), "M68 E1 Q8.00");
     EXPECT_EQ(expand_block("M64 P0", 700.0, 8.0, 1000.0), "M64 P0");
+}
+
+TEST(Profile, NozzleTableIsRead) {
+    const auto r = parse_profile(base_with_nozzle(), "test.toml");
+    ASSERT_TRUE(r.has_value()) << r.error().describe();
+    ASSERT_TRUE(r->machine->nozzle.has_value());
+    const NozzleProfile& n = *r->machine->nozzle;
+    EXPECT_DOUBLE_EQ(n.half_angle_deg, 25.0);
+    EXPECT_DOUBLE_EQ(n.cone_length_mm, 45.0);
+    EXPECT_DOUBLE_EQ(n.standoff_mm, 9.0);
+    EXPECT_DOUBLE_EQ(n.body_radius_mm, 30.0);
+    EXPECT_DOUBLE_EQ(n.body_length_mm, 120.0);
+    EXPECT_DOUBLE_EQ(n.clearance_mm, 1.5);
+}
+
+TEST(Profile, AbsentNozzleTableIsUnset) {
+    const auto r = parse_profile(base(), "test.toml");
+    ASSERT_TRUE(r.has_value()) << r.error().describe();
+    EXPECT_FALSE(r->machine->nozzle.has_value());
+}
+
+TEST(Profile, NozzleAcceptsIntegersNoBodyAndASlimBody) {
+    std::string text = with(base_with_nozzle(), "half_angle_deg", "half_angle_deg = 30");
+    text = with(text, "body_radius_mm", "body_radius_mm = 0");
+    text = with(text, "body_length_mm", "body_length_mm = 0.0");
+    text = with(text, "clearance_mm", "clearance_mm = 0");
+    const auto none = parse_profile(text, "t");
+    ASSERT_TRUE(none.has_value()) << none.error().describe();
+    EXPECT_DOUBLE_EQ(none->machine->nozzle->half_angle_deg, 30.0);
+    EXPECT_DOUBLE_EQ(none->machine->nozzle->body_radius_mm, 0.0);
+    // A body narrower than the cone's top (45 mm x tan 25 deg = 21 mm) is allowed.
+    const auto slim =
+        parse_profile(with(base_with_nozzle(), "body_radius_mm", "body_radius_mm = 5"), "t");
+    ASSERT_TRUE(slim.has_value()) << slim.error().describe();
+    EXPECT_DOUBLE_EQ(slim->machine->nozzle->body_radius_mm, 5.0);
+}
+
+TEST(Profile, NozzleRangeViolationsNameTheKey) {
+    struct Case {
+        std::string key;
+        std::string value;
+        std::string range;
+    };
+    const std::vector<Case> cases{
+        {"half_angle_deg", "0", "(0, 85] deg"},      {"half_angle_deg", "90", "(0, 85] deg"},
+        {"half_angle_deg", "-30", "(0, 85] deg"},    {"cone_length_mm", "0", "(0, 1000] mm"},
+        {"cone_length_mm", "45000", "(0, 1000] mm"}, {"standoff_mm", "0", "(0, 1000] mm"},
+        {"standoff_mm", "-9", "(0, 1000] mm"},       {"body_radius_mm", "-30", "[0, 1000] mm"},
+        {"body_radius_mm", "30000", "[0, 1000] mm"}, {"body_length_mm", "-120", "[0, 1000] mm"},
+        {"body_length_mm", "1200", "[0, 1000] mm"},  {"clearance_mm", "-1", "[0, 50] mm"},
+        {"clearance_mm", "60", "[0, 50] mm"},
+    };
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.key + " = " + c.value);
+        expect_refused(with(base_with_nozzle(), c.key, c.key + " = " + c.value),
+                       {"machine.nozzle." + c.key + " = " + c.value, "out of range", c.range});
+    }
+    expect_refused(with(base_with_nozzle(), "half_angle_deg", "half_angle_deg = nan"),
+                   {"machine.nozzle.half_angle_deg = nan", "not a finite number"});
+}
+
+TEST(Profile, NozzleCrossChecksNameBothKeys) {
+    expect_refused(with(base_with_nozzle(), "standoff_mm", "standoff_mm = 50"),
+                   {"machine.nozzle.standoff_mm = 50", "machine.nozzle.cone_length_mm = 45"});
+    expect_refused(with(base_with_nozzle(), "body_length_mm", "body_length_mm = 0"),
+                   {"machine.nozzle.body_radius_mm = 30", "machine.nozzle.body_length_mm = 0"});
+    expect_refused(with(base_with_nozzle(), "body_radius_mm", "body_radius_mm = 0"),
+                   {"machine.nozzle.body_radius_mm = 0", "machine.nozzle.body_length_mm = 120"});
+    // The tip may sit at the cone's end.
+    const auto at_end =
+        parse_profile(with(base_with_nozzle(), "standoff_mm", "standoff_mm = 45"), "t");
+    EXPECT_TRUE(at_end.has_value()) << at_end.error().describe();
+}
+
+TEST(Profile, ValidateChecksTheNozzle) {
+    const auto r = parse_profile(base_with_nozzle(), "t");
+    ASSERT_TRUE(r.has_value()) << r.error().describe();
+    MachineProfile m = *r->machine;
+    ASSERT_TRUE(validate(m).has_value());
+    m.nozzle->standoff_mm = 60.0;
+    const auto standoff = validate(m);
+    ASSERT_FALSE(standoff.has_value());
+    EXPECT_NE(standoff.error().message.find("machine.nozzle.standoff_mm = 60"), std::string::npos)
+        << standoff.error().describe();
+    m.nozzle = NozzleProfile{};
+    m.nozzle->clearance_mm = -0.5;
+    const auto clearance = validate(m);
+    ASSERT_FALSE(clearance.has_value());
+    EXPECT_NE(clearance.error().message.find("machine.nozzle.clearance_mm = -0.5"),
+              std::string::npos)
+        << clearance.error().describe();
+    m.nozzle.reset();
+    EXPECT_TRUE(validate(m).has_value());
+    // The defaults the planner falls back on are themselves a valid nozzle.
+    m.nozzle = NozzleProfile{};
+    EXPECT_TRUE(validate(m).has_value());
+}
+
+TEST(Profile, NozzleMissingUnknownAndMistypedKeys) {
+    expect_refused(without(base_with_nozzle(), "standoff_mm"),
+                   {"missing key", "machine.nozzle.standoff_mm", "(0, 1000] mm"});
+    expect_refused(without(base_with_nozzle(), "clearance_mm"),
+                   {"missing key", "machine.nozzle.clearance_mm", "[0, 50] mm"});
+    expect_refused(with(base_with_nozzle(), "standoff_mm", "standof_mm = 9.0"),
+                   {"unknown key `machine.nozzle.standof_mm`", "did you mean `standoff_mm`"});
+    expect_refused(
+        with(base_with_nozzle(), "clearance_mm", "clearance_mm = 1.5\ncolour = 3"),
+        {"unknown key `machine.nozzle.colour`", "allowed in [machine.nozzle]", "half_angle_deg"});
+    expect_refused(with(base_with_nozzle(), "half_angle_deg", "half_angle_deg = \"30\""),
+                   {"machine.nozzle.half_angle_deg", "must be a number", "\"30\""});
+    expect_refused(with(base(), "name", "name = \"test\"\nnozzle = 3"),
+                   {"`machine.nozzle` must be a table", "an integer"});
+    expect_refused(with(base(), "name", "name = \"test\"\nnozle = 3"),
+                   {"unknown key `machine.nozle`", "did you mean `nozzle`"});
+}
+
+TEST(Profile, ShippedProfilesCarryANozzle) {
+    for (const char* name : {"reference_lmd.toml", "linuxcnc_generic.toml"}) {
+        SCOPED_TRACE(name);
+        const auto r = read_profile(kProfilesDir / name);
+        ASSERT_TRUE(r.has_value()) << r.error().describe();
+        ASSERT_TRUE(r->machine.has_value());
+        ASSERT_TRUE(r->machine->nozzle.has_value());
+        const NozzleProfile& n = *r->machine->nozzle;
+        EXPECT_LE(n.standoff_mm, n.cone_length_mm);
+        EXPECT_GT(n.body_radius_mm, 0.0);
+        EXPECT_GT(n.body_length_mm, 0.0);
+    }
+    // The reference LENS-type coaxial head (nominal values).
+    const auto ref = read_profile(kProfilesDir / "reference_lmd.toml");
+    ASSERT_TRUE(ref.has_value()) << ref.error().describe();
+    const NozzleProfile& n = ref->machine->nozzle.value();
+    EXPECT_DOUBLE_EQ(n.half_angle_deg, 30.0);
+    EXPECT_DOUBLE_EQ(n.cone_length_mm, 45.0);
+    EXPECT_DOUBLE_EQ(n.standoff_mm, 9.0);
+    EXPECT_DOUBLE_EQ(n.body_radius_mm, 30.0);
+    EXPECT_DOUBLE_EQ(n.body_length_mm, 120.0);
+    EXPECT_DOUBLE_EQ(n.clearance_mm, 1.0);
 }
 
 class ProfileFiles : public ::testing::Test {

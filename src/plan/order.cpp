@@ -1,0 +1,614 @@
+#include "maxslice/plan/order.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <numbers>
+#include <tuple>
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include "maxslice/core/units.hpp"
+
+// Collision control and build order (METHOD.md sections 7 and 8). The names follow the
+// method: S1 is the layer in place, S2 the one being deposited; "hit(S2, S1)" means S2's
+// nozzle, standing anywhere on S2's top, meets S1's material.
+
+namespace maxslice::plan {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kDegToRad = std::numbers::pi / 180.0;
+// Material this little above the apex's plane is the layer's own level (mm).
+constexpr double kLevelTolerance = 1e-6;
+// Grid cells per axis of the spatial index, at most.
+constexpr int kMaxGridCells = 48;
+
+struct Vec2 {
+    double x = 0.0;
+    double y = 0.0;
+};
+
+// A layer as the nozzle check sees it.
+struct LayerShape {
+    core::Vec3d d;                         // build direction = nozzle axis (unit)
+    slice::PlaneFrame top;                 // apexes lie on this plane
+    std::vector<std::vector<Vec2>> print;  // footprint on the top plane (mm, top's u, v)
+    Vec2 print_lo{kInf, kInf};
+    Vec2 print_hi{-kInf, -kInf};
+    std::vector<core::Vec3d> samples;  // material points: bottom and top faces
+    core::Vec3d lo{kInf, kInf, kInf};  // box of the samples
+    core::Vec3d hi{-kInf, -kInf, -kInf};
+    core::Vec3d reach_lo;  // box of everything its nozzle can reach
+    core::Vec3d reach_hi;
+};
+
+void grow(core::Vec3d& lo, core::Vec3d& hi, const core::Vec3d& p) {
+    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+}
+
+bool boxes_meet(const core::Vec3d& alo, const core::Vec3d& ahi, const core::Vec3d& blo,
+                const core::Vec3d& bhi) {
+    return alo.x <= bhi.x && blo.x <= ahi.x && alo.y <= bhi.y && blo.y <= ahi.y && alo.z <= bhi.z &&
+           blo.z <= ahi.z;
+}
+
+// Distance (mm) from q to the region bounded by the contours (0 inside; non-zero winding,
+// outers counter-clockwise, holes clockwise), and the region's closest point.
+double distance_to_region(const std::vector<std::vector<Vec2>>& contours, Vec2 q, Vec2& closest) {
+    int winding = 0;
+    double best = kInf;
+    for (const std::vector<Vec2>& c : contours) {
+        const std::size_t n = c.size();
+        for (std::size_t i = 0; i < n; ++i) {
+            const Vec2 a = c[i];
+            const Vec2 b = c[(i + 1) % n];
+            if (a.y <= q.y) {
+                if (b.y > q.y && (b.x - a.x) * (q.y - a.y) - (q.x - a.x) * (b.y - a.y) > 0.0)
+                    ++winding;
+            } else if (b.y <= q.y && (b.x - a.x) * (q.y - a.y) - (q.x - a.x) * (b.y - a.y) < 0.0) {
+                --winding;
+            }
+            const double ex = b.x - a.x;
+            const double ey = b.y - a.y;
+            const double len2 = ex * ex + ey * ey;
+            double s = len2 > 0.0 ? ((q.x - a.x) * ex + (q.y - a.y) * ey) / len2 : 0.0;
+            s = std::clamp(s, 0.0, 1.0);
+            const Vec2 p{a.x + s * ex, a.y + s * ey};
+            const double dist = std::hypot(q.x - p.x, q.y - p.y);
+            if (dist < best) {
+                best = dist;
+                closest = p;
+            }
+        }
+    }
+    if (winding != 0) {
+        closest = q;
+        return 0.0;
+    }
+    return best;
+}
+
+// Points of a region (contours in mm) at about `spacing` apart: along every contour and on a
+// grid inside (scanlines).
+std::vector<Vec2> sample_region(const std::vector<std::vector<Vec2>>& contours, double spacing) {
+    std::vector<Vec2> out;
+    Vec2 lo{kInf, kInf}, hi{-kInf, -kInf};
+    for (const std::vector<Vec2>& c : contours) {
+        for (std::size_t i = 0; i < c.size(); ++i) {
+            const Vec2 a = c[i];
+            const Vec2 b = c[(i + 1) % c.size()];
+            lo = {std::min(lo.x, a.x), std::min(lo.y, a.y)};
+            hi = {std::max(hi.x, a.x), std::max(hi.y, a.y)};
+            const int steps = std::max(
+                1, static_cast<int>(std::ceil(std::hypot(b.x - a.x, b.y - a.y) / spacing)));
+            for (int k = 0; k < steps; ++k) {
+                const double s = static_cast<double>(k) / steps;
+                out.push_back({a.x + s * (b.x - a.x), a.y + s * (b.y - a.y)});
+            }
+        }
+    }
+    if (out.empty()) return out;
+    std::vector<double> xs;
+    for (double y = std::floor(lo.y / spacing) * spacing + spacing / 2; y < hi.y; y += spacing) {
+        xs.clear();
+        for (const std::vector<Vec2>& c : contours) {
+            for (std::size_t i = 0; i < c.size(); ++i) {
+                const Vec2 a = c[i];
+                const Vec2 b = c[(i + 1) % c.size()];
+                if ((a.y <= y) != (b.y <= y))
+                    xs.push_back(a.x + (y - a.y) / (b.y - a.y) * (b.x - a.x));
+            }
+        }
+        std::sort(xs.begin(), xs.end());
+        for (std::size_t k = 0; k + 1 < xs.size(); k += 2) {
+            for (double x = std::ceil(xs[k] / spacing) * spacing; x < xs[k + 1]; x += spacing)
+                out.push_back({x, y});
+        }
+    }
+    return out;
+}
+
+LayerShape shape_of(const Layer& l, const Nozzle& nozzle, double spacing) {
+    LayerShape s;
+    s.top = l.top;
+    s.d = l.top.normal;
+    // The section in its own plane (mm), for the samples.
+    std::vector<std::vector<Vec2>> own;
+    for (const geom2d::WireNode& n : l.wires.nodes) {
+        std::vector<Vec2>& c = own.emplace_back();
+        std::vector<Vec2>& f = s.print.emplace_back();
+        for (const geom2d::Point2& q : n.wire) {
+            c.push_back({core::um_to_mm(q.x), core::um_to_mm(q.y)});
+            const core::Vec3d x = l.plane.to_3d(q);
+            const core::Vec3d on_top = x - s.d * s.top.height(x);
+            const Vec2 p{core::dot(on_top - s.top.origin, s.top.u),
+                         core::dot(on_top - s.top.origin, s.top.v)};
+            f.push_back(p);
+            s.print_lo = {std::min(s.print_lo.x, p.x), std::min(s.print_lo.y, p.y)};
+            s.print_hi = {std::max(s.print_hi.x, p.x), std::max(s.print_hi.y, p.y)};
+        }
+    }
+    const double half = std::max(l.thickness_max_mm, l.span.thickness()) / 2.0;
+    for (const Vec2& q : sample_region(own, spacing)) {
+        const geom2d::Point2 p{core::mm_to_um(q.x), core::mm_to_um(q.y)};
+        for (const double h : {-half, half}) {
+            const core::Vec3d x = l.plane.to_3d(p, h);
+            s.samples.push_back(x);
+            grow(s.lo, s.hi, x);
+        }
+    }
+    // Reach: the footprint's box on the top plane swept along d by the nozzle's length,
+    // grown by its widest radius and the clearance.
+    const double a = nozzle.half_angle_deg * kDegToRad;
+    const double length = nozzle.cone_length_mm + nozzle.body_length_mm;
+    const double radius =
+        std::max(nozzle.cone_length_mm * std::tan(a), nozzle.body_radius_mm) + nozzle.clearance_mm;
+    core::Vec3d rlo{kInf, kInf, kInf}, rhi{-kInf, -kInf, -kInf};
+    for (const double u : {s.print_lo.x, s.print_hi.x}) {
+        for (const double v : {s.print_lo.y, s.print_hi.y}) {
+            const core::Vec3d p = s.top.origin + s.top.u * u + s.top.v * v;
+            grow(rlo, rhi, p);
+            grow(rlo, rhi, p + s.d * length);
+        }
+    }
+    s.reach_lo = rlo - core::Vec3d{radius, radius, radius};
+    s.reach_hi = rhi + core::Vec3d{radius, radius, radius};
+    return s;
+}
+
+// What the nozzle of S2 (standing anywhere on S2's top) meets of S1's material.
+struct Meeting {
+    double margin = kInf;  // smallest clearance (mm)
+    core::Vec3d apex;
+    core::Vec3d hit;
+};
+
+Meeting meet(const LayerShape& s2, const LayerShape& s1, const Nozzle& nozzle) {
+    Meeting m;
+    const double a = nozzle.half_angle_deg * kDegToRad;
+    const double ca = std::cos(a), sa = std::sin(a);
+    const double cone = nozzle.cone_length_mm;
+    const double length = cone + (nozzle.body_radius_mm > 0.0 ? nozzle.body_length_mm : 0.0);
+    // Cheap: all of S1 on or under S2's top plane (METHOD.md condition 2), or beyond reach.
+    double t_lo = kInf, t_hi = -kInf;
+    for (const double x : {s1.lo.x, s1.hi.x}) {
+        for (const double y : {s1.lo.y, s1.hi.y}) {
+            for (const double z : {s1.lo.z, s1.hi.z}) {
+                const double t = s2.top.height({x, y, z});
+                t_lo = std::min(t_lo, t);
+                t_hi = std::max(t_hi, t);
+            }
+        }
+    }
+    if (t_hi <= kLevelTolerance || t_lo > length) return m;
+    for (const core::Vec3d& x : s1.samples) {
+        const core::Vec3d rel = x - s2.top.origin;
+        const double t = core::dot(rel, s2.d);
+        if (t <= kLevelTolerance || t > length) continue;
+        const Vec2 q{core::dot(rel, s2.top.u), core::dot(rel, s2.top.v)};
+        // A lower bound of the distance to the footprint: the distance to its box.
+        const double bx = std::max({s2.print_lo.x - q.x, 0.0, q.x - s2.print_hi.x});
+        const double by = std::max({s2.print_lo.y - q.y, 0.0, q.y - s2.print_hi.y});
+        const double box = std::hypot(bx, by);
+        const auto clearance = [&](double r) {
+            return t <= cone ? r * ca - t * sa : r - nozzle.body_radius_mm;
+        };
+        if (clearance(box) >= m.margin) continue;
+        Vec2 c;
+        const double r = distance_to_region(s2.print, q, c);
+        const double here = clearance(r);
+        if (here < m.margin) {
+            m.margin = here;
+            m.hit = x;
+            m.apex = s2.top.origin + s2.top.u * c.x + s2.top.v * c.y;
+        }
+    }
+    return m;
+}
+
+// Descendants of every layer as bit rows.
+class Reach {
+public:
+    explicit Reach(const Plan& plan, const std::vector<int>& topo)
+        : words_((plan.layers.size() + 63) / 64), bits_(plan.layers.size() * words_, 0) {
+        for (auto it = topo.rbegin(); it != topo.rend(); ++it) {
+            const Layer& l = plan.layers[static_cast<std::size_t>(*it)];
+            std::uint64_t* row = bits_.data() + static_cast<std::size_t>(l.id) * words_;
+            for (const int c : l.children) {
+                row[static_cast<std::size_t>(c) / 64] |= std::uint64_t{1} << (c % 64);
+                const std::uint64_t* crow = bits_.data() + static_cast<std::size_t>(c) * words_;
+                for (std::size_t w = 0; w < words_; ++w) row[w] |= crow[w];
+            }
+        }
+    }
+    // Whether b lies above a in the graph (b is deposited on a, directly or not).
+    [[nodiscard]] bool descends(int b, int a) const {
+        return ((bits_[static_cast<std::size_t>(a) * words_ + static_cast<std::size_t>(b) / 64] >>
+                 (b % 64)) &
+                1U) != 0;
+    }
+
+private:
+    std::size_t words_;
+    std::vector<std::uint64_t> bits_;
+};
+
+// A uniform grid over the layers' sample boxes.
+class Grid {
+public:
+    explicit Grid(const std::vector<LayerShape>& shapes) {
+        for (const LayerShape& s : shapes) {
+            if (s.samples.empty()) continue;
+            grow(lo_, hi_, s.lo);
+            grow(lo_, hi_, s.hi);
+        }
+        const core::Vec3d ext = hi_ - lo_;
+        cell_ = std::max({ext.x, ext.y, ext.z, 1e-3}) / kMaxGridCells;
+        for (int k = 0; k < 3; ++k) {
+            n_[k] =
+                std::clamp(static_cast<int>(std::ceil(coord(ext, k) / cell_)), 1, kMaxGridCells);
+        }
+        cells_.resize(static_cast<std::size_t>(n_[0]) * static_cast<std::size_t>(n_[1]) *
+                      static_cast<std::size_t>(n_[2]));
+        for (std::size_t i = 0; i < shapes.size(); ++i) {
+            if (shapes[i].samples.empty()) continue;
+            visit(shapes[i].lo, shapes[i].hi,
+                  [&](std::vector<int>& cell) { cell.push_back(static_cast<int>(i)); });
+        }
+    }
+
+    template <class F>
+    void visit(const core::Vec3d& lo, const core::Vec3d& hi, F&& f) const {
+        visit_impl(lo, hi, [&](std::size_t c) { f(cells_[c]); });
+    }
+    template <class F>
+    void visit(const core::Vec3d& lo, const core::Vec3d& hi, F&& f) {
+        visit_impl(lo, hi, [&](std::size_t c) { f(cells_[c]); });
+    }
+
+private:
+    static double coord(const core::Vec3d& p, int k) { return k == 0 ? p.x : k == 1 ? p.y : p.z; }
+
+    template <class F>
+    void visit_impl(const core::Vec3d& lo, const core::Vec3d& hi, F&& f) const {
+        if (cells_.empty()) return;
+        int a[3], b[3];
+        for (int k = 0; k < 3; ++k) {
+            const double l = (coord(lo, k) - coord(lo_, k)) / cell_;
+            const double h = (coord(hi, k) - coord(lo_, k)) / cell_;
+            if (h < 0.0 || l > n_[k]) return;
+            a[k] = std::clamp(static_cast<int>(std::floor(l)), 0, n_[k] - 1);
+            b[k] = std::clamp(static_cast<int>(std::floor(h)), 0, n_[k] - 1);
+        }
+        for (int z = a[2]; z <= b[2]; ++z)
+            for (int y = a[1]; y <= b[1]; ++y)
+                for (int x = a[0]; x <= b[0]; ++x)
+                    f((static_cast<std::size_t>(z) * static_cast<std::size_t>(n_[1]) +
+                       static_cast<std::size_t>(y)) *
+                          static_cast<std::size_t>(n_[0]) +
+                      static_cast<std::size_t>(x));
+    }
+
+    core::Vec3d lo_{kInf, kInf, kInf};
+    core::Vec3d hi_{-kInf, -kInf, -kInf};
+    double cell_ = 1.0;
+    int n_[3] = {1, 1, 1};
+    std::vector<std::vector<int>> cells_;
+};
+
+// A pair the nozzle orders: `first` must be deposited before `second`, whose material its
+// nozzle would meet.
+struct CollisionEdge {
+    int first = -1;
+    int second = -1;
+    Meeting meeting;
+};
+
+// The side (branch) of every layer: a layer continues its parent's side when it is the
+// parent's only child, the parent its only parent, and both lie in the same region.
+std::vector<int> sides_of(const Plan& plan, const std::vector<int>& topo) {
+    std::vector<int> side(plan.layers.size(), -1);
+    int next = 0;
+    for (const int id : topo) {
+        const Layer& l = plan.layers[static_cast<std::size_t>(id)];
+        if (l.parents.size() == 1) {
+            const Layer& p = plan.layers[static_cast<std::size_t>(l.parents.front())];
+            if (p.children.size() == 1 && p.region == l.region) {
+                side[static_cast<std::size_t>(id)] = side[static_cast<std::size_t>(p.id)];
+                continue;
+            }
+        }
+        side[static_cast<std::size_t>(id)] = next++;
+    }
+    return side;
+}
+
+std::string describe(const Plan& plan, int id) {
+    const Layer& l = plan.layers[static_cast<std::size_t>(id)];
+    return fmt::format("layer {} (region {}, slice {})", id, l.region, l.index_in_region);
+}
+
+}  // namespace
+
+core::Result<void> validate(const Nozzle& n) {
+    const auto bad = [](const std::string& m) {
+        return core::fail(core::ErrorCode::kInvalidInput, m, "nozzle");
+    };
+    if (!(n.half_angle_deg > 0.0 && n.half_angle_deg <= 85.0)) {
+        return bad(
+            fmt::format("nozzle.half_angle_deg must be in (0, 85] (got {})", n.half_angle_deg));
+    }
+    if (!(n.cone_length_mm > 0.0 && n.cone_length_mm <= 1000.0)) {
+        return bad(
+            fmt::format("nozzle.cone_length_mm must be in (0, 1000] (got {})", n.cone_length_mm));
+    }
+    if (!(n.standoff_mm > 0.0 && n.standoff_mm <= n.cone_length_mm)) {
+        return bad(fmt::format("nozzle.standoff_mm must be in (0, cone_length_mm = {}] (got {})",
+                               n.cone_length_mm, n.standoff_mm));
+    }
+    if (!(n.body_radius_mm >= 0.0 && n.body_radius_mm <= 1000.0) ||
+        !(n.body_length_mm >= 0.0 && n.body_length_mm <= 1000.0)) {
+        return bad(
+            fmt::format("nozzle.body_radius_mm and nozzle.body_length_mm must be in "
+                        "[0, 1000] (got {} and {})",
+                        n.body_radius_mm, n.body_length_mm));
+    }
+    if (!(n.clearance_mm >= 0.0 && n.clearance_mm <= 50.0)) {
+        return bad(fmt::format("nozzle.clearance_mm must be in [0, 50] (got {})", n.clearance_mm));
+    }
+    return {};
+}
+
+double nozzle_clearance(const Nozzle& nozzle, const core::Vec3d& apex, const core::Vec3d& axis,
+                        const core::Vec3d& x) {
+    const core::Vec3d rel = x - apex;
+    const double t = core::dot(rel, axis);
+    const double cone = nozzle.cone_length_mm;
+    const double length = cone + (nozzle.body_radius_mm > 0.0 ? nozzle.body_length_mm : 0.0);
+    if (t <= kLevelTolerance || t > length) return kInf;
+    const double r = core::norm(rel - axis * t);
+    const double a = nozzle.half_angle_deg * kDegToRad;
+    return t <= cone ? r * std::cos(a) - t * std::sin(a) : r - nozzle.body_radius_mm;
+}
+
+double BuildOrder::smallest_margin_mm() const {
+    double m = kInf;
+    for (const int id : order) m = std::min(m, margin_mm[static_cast<std::size_t>(id)]);
+    return m;
+}
+
+core::Result<BuildOrder> order_layers(const Plan& plan, const OrderSettings& settings,
+                                      const core::Progress* progress) {
+    if (auto ok = validate(settings.nozzle); !ok) return std::unexpected(ok.error());
+    const Nozzle& nozzle = settings.nozzle;
+    const double spacing = settings.sample_spacing_mm > 0.0 ? settings.sample_spacing_mm
+                                                            : plan.settings.track_width_mm / 2.0;
+    if (!(spacing > 0.0) || !std::isfinite(spacing)) {
+        return core::fail(core::ErrorCode::kInvalidInput,
+                          "the sample spacing must be a positive number of mm", "build order");
+    }
+    const std::size_t n = plan.layers.size();
+    const std::vector<int> topo = topological_order(plan);
+    if (topo.size() != n) {
+        return core::fail(core::ErrorCode::kInternal,
+                          "the hierarchy graph has a cycle (a bug in maxslice)", "build order");
+    }
+    const auto cancelled = [&] { return progress != nullptr && progress->cancelled(); };
+
+    std::vector<LayerShape> shapes(n);
+    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
+        if (!cancelled()) shapes[i] = shape_of(plan.layers[i], nozzle, spacing);
+    });
+    if (cancelled()) return core::fail(core::ErrorCode::kCancelled, "cancelled", "build order");
+    const Reach reach(plan, topo);
+    const Grid grid(shapes);
+
+    // Every pair (S2, S1) where S1 may be in place when S2 is deposited (S1 is not above S2
+    // in the graph) and S2's nozzle can reach S1's box: the exact check.
+    std::vector<std::vector<std::pair<int, Meeting>>> meets(n);
+    tbb::enumerable_thread_specific<std::vector<int>> stamps(std::vector<int>(n, -1));
+    std::atomic<std::size_t> done{0};
+    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
+        if (cancelled()) return;
+        const int s2 = static_cast<int>(i);
+        std::vector<int>& stamp = stamps.local();
+        std::vector<int> candidates;
+        grid.visit(shapes[i].reach_lo, shapes[i].reach_hi, [&](const std::vector<int>& cell) {
+            for (const int s1 : cell) {
+                if (s1 == s2 || stamp[static_cast<std::size_t>(s1)] == s2) continue;
+                stamp[static_cast<std::size_t>(s1)] = s2;
+                candidates.push_back(s1);
+            }
+        });
+        std::sort(candidates.begin(), candidates.end());
+        for (const int s1 : candidates) {
+            if (reach.descends(s1, s2)) continue;  // S1 comes after S2 in any order
+            const LayerShape& b = shapes[static_cast<std::size_t>(s1)];
+            if (!boxes_meet(shapes[i].reach_lo, shapes[i].reach_hi, b.lo, b.hi)) continue;
+            const Meeting m = meet(shapes[i], b, nozzle);
+            if (m.margin < kInf) meets[i].emplace_back(s1, m);
+        }
+        if (progress != nullptr) {
+            progress->report("build order",
+                             0.9 * static_cast<double>(++done) / static_cast<double>(n));
+        }
+    });
+    if (cancelled()) return core::fail(core::ErrorCode::kCancelled, "cancelled", "build order");
+
+    // Precedence: the graph's edges and, for every S2 whose nozzle would meet S1 closer than
+    // the clearance, S2 before S1.
+    BuildOrder out;
+    std::vector<std::vector<int>> after(n);  // after[a]: layers that must follow a
+    std::vector<std::vector<CollisionEdge>> collisions_into(n);  // by `second`
+    std::vector<int> indegree(n, 0);
+    for (const Layer& l : plan.layers) {
+        for (const int c : l.children) {
+            after[static_cast<std::size_t>(l.id)].push_back(c);
+            ++indegree[static_cast<std::size_t>(c)];
+        }
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+        for (const auto& [s1, m] : meets[i]) {
+            if (m.margin >= nozzle.clearance_mm) continue;
+            after[i].push_back(s1);
+            ++indegree[static_cast<std::size_t>(s1)];
+            collisions_into[static_cast<std::size_t>(s1)].push_back({static_cast<int>(i), s1, m});
+            ++out.collision_edges;
+        }
+    }
+
+    // Kahn's algorithm, preferring the current side, then region, then direction.
+    out.side_of = sides_of(plan, topo);
+    std::vector<int> ready;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (indegree[i] == 0) ready.push_back(static_cast<int>(i));
+    }
+    int last = -1;
+    const auto key = [&](int id) {
+        const Layer& l = plan.layers[static_cast<std::size_t>(id)];
+        int rank = 3;
+        if (last >= 0) {
+            const Layer& p = plan.layers[static_cast<std::size_t>(last)];
+            if (out.side_of[static_cast<std::size_t>(id)] ==
+                out.side_of[static_cast<std::size_t>(last)]) {
+                rank = 0;
+            } else if (l.region == p.region) {
+                rank = 1;
+            } else if (core::dot(l.top.normal, p.top.normal) > 1.0 - 1e-9) {
+                rank = 2;
+            }
+        }
+        return std::tuple(rank, l.region, l.index_in_region, id);
+    };
+    out.order.reserve(n);
+    while (!ready.empty()) {
+        const auto best = std::min_element(ready.begin(), ready.end(),
+                                           [&](int a, int b) { return key(a) < key(b); });
+        const int id = *best;
+        *best = ready.back();
+        ready.pop_back();
+        out.order.push_back(id);
+        last = id;
+        for (const int c : after[static_cast<std::size_t>(id)]) {
+            if (--indegree[static_cast<std::size_t>(c)] == 0) ready.push_back(c);
+        }
+    }
+
+    // Stuck: a cycle among the layers left. Walk back along "must follow" from one of them
+    // until a layer repeats, and name the collisions on that cycle.
+    if (out.order.size() < n) {
+        std::vector<std::vector<std::pair<int, const CollisionEdge*>>> before(n);
+        for (const Layer& l : plan.layers) {
+            for (const int c : l.children)
+                before[static_cast<std::size_t>(c)].push_back({l.id, nullptr});
+        }
+        for (std::size_t i = 0; i < n; ++i) {
+            for (const CollisionEdge& e : collisions_into[i]) before[i].push_back({e.first, &e});
+        }
+        int start = -1;
+        for (std::size_t i = 0; i < n && start < 0; ++i) {
+            if (indegree[i] > 0) start = static_cast<int>(i);
+        }
+        std::vector<int> seen(n, -1);
+        std::vector<std::pair<int, const CollisionEdge*>> walk;
+        int at = start;
+        while (seen[static_cast<std::size_t>(at)] < 0) {
+            seen[static_cast<std::size_t>(at)] = static_cast<int>(walk.size());
+            for (const auto& [p, e] : before[static_cast<std::size_t>(at)]) {
+                if (indegree[static_cast<std::size_t>(p)] > 0) {
+                    walk.push_back({at, e});
+                    at = p;
+                    break;
+                }
+            }
+        }
+        for (std::size_t k = static_cast<std::size_t>(seen[static_cast<std::size_t>(at)]);
+             k < walk.size(); ++k) {
+            const CollisionEdge* e = walk[k].second;
+            if (e == nullptr) continue;
+            Conflict c;
+            c.layer = e->first;
+            c.other = e->second;
+            c.apex = e->meeting.apex;
+            c.hit = e->meeting.hit;
+            c.margin_mm = e->meeting.margin;
+            c.reason = fmt::format(
+                "the nozzle on {} at ({:.2f}, {:.2f}, {:.2f}) would meet {} at ({:.2f}, {:.2f}, "
+                "{:.2f}) (clearance {:.2f} mm < {:.2f}), so {} must come first, yet {} must come "
+                "before it ({})",
+                describe(plan, c.layer), c.apex.x, c.apex.y, c.apex.z, describe(plan, c.other),
+                c.hit.x, c.hit.y, c.hit.z, c.margin_mm, nozzle.clearance_mm,
+                describe(plan, c.layer), describe(plan, c.other),
+                reach.descends(c.layer, c.other) ? "it is deposited on it"
+                                                 : "through the other conflicts listed");
+            out.conflicts.push_back(std::move(c));
+        }
+    }
+
+    // Margins against what is in place, sections, jumps.
+    std::vector<int> rank(n, -1);
+    for (std::size_t k = 0; k < out.order.size(); ++k)
+        rank[static_cast<std::size_t>(out.order[k])] = static_cast<int>(k);
+    out.margin_mm.assign(n, std::numeric_limits<double>::quiet_NaN());
+    for (const int id : out.order) {
+        double m = kInf;
+        for (const auto& [s1, meeting] : meets[static_cast<std::size_t>(id)]) {
+            const int r1 = rank[static_cast<std::size_t>(s1)];
+            if (r1 >= 0 && r1 < rank[static_cast<std::size_t>(id)]) m = std::min(m, meeting.margin);
+        }
+        out.margin_mm[static_cast<std::size_t>(id)] = m;
+    }
+    out.section_of.assign(n, -1);
+    std::vector<char> used(plan.regions.size(), 0);
+    for (std::size_t k = 0; k < out.order.size(); ++k) {
+        const int id = out.order[k];
+        const Layer& l = plan.layers[static_cast<std::size_t>(id)];
+        used[static_cast<std::size_t>(l.region)] = 1;
+        if (k > 0 && plan.layers[static_cast<std::size_t>(out.order[k - 1])].region != l.region)
+            ++out.jumps;
+        if (out.sections.empty() ||
+            out.sections.back().side != out.side_of[static_cast<std::size_t>(id)]) {
+            Section s;
+            s.id = static_cast<int>(out.sections.size());
+            s.side = out.side_of[static_cast<std::size_t>(id)];
+            s.region = l.region;
+            out.sections.push_back(std::move(s));
+        }
+        out.sections.back().layers.push_back(id);
+        out.section_of[static_cast<std::size_t>(id)] = out.sections.back().id;
+    }
+    int regions_used = 0;
+    for (const Region& r : plan.regions) regions_used += r.layers.empty() ? 0 : 1;
+    out.min_jumps = std::max(0, regions_used - 1);
+    if (progress != nullptr) progress->report("build order", 1.0);
+    return out;
+}
+
+}  // namespace maxslice::plan
