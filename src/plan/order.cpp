@@ -28,6 +28,9 @@ constexpr double kDegToRad = std::numbers::pi / 180.0;
 constexpr double kLevelTolerance = 1e-6;
 // Grid cells per axis of the spatial index, at most.
 constexpr int kMaxGridCells = 48;
+// Clearances beyond this (mm, or twice the nozzle's clearance) are not measured: a pair that
+// cannot come closer is skipped.
+constexpr double kMarginCap = 10.0;
 
 struct Vec2 {
     double x = 0.0;
@@ -81,9 +84,9 @@ double distance_to_region(const std::vector<std::vector<Vec2>>& contours, Vec2 q
             double s = len2 > 0.0 ? ((q.x - a.x) * ex + (q.y - a.y) * ey) / len2 : 0.0;
             s = std::clamp(s, 0.0, 1.0);
             const Vec2 p{a.x + s * ex, a.y + s * ey};
-            const double dist = std::hypot(q.x - p.x, q.y - p.y);
-            if (dist < best) {
-                best = dist;
+            const double dist2 = (q.x - p.x) * (q.x - p.x) + (q.y - p.y) * (q.y - p.y);
+            if (dist2 < best) {
+                best = dist2;
                 closest = p;
             }
         }
@@ -92,7 +95,7 @@ double distance_to_region(const std::vector<std::vector<Vec2>>& contours, Vec2 q
         closest = q;
         return 0.0;
     }
-    return best;
+    return std::sqrt(best);
 }
 
 // Points of a region (contours in mm) at about `spacing` apart: along every contour and on a
@@ -185,7 +188,8 @@ LayerShape shape_of(const Layer& l, const Nozzle& nozzle, double spacing) {
 
 // What the nozzle of S2 (standing anywhere on S2's top) meets of S1's material.
 struct Meeting {
-    double margin = kInf;  // smallest clearance (mm)
+    double margin = kInf;  // smallest clearance (mm); +inf beyond kMarginCap; below the
+                           // nozzle's clearance: the first sample found there
     core::Vec3d apex;
     core::Vec3d hit;
 };
@@ -196,6 +200,7 @@ Meeting meet(const LayerShape& s2, const LayerShape& s1, const Nozzle& nozzle) {
     const double ca = std::cos(a), sa = std::sin(a);
     const double cone = nozzle.cone_length_mm;
     const double length = cone + (nozzle.body_radius_mm > 0.0 ? nozzle.body_length_mm : 0.0);
+    const double cap = std::max(kMarginCap, 2.0 * nozzle.clearance_mm);
     // Cheap: all of S1 on or under S2's top plane (METHOD.md condition 2), or beyond reach.
     double t_lo = kInf, t_hi = -kInf;
     for (const double x : {s1.lo.x, s1.hi.x}) {
@@ -208,6 +213,31 @@ Meeting meet(const LayerShape& s2, const LayerShape& s1, const Nozzle& nozzle) {
         }
     }
     if (t_hi <= kLevelTolerance || t_lo > length) return m;
+    // Nothing of S1 comes within the cap: S1's box against S2's footprint box, seen from the
+    // top plane, at the deepest reach of the cone (or the body).
+    {
+        double u_lo = kInf, u_hi = -kInf, v_lo = kInf, v_hi = -kInf;
+        for (const double x : {s1.lo.x, s1.hi.x}) {
+            for (const double y : {s1.lo.y, s1.hi.y}) {
+                for (const double z : {s1.lo.z, s1.hi.z}) {
+                    const core::Vec3d rel = core::Vec3d{x, y, z} - s2.top.origin;
+                    const double u = core::dot(rel, s2.top.u), v = core::dot(rel, s2.top.v);
+                    u_lo = std::min(u_lo, u);
+                    u_hi = std::max(u_hi, u);
+                    v_lo = std::min(v_lo, v);
+                    v_hi = std::max(v_hi, v);
+                }
+            }
+        }
+        const double gu = std::max({s2.print_lo.x - u_hi, 0.0, u_lo - s2.print_hi.x});
+        const double gv = std::max({s2.print_lo.y - v_hi, 0.0, v_lo - s2.print_hi.y});
+        const double gap = std::sqrt(gu * gu + gv * gv);
+        const double t_top = std::min(t_hi, cone);
+        const double bound =
+            std::min(gap * ca - t_top * sa, t_hi > cone ? gap - nozzle.body_radius_mm : kInf);
+        if (bound >= cap) return m;
+    }
+    m.margin = cap;  // below this the samples are measured
     for (const core::Vec3d& x : s1.samples) {
         const core::Vec3d rel = x - s2.top.origin;
         const double t = core::dot(rel, s2.d);
@@ -216,7 +246,7 @@ Meeting meet(const LayerShape& s2, const LayerShape& s1, const Nozzle& nozzle) {
         // A lower bound of the distance to the footprint: the distance to its box.
         const double bx = std::max({s2.print_lo.x - q.x, 0.0, q.x - s2.print_hi.x});
         const double by = std::max({s2.print_lo.y - q.y, 0.0, q.y - s2.print_hi.y});
-        const double box = std::hypot(bx, by);
+        const double box = std::sqrt(bx * bx + by * by);
         const auto clearance = [&](double r) {
             return t <= cone ? r * ca - t * sa : r - nozzle.body_radius_mm;
         };
@@ -228,8 +258,11 @@ Meeting meet(const LayerShape& s2, const LayerShape& s1, const Nozzle& nozzle) {
             m.margin = here;
             m.hit = x;
             m.apex = s2.top.origin + s2.top.u * c.x + s2.top.v * c.y;
+            // A collision: the pair is ordered, how deep does not matter.
+            if (m.margin < nozzle.clearance_mm) break;
         }
     }
+    if (m.margin >= cap) m.margin = kInf;
     return m;
 }
 
