@@ -12,6 +12,7 @@
 #include <random>
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "maxslice/mesh/triangle_mesh.hpp"
@@ -404,16 +405,24 @@ void expect_one_run(const std::vector<int>& rank, const Region& r) {
     EXPECT_EQ(hi - lo + 1, static_cast<int>(r.layers.size())) << "region " << r.id << " split";
 }
 
-TEST(BuildOrder, BearingSeatBossAfterItsSupportInOneRun) {
-    const auto f = test::bearing_seat();
-    const Plan p = plan_of(f.mesh);
+// Plans and orders a fixture with the default nozzle; the order must be complete, valid and
+// with the fewest jumps (regions with layers - 1). Returns the plan and the ranks.
+std::pair<Plan, std::vector<int>> ordered_with_fewest_jumps(const test::PlannerFixture& f) {
+    Plan p = plan_of(f.mesh);
     const OrderSettings s;
     const BuildOrder o = order_of(p, s);
     expect_valid_order(p, o, s.nozzle);
-    ASSERT_TRUE(o.complete()) << outcome(o);
+    EXPECT_TRUE(o.complete()) << outcome(o);
     EXPECT_EQ(o.min_jumps, regions_with_layers(p) - 1);
     EXPECT_EQ(o.jumps, o.min_jumps) << outcome(o);
-    const std::vector<int> rank = ranks(p, o);
+    std::vector<int> rank = o.complete() ? ranks(p, o) : std::vector<int>();
+    return {std::move(p), std::move(rank)};
+}
+
+TEST(BuildOrder, BearingSeatBossAfterItsSupportInOneRun) {
+    const auto f = test::bearing_seat();
+    const auto [p, rank] = ordered_with_fewest_jumps(f);
+    ASSERT_EQ(rank.size(), p.layers.size());
     int bosses = 0;
     for (const Region& r : p.regions) {
         if (!parallel(r.direction, {1, 0, 0}) || r.layers.empty()) continue;
@@ -434,14 +443,8 @@ TEST(BuildOrder, BearingSeatBossAfterItsSupportInOneRun) {
 
 TEST(BuildOrder, TShapeArmsWithTheFewestJumps) {
     const auto f = test::t_shape_arms();
-    const Plan p = plan_of(f.mesh);
-    const OrderSettings s;
-    const BuildOrder o = order_of(p, s);
-    expect_valid_order(p, o, s.nozzle);
-    ASSERT_TRUE(o.complete()) << outcome(o);
-    EXPECT_EQ(o.min_jumps, regions_with_layers(p) - 1);
-    EXPECT_EQ(o.jumps, o.min_jumps) << outcome(o);
-    const std::vector<int> rank = ranks(p, o);
+    const auto [p, rank] = ordered_with_fewest_jumps(f);
+    ASSERT_EQ(rank.size(), p.layers.size());
     for (const Region& r : p.regions) {
         if (!r.layers.empty()) expect_one_run(rank, r);
     }
