@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <cstdint>
@@ -14,6 +15,7 @@
 #include <tbb/parallel_for.h>
 
 #include "maxslice/core/units.hpp"
+#include "maxslice/geom2d/wire_tree.hpp"
 
 // Collision control and build order (METHOD.md sections 7 and 8). The names follow the
 // method: S1 is the layer in place, S2 the one being deposited; "hit(S2, S1)" means S2's
@@ -28,6 +30,11 @@ constexpr double kDegToRad = std::numbers::pi / 180.0;
 constexpr double kLevelTolerance = 1e-6;
 // Grid cells per axis of the spatial index, at most.
 constexpr int kMaxGridCells = 48;
+// Samples are checked in chunks of about this many sample spacings across.
+constexpr double kChunkSamples = 6.0;
+// Apexes stand this share of half a track inside the section (a margin for the offset's
+// rounding against the toolpath's own).
+constexpr double kApexInsetShare = 0.95;
 // Clearances beyond this (mm, or twice the nozzle's clearance) are not measured: a pair that
 // cannot come closer is skipped.
 constexpr double kMarginCap = 10.0;
@@ -37,6 +44,14 @@ struct Vec2 {
     double y = 0.0;
 };
 
+// Samples [begin, end) of a layer that lie close together, with their box.
+struct SampleChunk {
+    std::size_t begin = 0;
+    std::size_t end = 0;
+    core::Vec3d lo;
+    core::Vec3d hi;
+};
+
 // A layer as the nozzle check sees it.
 struct LayerShape {
     core::Vec3d d;                         // build direction = nozzle axis (unit)
@@ -44,7 +59,8 @@ struct LayerShape {
     std::vector<std::vector<Vec2>> print;  // footprint on the top plane (mm, top's u, v)
     Vec2 print_lo{kInf, kInf};
     Vec2 print_hi{-kInf, -kInf};
-    std::vector<core::Vec3d> samples;  // material points: bottom and top faces
+    std::vector<core::Vec3d> samples;  // material points: bottom and top faces, by chunk
+    std::vector<SampleChunk> chunks;
     core::Vec3d lo{kInf, kInf, kInf};  // box of the samples
     core::Vec3d hi{-kInf, -kInf, -kInf};
     core::Vec3d reach_lo;  // box of everything its nozzle can reach
@@ -138,7 +154,21 @@ std::vector<Vec2> sample_region(const std::vector<std::vector<Vec2>>& contours, 
     return out;
 }
 
-LayerShape shape_of(const Layer& l, const Nozzle& nozzle, double spacing) {
+// Where the nozzle's apex can stand on a layer: the track centres lie at least half a track
+// inside the section (path::plan_layer), so each island shrunk by that much; an island too
+// thin for it (a single track along its middle) counts whole.
+geom2d::Paths2 apex_region(const Layer& l, double track_width_mm) {
+    geom2d::Paths2 out;
+    const auto inset = core::mm_to_um(kApexInsetShare * track_width_mm / 2.0);
+    for (const geom2d::Paths2& island : l.wires.islands()) {
+        geom2d::Paths2 in = geom2d::offset_of(island, -inset);
+        if (geom2d::signed_area_mm2(in) <= 0.0) in = island;
+        out.insert(out.end(), in.begin(), in.end());
+    }
+    return out;
+}
+
+LayerShape shape_of(const Layer& l, const Nozzle& nozzle, double spacing, double track_width_mm) {
     LayerShape s;
     s.top = l.top;
     s.d = l.top.normal;
@@ -146,9 +176,13 @@ LayerShape shape_of(const Layer& l, const Nozzle& nozzle, double spacing) {
     std::vector<std::vector<Vec2>> own;
     for (const geom2d::WireNode& n : l.wires.nodes) {
         std::vector<Vec2>& c = own.emplace_back();
-        std::vector<Vec2>& f = s.print.emplace_back();
-        for (const geom2d::Point2& q : n.wire) {
+        for (const geom2d::Point2& q : n.wire)
             c.push_back({core::um_to_mm(q.x), core::um_to_mm(q.y)});
+    }
+    // The apexes' region, on the top plane.
+    for (const geom2d::Path2& path : apex_region(l, track_width_mm)) {
+        std::vector<Vec2>& f = s.print.emplace_back();
+        for (const geom2d::Point2& q : path) {
             const core::Vec3d x = l.plane.to_3d(q);
             const core::Vec3d on_top = x - s.d * s.top.height(x);
             const Vec2 p{core::dot(on_top - s.top.origin, s.top.u),
@@ -165,6 +199,29 @@ LayerShape shape_of(const Layer& l, const Nozzle& nozzle, double spacing) {
             const core::Vec3d x = l.plane.to_3d(p, h);
             s.samples.push_back(x);
             grow(s.lo, s.hi, x);
+        }
+    }
+    // Chunks: the samples sorted by cells of kChunkSamples x spacing.
+    {
+        const double cell = kChunkSamples * spacing;
+        std::vector<std::pair<std::array<std::int64_t, 3>, core::Vec3d>> keyed;
+        keyed.reserve(s.samples.size());
+        for (const core::Vec3d& x : s.samples) {
+            keyed.push_back({{static_cast<std::int64_t>(std::floor((x.x - s.lo.x) / cell)),
+                              static_cast<std::int64_t>(std::floor((x.y - s.lo.y) / cell)),
+                              static_cast<std::int64_t>(std::floor((x.z - s.lo.z) / cell))},
+                             x});
+        }
+        std::stable_sort(keyed.begin(), keyed.end(),
+                         [](const auto& p, const auto& q) { return p.first < q.first; });
+        for (std::size_t k = 0; k < keyed.size(); ++k) {
+            s.samples[k] = keyed[k].second;
+            if (k == 0 || keyed[k].first != keyed[k - 1].first) {
+                s.chunks.push_back({k, k, {kInf, kInf, kInf}, {-kInf, -kInf, -kInf}});
+            }
+            SampleChunk& c = s.chunks.back();
+            c.end = k + 1;
+            grow(c.lo, c.hi, s.samples[k]);
         }
     }
     // Reach: the footprint's box on the top plane swept along d by the nozzle's length,
@@ -194,6 +251,36 @@ struct Meeting {
     core::Vec3d hit;
 };
 
+// The smallest clearance any point of the box [lo, hi] can have from S2's nozzle (a lower
+// bound), or +inf when the whole box lies on or under S2's top plane or beyond the nozzle.
+double box_bound(const LayerShape& s2, const core::Vec3d& lo, const core::Vec3d& hi,
+                 const Nozzle& nozzle, double ca, double sa, double length) {
+    double t_lo = kInf, t_hi = -kInf, u_lo = kInf, u_hi = -kInf, v_lo = kInf, v_hi = -kInf;
+    for (const double x : {lo.x, hi.x}) {
+        for (const double y : {lo.y, hi.y}) {
+            for (const double z : {lo.z, hi.z}) {
+                const core::Vec3d rel = core::Vec3d{x, y, z} - s2.top.origin;
+                const double t = core::dot(rel, s2.d);
+                const double u = core::dot(rel, s2.top.u), v = core::dot(rel, s2.top.v);
+                t_lo = std::min(t_lo, t);
+                t_hi = std::max(t_hi, t);
+                u_lo = std::min(u_lo, u);
+                u_hi = std::max(u_hi, u);
+                v_lo = std::min(v_lo, v);
+                v_hi = std::max(v_hi, v);
+            }
+        }
+    }
+    // METHOD.md condition 2: all of it on or under S2's top plane; or beyond the nozzle.
+    if (t_hi <= kLevelTolerance || t_lo > length) return kInf;
+    const double gu = std::max({s2.print_lo.x - u_hi, 0.0, u_lo - s2.print_hi.x});
+    const double gv = std::max({s2.print_lo.y - v_hi, 0.0, v_lo - s2.print_hi.y});
+    const double gap = std::sqrt(gu * gu + gv * gv);
+    const double cone = nozzle.cone_length_mm;
+    return std::min(gap * ca - std::min(t_hi, cone) * sa,
+                    t_hi > cone ? gap - nozzle.body_radius_mm : kInf);
+}
+
 Meeting meet(const LayerShape& s2, const LayerShape& s1, const Nozzle& nozzle) {
     Meeting m;
     const double a = nozzle.half_angle_deg * kDegToRad;
@@ -201,65 +288,35 @@ Meeting meet(const LayerShape& s2, const LayerShape& s1, const Nozzle& nozzle) {
     const double cone = nozzle.cone_length_mm;
     const double length = cone + (nozzle.body_radius_mm > 0.0 ? nozzle.body_length_mm : 0.0);
     const double cap = std::max(kMarginCap, 2.0 * nozzle.clearance_mm);
-    // Cheap: all of S1 on or under S2's top plane (METHOD.md condition 2), or beyond reach.
-    double t_lo = kInf, t_hi = -kInf;
-    for (const double x : {s1.lo.x, s1.hi.x}) {
-        for (const double y : {s1.lo.y, s1.hi.y}) {
-            for (const double z : {s1.lo.z, s1.hi.z}) {
-                const double t = s2.top.height({x, y, z});
-                t_lo = std::min(t_lo, t);
-                t_hi = std::max(t_hi, t);
-            }
-        }
-    }
-    if (t_hi <= kLevelTolerance || t_lo > length) return m;
-    // Nothing of S1 comes within the cap: S1's box against S2's footprint box, seen from the
-    // top plane, at the deepest reach of the cone (or the body).
-    {
-        double u_lo = kInf, u_hi = -kInf, v_lo = kInf, v_hi = -kInf;
-        for (const double x : {s1.lo.x, s1.hi.x}) {
-            for (const double y : {s1.lo.y, s1.hi.y}) {
-                for (const double z : {s1.lo.z, s1.hi.z}) {
-                    const core::Vec3d rel = core::Vec3d{x, y, z} - s2.top.origin;
-                    const double u = core::dot(rel, s2.top.u), v = core::dot(rel, s2.top.v);
-                    u_lo = std::min(u_lo, u);
-                    u_hi = std::max(u_hi, u);
-                    v_lo = std::min(v_lo, v);
-                    v_hi = std::max(v_hi, v);
-                }
-            }
-        }
-        const double gu = std::max({s2.print_lo.x - u_hi, 0.0, u_lo - s2.print_hi.x});
-        const double gv = std::max({s2.print_lo.y - v_hi, 0.0, v_lo - s2.print_hi.y});
-        const double gap = std::sqrt(gu * gu + gv * gv);
-        const double t_top = std::min(t_hi, cone);
-        const double bound =
-            std::min(gap * ca - t_top * sa, t_hi > cone ? gap - nozzle.body_radius_mm : kInf);
-        if (bound >= cap) return m;
-    }
+    // Nothing of S1 comes within the cap: skip the pair; then chunk by chunk.
+    if (box_bound(s2, s1.lo, s1.hi, nozzle, ca, sa, length) >= cap) return m;
     m.margin = cap;  // below this the samples are measured
-    for (const core::Vec3d& x : s1.samples) {
-        const core::Vec3d rel = x - s2.top.origin;
-        const double t = core::dot(rel, s2.d);
-        if (t <= kLevelTolerance || t > length) continue;
-        const Vec2 q{core::dot(rel, s2.top.u), core::dot(rel, s2.top.v)};
-        // A lower bound of the distance to the footprint: the distance to its box.
-        const double bx = std::max({s2.print_lo.x - q.x, 0.0, q.x - s2.print_hi.x});
-        const double by = std::max({s2.print_lo.y - q.y, 0.0, q.y - s2.print_hi.y});
-        const double box = std::sqrt(bx * bx + by * by);
-        const auto clearance = [&](double r) {
-            return t <= cone ? r * ca - t * sa : r - nozzle.body_radius_mm;
-        };
-        if (clearance(box) >= m.margin) continue;
-        Vec2 c;
-        const double r = distance_to_region(s2.print, q, c);
-        const double here = clearance(r);
-        if (here < m.margin) {
-            m.margin = here;
-            m.hit = x;
-            m.apex = s2.top.origin + s2.top.u * c.x + s2.top.v * c.y;
-            // A collision: the pair is ordered, how deep does not matter.
-            if (m.margin < nozzle.clearance_mm) break;
+    for (const SampleChunk& chunk : s1.chunks) {
+        if (box_bound(s2, chunk.lo, chunk.hi, nozzle, ca, sa, length) >= m.margin) continue;
+        for (std::size_t k = chunk.begin; k < chunk.end; ++k) {
+            const core::Vec3d& x = s1.samples[k];
+            const core::Vec3d rel = x - s2.top.origin;
+            const double t = core::dot(rel, s2.d);
+            if (t <= kLevelTolerance || t > length) continue;
+            const Vec2 q{core::dot(rel, s2.top.u), core::dot(rel, s2.top.v)};
+            // A lower bound of the distance to the footprint: the distance to its box.
+            const double bx = std::max({s2.print_lo.x - q.x, 0.0, q.x - s2.print_hi.x});
+            const double by = std::max({s2.print_lo.y - q.y, 0.0, q.y - s2.print_hi.y});
+            const double box = std::sqrt(bx * bx + by * by);
+            const auto clearance = [&](double r) {
+                return t <= cone ? r * ca - t * sa : r - nozzle.body_radius_mm;
+            };
+            if (clearance(box) >= m.margin) continue;
+            Vec2 c;
+            const double r = distance_to_region(s2.print, q, c);
+            const double here = clearance(r);
+            if (here < m.margin) {
+                m.margin = here;
+                m.hit = x;
+                m.apex = s2.top.origin + s2.top.u * c.x + s2.top.v * c.y;
+                // A collision: the pair is ordered, how deep does not matter.
+                if (m.margin < nozzle.clearance_mm) return m;
+            }
         }
     }
     if (m.margin >= cap) m.margin = kInf;
@@ -457,7 +514,9 @@ core::Result<BuildOrder> order_layers(const Plan& plan, const OrderSettings& set
 
     std::vector<LayerShape> shapes(n);
     tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
-        if (!cancelled()) shapes[i] = shape_of(plan.layers[i], nozzle, spacing);
+        if (!cancelled()) {
+            shapes[i] = shape_of(plan.layers[i], nozzle, spacing, plan.settings.track_width_mm);
+        }
     });
     if (cancelled()) return core::fail(core::ErrorCode::kCancelled, "cancelled", "build order");
     const Reach reach(plan, topo);
