@@ -427,6 +427,9 @@ int run_plan(const PartOptions& opt, const PlanOptions& po, bool layer_given) {
         if (auto ok = pipeline::write_plan_svgs(po.svg_dir, planned->plan); !ok) {
             return report_error(ok.error());
         }
+        if (auto ok = pipeline::write_order_svgs(po.svg_dir, planned->plan, *planned->order); !ok) {
+            return report_error(ok.error());
+        }
     }
     std::fputs(pipeline::plan_summary(*planned, part->report.volume_mm3).c_str(), stdout);
     if (opt.timings) print_timings(times);
@@ -515,7 +518,9 @@ int run(int argc, char** argv) {
         ->check(CLI::PositiveNumber);
     plan_cmd->add_option("--plan", po.plan_file, "Write the plan as JSON (docs/plan-format.md)");
     plan_cmd->add_option("--dot", po.dot_file, "Write the hierarchy graph as Graphviz DOT");
-    plan_cmd->add_option("--svg", po.svg_dir, "Write one SVG per region into this folder");
+    plan_cmd->add_option(
+        "--svg", po.svg_dir,
+        "Write one SVG per region and side views by build order and section into this folder");
     plan_cmd->add_option("--mesh-out", po.mesh_out,
                          "Write the layers' walls coloured by region as a PLY mesh");
     plan_cmd->add_option("--order-out", po.order_out,

@@ -415,35 +415,50 @@ std::string plan_dot(const plan::Plan& p) {
     return fmt::to_string(out);
 }
 
+namespace {
+
+// The colour of every layer (by id) for a preview.
+std::vector<std::array<int, 3>> layer_colours(const plan::Plan& p, PlanColour colour,
+                                              const plan::BuildOrder* order) {
+    constexpr std::array<int, 3> kUnordered{128, 128, 128};
+    std::vector<std::array<int, 3>> out;
+    out.reserve(p.layers.size());
+    for (const plan::Layer& l : p.layers) out.push_back(region_colour(l.region));
+    if (order == nullptr || colour == PlanColour::kRegion) return out;
+    std::fill(out.begin(), out.end(), kUnordered);
+    const std::size_t n = order->order.size();
+    for (std::size_t k = 0; k < n; ++k) {
+        const auto i = static_cast<std::size_t>(order->order[k]);
+        if (colour == PlanColour::kSection) {
+            out[i] = region_colour(order->section_of[i]);
+        } else {
+            const double t = n > 1 ? static_cast<double>(k) / static_cast<double>(n - 1) : 0.0;
+            out[i] = {static_cast<int>(255 * t), 64, 255 - static_cast<int>(255 * t)};
+        }
+    }
+    return out;
+}
+
+const char* colour_meaning(PlanColour colour) {
+    switch (colour) {
+        case PlanColour::kOrder: return "build order (blue first, red last, grey not ordered)";
+        case PlanColour::kSection: return "section of the build order (grey not ordered)";
+        case PlanColour::kRegion: break;
+    }
+    return "region";
+}
+
+}  // namespace
+
 std::string plan_ply(const plan::Plan& p, PlanColour colour, const plan::BuildOrder* order) {
     fmt::memory_buffer verts, faces;
     std::size_t nv = 0, nf = 0;
     if (order == nullptr) colour = PlanColour::kRegion;
-    std::vector<int> rank(p.layers.size(), -1);
-    if (order != nullptr) {
-        for (std::size_t k = 0; k < order->order.size(); ++k)
-            rank[static_cast<std::size_t>(order->order[k])] = static_cast<int>(k);
-    }
-    const auto colour_of = [&](const plan::Layer& l) -> std::array<int, 3> {
-        const auto i = static_cast<std::size_t>(l.id);
-        switch (colour) {
-            case PlanColour::kRegion: break;
-            case PlanColour::kOrder: {
-                if (rank[i] < 0) return {128, 128, 128};
-                const double t = order->order.size() > 1
-                                     ? rank[i] / static_cast<double>(order->order.size() - 1)
-                                     : 0.0;
-                return {static_cast<int>(255 * t), 64, 255 - static_cast<int>(255 * t)};
-            }
-            case PlanColour::kSection:
-                if (order->section_of[i] < 0) return {128, 128, 128};
-                return region_colour(order->section_of[i]);
-        }
-        return region_colour(l.region);
+    const std::vector<std::array<int, 3>> colours = layer_colours(p, colour, order);
+    const auto colour_of = [&](const plan::Layer& l) {
+        return colours[static_cast<std::size_t>(l.id)];
     };
-    const char* what = colour == PlanColour::kOrder     ? "build order (blue first, red last)"
-                       : colour == PlanColour::kSection ? "section of the build order"
-                                                        : "region";
+    const char* what = colour_meaning(colour);
     for (const plan::Layer& l : p.layers) {
         const auto c = colour_of(l);
         const double lo = l.span.bottom - l.span.cut, hi = l.span.top - l.span.cut;
@@ -532,6 +547,69 @@ core::Result<void> write_plan_svgs(const std::filesystem::path& dir, const plan:
                                          fmt::to_string(out));
             !ok) {
             return ok;
+        }
+    }
+    return {};
+}
+
+core::Result<void> write_order_svgs(const std::filesystem::path& dir, const plan::Plan& p,
+                                    const plan::BuildOrder& order) {
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec)
+        return core::fail(core::ErrorCode::kIo, "cannot create folder: " + ec.message(),
+                          dir.string());
+    struct View {
+        const char* name;
+        core::Vec3d right;
+    };
+    const View views[] = {{"xz", {1.0, 0.0, 0.0}}, {"yz", {0.0, 1.0, 0.0}}};
+    for (const PlanColour colour : {PlanColour::kOrder, PlanColour::kSection}) {
+        const std::vector<std::array<int, 3>> colours = layer_colours(p, colour, &order);
+        for (const View& view : views) {
+            // Side view: every wire projected on the plane spanned by `right` and +Z.
+            double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
+            fmt::memory_buffer paths;
+            // Unordered layers first (under), then in build order.
+            std::vector<int> ids;
+            std::vector<char> placed(p.layers.size(), 0);
+            for (const int id : order.order) placed[static_cast<std::size_t>(id)] = 1;
+            for (const plan::Layer& l : p.layers) {
+                if (placed[static_cast<std::size_t>(l.id)] == 0) ids.push_back(l.id);
+            }
+            ids.insert(ids.end(), order.order.begin(), order.order.end());
+            for (const int id : ids) {
+                const plan::Layer& l = p.layers[static_cast<std::size_t>(id)];
+                const auto& c = colours[static_cast<std::size_t>(id)];
+                put(paths,
+                    "<path fill=\"none\" stroke=\"#{:02x}{:02x}{:02x}\" stroke-width=\"0.15\" d=\"",
+                    c[0], c[1], c[2]);
+                for (const geom2d::WireNode& n : l.wires.nodes) {
+                    for (std::size_t k = 0; k < n.wire.size(); ++k) {
+                        const core::Vec3d x = l.plane.to_3d(n.wire[k]);
+                        const double u = core::dot(x, view.right), v = -x.z;
+                        x0 = std::min(x0, u);
+                        y0 = std::min(y0, v);
+                        x1 = std::max(x1, u);
+                        y1 = std::max(y1, v);
+                        put(paths, "{}{:.3f} {:.3f} ", k == 0 ? "M" : "L", u, v);
+                    }
+                    put(paths, "Z ");
+                }
+                put(paths, "\"/>\n");
+            }
+            if (x0 > x1) x0 = y0 = 0.0, x1 = y1 = 1.0;
+            const double margin = 2.0;
+            const std::string what = colour == PlanColour::kOrder ? "order" : "sections";
+            const std::string text = fmt::format(
+                "<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"{:.3f} {:.3f} {:.3f} {:.3f}\" "
+                "width=\"800\">\n<title>side view ({}): layers coloured by {}</title>\n{}</svg>\n",
+                x0 - margin, y0 - margin, x1 - x0 + 2 * margin, y1 - y0 + 2 * margin, view.name,
+                colour_meaning(colour), fmt::to_string(paths));
+            if (auto ok = detail::write_text(dir / fmt::format("{}_{}.svg", what, view.name), text);
+                !ok) {
+                return ok;
+            }
         }
     }
     return {};

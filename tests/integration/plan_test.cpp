@@ -99,7 +99,8 @@ TEST(PlanCli, ExampleWithEveryExport) {
     const CliRun r =
         run_cli({"plan", kExample.string(), "--plan", (dir / "plan.json").string(), "--dot",
                  (dir / "graph.dot").string(), "--svg", (dir / "svg").string(), "--mesh-out",
-                 (dir / "regions.ply").string()});
+                 (dir / "regions.ply").string(), "--order-out", (dir / "order.ply").string(),
+                 "--sections-out", (dir / "sections.ply").string()});
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_NE(r.out.find("regions"), std::string::npos);
     check_plan_file(dir / "plan.json");
@@ -109,6 +110,31 @@ TEST(PlanCli, ExampleWithEveryExport) {
     const std::string ply = slurp(dir / "regions.ply");
     EXPECT_EQ(ply.rfind("ply\nformat ascii 1.0\n", 0), 0u);
     EXPECT_TRUE(fs::exists(dir / "svg" / "region_000.svg"));
+    // The build order: printed, and previews by order and section with as many walls as the
+    // region preview (the same layers, other colours).
+    EXPECT_NE(r.out.find("build order"), std::string::npos);
+    EXPECT_NE(r.out.find("collision-free"), std::string::npos);
+    const auto counts = [](const std::string& text) {
+        const auto at = text.find("element vertex");
+        return at == std::string::npos ? std::string()
+                                       : text.substr(at, text.find("property", at) - at) +
+                                             text.substr(text.find("element face"), 24);
+    };
+    const std::pair<const char*, const char*> previews[] = {{"order.ply", "build order"},
+                                                            {"sections.ply", "section"}};
+    for (const auto& [name, meaning] : previews) {
+        const std::string other = slurp(dir / name);
+        EXPECT_EQ(other.rfind("ply\n", 0), 0u) << name;
+        EXPECT_NE(other.find(std::string("coloured by ") + meaning), std::string::npos) << name;
+        EXPECT_EQ(counts(other), counts(ply)) << name;
+        EXPECT_FALSE(counts(ply).empty());
+    }
+    for (const char* name :
+         {"order_xz.svg", "order_yz.svg", "sections_xz.svg", "sections_yz.svg"}) {
+        const std::string svg = slurp(dir / "svg" / name);
+        EXPECT_EQ(svg.rfind("<svg", 0), 0u) << name;
+        EXPECT_NE(svg.find("<path"), std::string::npos) << name;
+    }
 }
 
 TEST(PlanCli, OrientAutoListsItsCandidates) {

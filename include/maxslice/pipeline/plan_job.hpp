@@ -99,6 +99,12 @@ enum class PlanColour {
 /// coloured from the first layer (blue) to the last (red). Creates dir.
 [[nodiscard]] core::Result<void> write_plan_svgs(const std::filesystem::path& dir,
                                                  const plan::Plan& plan);
+/// Side views of the plan coloured by build order (order_xz.svg, order_yz.svg: blue first,
+/// red last) and by section (sections_xz.svg, sections_yz.svg): every layer's wires projected
+/// on the XZ and YZ planes. Creates dir.
+[[nodiscard]] core::Result<void> write_order_svgs(const std::filesystem::path& dir,
+                                                  const plan::Plan& plan,
+                                                  const plan::BuildOrder& order);
 /// A short human summary (regions, splits, tilts wanted, layers, volume, time).
 [[nodiscard]] std::string plan_summary(const PlannedPart& planned, double mesh_volume_mm3);
 
