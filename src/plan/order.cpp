@@ -30,6 +30,8 @@ constexpr double kDegToRad = std::numbers::pi / 180.0;
 constexpr double kLevelTolerance = 1e-6;
 // Grid cells per axis of the spatial index, at most.
 constexpr int kMaxGridCells = 48;
+// Plans with more layers are refused: the descendant rows take n^2 / 8 bytes (600 MB here).
+constexpr std::size_t kMaxLayers = 70'000;
 // Samples are checked in chunks of about this many sample spacings across.
 constexpr double kChunkSamples = 6.0;
 // Apexes stand this share of half a track inside the section (a margin for the offset's
@@ -359,6 +361,7 @@ public:
             grow(lo_, hi_, s.lo);
             grow(lo_, hi_, s.hi);
         }
+        if (!(lo_.x <= hi_.x)) return;  // no samples at all: an empty grid
         const core::Vec3d ext = hi_ - lo_;
         cell_ = std::max({ext.x, ext.y, ext.z, 1e-3}) / kMaxGridCells;
         for (int k = 0; k < 3; ++k) {
@@ -509,6 +512,13 @@ core::Result<BuildOrder> order_layers(const Plan& plan, const OrderSettings& set
     if (topo.size() != n) {
         return core::fail(core::ErrorCode::kInternal,
                           "the hierarchy graph has a cycle (a bug in maxslice)", "build order");
+    }
+    if (n > kMaxLayers) {
+        return core::fail(core::ErrorCode::kInvalidInput,
+                          fmt::format("{} layers are more than the collision check handles ({}): "
+                                      "use thicker layers or split the part",
+                                      n, kMaxLayers),
+                          "build order");
     }
     const auto cancelled = [&] { return progress != nullptr && progress->cancelled(); };
 

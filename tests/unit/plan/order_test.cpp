@@ -667,3 +667,22 @@ TEST(BuildOrder, InvalidNozzleIsRefused) {
 
 }  // namespace
 }  // namespace maxslice::plan
+
+namespace maxslice::plan {
+namespace {
+
+// A plan without layers (a part that planned to nothing) orders to nothing, cleanly.
+TEST(BuildOrder, EmptyPlanGivesAnEmptyCompleteOrder) {
+    const Plan empty;
+    const auto o = order_layers(empty, OrderSettings{});
+    ASSERT_TRUE(o.has_value()) << o.error().describe();
+    EXPECT_TRUE(o->order.empty());
+    EXPECT_TRUE(o->complete());
+    EXPECT_EQ(o->jumps, 0);
+    EXPECT_EQ(o->min_jumps, 0);
+    EXPECT_TRUE(o->sections.empty());
+    EXPECT_FALSE(std::isfinite(o->smallest_margin_mm()));
+}
+
+}  // namespace
+}  // namespace maxslice::plan
