@@ -1,6 +1,7 @@
 #include "maxslice/machine/profile.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <toml++/toml.h>
 #include <algorithm>
@@ -112,6 +113,17 @@ constexpr std::array<NumberKey<MachineProfile>, 5> kMachineNumbers{{
      {0.0, kMaxPowderGMin, false, false, "g/min"}},
 }};
 constexpr Range kAxisRange{-kMaxAxisTravelMm, kMaxAxisTravelMm, false, false, "mm"};
+// A tilt beyond a full turn either way is a unit mistake; C may turn on for many turns (a
+// continuous axis), but not for thousands.
+constexpr Range kTiltAxisRange{-360.0, 360.0, false, false, "deg"};
+constexpr Range kCAxisRange{-100000.0, 100000.0, false, false, "deg"};
+
+// [machine.table]: the pivot anywhere in the travel range, the C axis within 10 m of it, a
+// retract of up to a metre.
+constexpr Range kPivotRange = kAxisRange;
+constexpr Range kCOffsetRange{-10000.0, 10000.0, false, false, "mm"};
+constexpr Range kRetractRange{0.0, 1000.0, true, false, "mm"};
+constexpr Range kDirectionRange{-1.0, 1.0, false, false, ""};
 
 // The collision model of METHOD.md section 7. The half-angle stops short of 90 deg, where the
 // cone would be a plane; body_radius_mm may be below the cone's top radius (a slim head).
@@ -125,7 +137,40 @@ constexpr std::array<NumberKey<NozzleProfile>, 6> kNozzleNumbers{{
 }};
 
 constexpr std::array<std::string_view, 3> kXyzAxes{"X", "Y", "Z"};
+constexpr std::array<std::string_view, 5> kAcAxes{"X", "Y", "Z", "A", "C"};
+constexpr std::array<std::string_view, 5> kBcAxes{"X", "Y", "Z", "B", "C"};
 constexpr std::array<std::string_view, 3> kRotaryAxes{"A", "B", "C"};
+
+struct KinematicsName {
+    std::string_view name;
+    Kinematics kinematics;
+};
+constexpr std::array<KinematicsName, 3> kKinematicsNames{{
+    {"xyz", Kinematics::kXyz},
+    {"xyzac-trt", Kinematics::kTableAc},
+    {"xyzbc-trt", Kinematics::kTableBc},
+}};
+
+// The axes of a kinematics, in the order of MachineProfile::axes.
+std::span<const std::string_view> axis_names(Kinematics k) {
+    switch (k) {
+        case Kinematics::kXyz: return kXyzAxes;
+        case Kinematics::kTableAc: return kAcAxes;
+        case Kinematics::kTableBc: return kBcAxes;
+    }
+    return kXyzAxes;
+}
+
+const Range& axis_range(std::string_view axis_name) {
+    if (axis_name == "C") return kCAxisRange;
+    if (axis_name == "A" || axis_name == "B") return kTiltAxisRange;
+    return kAxisRange;
+}
+
+// The key of the tilt axis's sign in [machine.table].
+std::string_view tilt_direction_key(Kinematics k) {
+    return k == Kinematics::kTableBc ? "b_direction" : "a_direction";
+}
 
 struct CodeKey {
     std::string_view key;
@@ -264,6 +309,29 @@ public:
         const auto v = as_number(key, *node, range);
         if (!v) return std::unexpected(v.error());
         return std::optional<double>{*v};
+    }
+
+    // An array of exactly `count` numbers (`pivot = [0, 0, -50]`); errors name the element.
+    [[nodiscard]] core::Result<std::vector<double>> numbers(std::string_view key, std::size_t count,
+                                                            const Range& range) const {
+        const std::string expected =
+            fmt::format("an array of {} numbers in {}", count, range_text(range));
+        const auto node = required(key, expected);
+        if (!node) return std::unexpected(node.error());
+        const auto* a = (*node)->as_array();
+        if (a == nullptr || a->size() != count) {
+            return core::fail(ErrorCode::kInvalidInput,
+                              fmt::format("`{}` must be {}, got {}", path(key), expected,
+                                          a == nullptr ? describe(**node)
+                                                       : fmt::format("{} elements", a->size())));
+        }
+        std::vector<double> out;
+        for (std::size_t i = 0; i < count; ++i) {
+            const auto v = as_number(fmt::format("{}[{}]", key, i), *a->get(i), range);
+            if (!v) return std::unexpected(v.error());
+            out.push_back(*v);
+        }
+        return out;
     }
 
     [[nodiscard]] core::Result<std::int64_t> integer(std::string_view key,
@@ -424,36 +492,128 @@ core::Result<ProcessProfile> read_process(const toml::table& table) {
     return p;
 }
 
-core::Result<std::vector<AxisLimits>> read_axes(const TableReader& machine) {
+core::Result<std::vector<AxisLimits>> read_axes(const TableReader& machine, Kinematics kinematics) {
     const auto table = machine.table("axes", "a table of axes, e.g. X = { min = 0, max = 500 }");
     if (!table) return pass(table);
     const TableReader axes(**table, machine.path("axes"));
+    const std::span<const std::string_view> names = axis_names(kinematics);
     for (auto&& [k, node] : **table) {
         const std::string_view name = k.str();
-        if (std::find(kRotaryAxes.begin(), kRotaryAxes.end(), name) != kRotaryAxes.end()) {
+        const bool rotary =
+            std::find(kRotaryAxes.begin(), kRotaryAxes.end(), name) != kRotaryAxes.end();
+        if (!rotary || std::find(names.begin(), names.end(), name) != names.end()) continue;
+        if (kinematics == Kinematics::kXyz) {
             return core::fail(ErrorCode::kInvalidInput,
-                              fmt::format("`{}`: rotary axes need tilting-rotary table "
-                                          "kinematics, which come later; kinematics \"xyz\" "
-                                          "takes X, Y and Z",
+                              fmt::format("`{}`: rotary axes need a tilting-rotary table "
+                                          "(kinematics \"xyzac-trt\" or \"xyzbc-trt\"); "
+                                          "kinematics \"xyz\" takes X, Y and Z",
                                           axes.path(name)));
         }
+        return core::fail(ErrorCode::kInvalidInput,
+                          fmt::format("`{}`: kinematics \"{}\" takes the axes X, Y, Z, {}, C "
+                                      "(axis {} belongs to \"{}\")",
+                                      axes.path(name), kinematics_name(kinematics), names[3], name,
+                                      name == "A" ? "xyzac-trt" : "xyzbc-trt"));
     }
-    if (auto ok = axes.only(kXyzAxes); !ok) return pass(ok);
+    if (auto ok = axes.only(names); !ok) return pass(ok);
 
     std::vector<AxisLimits> out;
     constexpr std::array<std::string_view, 2> kLimitKeys{"min", "max"};
-    for (std::string_view name : kXyzAxes) {
-        const auto axis = axes.table(name, "a table { min = ..., max = ... } in mm");
+    for (std::string_view name : names) {
+        const Range& range = axis_range(name);
+        const auto axis =
+            axes.table(name, fmt::format("a table {{ min = ..., max = ... }} in {}", range.unit));
         if (!axis) return pass(axis);
         const TableReader limits(**axis, axes.path(name));
         if (auto ok = limits.only(kLimitKeys); !ok) return pass(ok);
-        const auto lo = limits.number("min", kAxisRange);
+        const auto lo = limits.number("min", range);
         if (!lo) return pass(lo);
-        const auto hi = limits.number("max", kAxisRange);
+        const auto hi = limits.number("max", range);
         if (!hi) return pass(hi);
         out.push_back({std::string(name), *lo, *hi});
     }
     return out;
+}
+
+// [machine.table]: required for the table-tilt kinematics, every key required; refused for
+// "xyz" (a table nobody reads would hide a wrong kinematics line).
+core::Result<std::optional<TableProfile>> read_table(const TableReader& machine,
+                                                     Kinematics kinematics) {
+    constexpr std::string_view kExpected =
+        "a table with pivot, c_offset, a_direction (b_direction for xyzbc-trt), c_direction "
+        "and retract_mm";
+    if (!is_table_tilt(kinematics)) {
+        const auto table = machine.optional_table("table", kExpected);
+        if (!table) return pass(table);
+        if (*table == nullptr) return std::optional<TableProfile>{};
+        return core::fail(ErrorCode::kInvalidInput,
+                          fmt::format("`{}` is only for the tilting-rotary table kinematics "
+                                      "(\"xyzac-trt\", \"xyzbc-trt\"); kinematics \"{}\" has "
+                                      "no rotary table",
+                                      machine.path("table"), kinematics_name(kinematics)));
+    }
+    const auto table = machine.table(
+        "table", fmt::format("kinematics \"{}\" needs {}", kinematics_name(kinematics), kExpected));
+    if (!table) return pass(table);
+    const TableReader reader(**table, machine.path("table"));
+    const std::string_view tilt_key = tilt_direction_key(kinematics);
+    const std::array<std::string_view, 5> known{"pivot", "c_offset", tilt_key, "c_direction",
+                                                "retract_mm"};
+    if (auto ok = reader.only(known); !ok) return pass(ok);
+
+    TableProfile t;
+    const auto pivot = reader.numbers("pivot", 3, kPivotRange);
+    if (!pivot) return pass(pivot);
+    t.pivot_mm = {(*pivot)[0], (*pivot)[1], (*pivot)[2]};
+    const auto offset = reader.numbers("c_offset", 2, kCOffsetRange);
+    if (!offset) return pass(offset);
+    t.c_offset_x_mm = (*offset)[0];
+    t.c_offset_y_mm = (*offset)[1];
+    const auto sign = [&](std::string_view key) -> core::Result<int> {
+        const auto v = reader.integer(key, kDirectionRange);
+        if (!v) return pass(v);
+        if (*v != 1 && *v != -1) {
+            return core::fail(ErrorCode::kInvalidInput,
+                              fmt::format("{} = {} must be 1 or -1 (the sense of the axis)",
+                                          reader.path(key), *v));
+        }
+        return static_cast<int>(*v);
+    };
+    const auto tilt = sign(tilt_key);
+    if (!tilt) return pass(tilt);
+    t.tilt_direction = *tilt;
+    const auto c = sign("c_direction");
+    if (!c) return pass(c);
+    t.c_direction = *c;
+    const auto retract = reader.number("retract_mm", kRetractRange);
+    if (!retract) return pass(retract);
+    t.retract_mm = *retract;
+    return std::optional<TableProfile>{t};
+}
+
+core::Result<void> check_table(const TableProfile& t, Kinematics kinematics) {
+    const std::array<double, 3> pivot{t.pivot_mm.x, t.pivot_mm.y, t.pivot_mm.z};
+    for (std::size_t i = 0; i < pivot.size(); ++i) {
+        if (auto ok = check_range(fmt::format("machine.table.pivot[{}]", i), pivot[i], kPivotRange);
+            !ok) {
+            return ok;
+        }
+    }
+    if (auto ok = check_range("machine.table.c_offset[0]", t.c_offset_x_mm, kCOffsetRange); !ok) {
+        return ok;
+    }
+    if (auto ok = check_range("machine.table.c_offset[1]", t.c_offset_y_mm, kCOffsetRange); !ok) {
+        return ok;
+    }
+    const auto sign = [](std::string_view key, int v) -> core::Result<void> {
+        if (v == 1 || v == -1) return {};
+        return core::fail(
+            ErrorCode::kInvalidInput,
+            fmt::format("machine.table.{} = {} must be 1 or -1 (the sense of the axis)", key, v));
+    };
+    if (auto ok = sign(tilt_direction_key(kinematics), t.tilt_direction); !ok) return ok;
+    if (auto ok = sign("c_direction", t.c_direction); !ok) return ok;
+    return check_range("machine.table.retract_mm", t.retract_mm, kRetractRange);
 }
 
 // The optional [machine.nozzle] table: all keys required when it is there.
@@ -470,7 +630,8 @@ core::Result<std::optional<NozzleProfile>> read_nozzle(const TableReader& machin
 
 core::Result<MachineProfile> read_machine(const toml::table& table) {
     const TableReader reader(table, "machine");
-    std::vector<std::string_view> known{"name", "kinematics", "dialect", "axes", "codes", "nozzle"};
+    std::vector<std::string_view> known{"name",  "kinematics", "dialect", "axes",
+                                        "codes", "nozzle",     "table"};
     for (const auto& f : kMachineNumbers) known.push_back(f.key);
     if (auto ok = reader.only(known); !ok) return pass(ok);
 
@@ -479,15 +640,21 @@ core::Result<MachineProfile> read_machine(const toml::table& table) {
     if (!name) return pass(name);
     m.name = *name;
 
-    const auto kinematics = reader.string("kinematics", "\"xyz\"");
+    constexpr std::string_view kKinematicsExpected = "\"xyz\", \"xyzac-trt\" or \"xyzbc-trt\"";
+    const auto kinematics = reader.string("kinematics", kKinematicsExpected);
     if (!kinematics) return pass(kinematics);
-    if (*kinematics != "xyz") {
-        return core::fail(ErrorCode::kInvalidInput,
-                          fmt::format("machine.kinematics = \"{}\" is not supported: only \"xyz\" "
-                                      "for now (tilting-rotary table kinematics come later)",
-                                      *kinematics));
+    const auto known_kinematics =
+        std::find_if(kKinematicsNames.begin(), kKinematicsNames.end(),
+                     [&](const KinematicsName& k) { return k.name == *kinematics; });
+    if (known_kinematics == kKinematicsNames.end()) {
+        std::vector<std::string_view> names;
+        for (const auto& k : kKinematicsNames) names.push_back(k.name);
+        return core::fail(
+            ErrorCode::kInvalidInput,
+            fmt::format("machine.kinematics = \"{}\" is unknown (allowed: {}){}", *kinematics,
+                        kKinematicsExpected, suggestion(*kinematics, names)));
     }
-    m.kinematics = Kinematics::kXyz;
+    m.kinematics = known_kinematics->kinematics;
 
     const auto dialect = reader.string("dialect", "\"gm\" or \"linuxcnc\"");
     if (!dialect) return pass(dialect);
@@ -502,7 +669,7 @@ core::Result<MachineProfile> read_machine(const toml::table& table) {
                                       *dialect));
     }
 
-    const auto axes = read_axes(reader);
+    const auto axes = read_axes(reader, m.kinematics);
     if (!axes) return pass(axes);
     m.axes = *axes;
 
@@ -523,6 +690,10 @@ core::Result<MachineProfile> read_machine(const toml::table& table) {
     auto nozzle = read_nozzle(reader);
     if (!nozzle) return pass(nozzle);
     m.nozzle = *nozzle;
+
+    auto table_geometry = read_table(reader, m.kinematics);
+    if (!table_geometry) return pass(table_geometry);
+    m.table = *table_geometry;
 
     if (auto ok = validate(m); !ok) return pass(ok);
     return m;
@@ -681,29 +852,45 @@ core::Result<void> validate(const MachineProfile& m) {
     if (m.name.empty()) {
         return core::fail(ErrorCode::kInvalidInput, "machine.name is empty (name the machine)");
     }
-    if (m.kinematics == Kinematics::kXyz) {
-        if (m.axes.size() != kXyzAxes.size()) {
+    const std::span<const std::string_view> names = axis_names(m.kinematics);
+    if (m.axes.size() != names.size()) {
+        return core::fail(
+            ErrorCode::kInvalidInput,
+            fmt::format("machine.axes has {} axes; kinematics \"{}\" needs {}", m.axes.size(),
+                        kinematics_name(m.kinematics), fmt::join(names, ", ")));
+    }
+    for (std::size_t i = 0; i < names.size(); ++i) {
+        const AxisLimits& a = m.axes[i];
+        if (a.name != names[i]) {
             return core::fail(ErrorCode::kInvalidInput,
-                              fmt::format("machine.axes has {} axes; kinematics \"xyz\" needs X, "
-                                          "Y and Z",
-                                          m.axes.size()));
+                              fmt::format("machine.axes: axis {} is \"{}\", expected \"{}\"", i,
+                                          a.name, names[i]));
         }
-        for (std::size_t i = 0; i < kXyzAxes.size(); ++i) {
-            const AxisLimits& a = m.axes[i];
-            if (a.name != kXyzAxes[i]) {
-                return core::fail(ErrorCode::kInvalidInput,
-                                  fmt::format("machine.axes: axis {} is \"{}\", expected \"{}\"", i,
-                                              a.name, kXyzAxes[i]));
-            }
-            const std::string prefix = fmt::format("machine.axes.{}", a.name);
-            if (auto ok = check_range(prefix + ".min", a.min, kAxisRange); !ok) return ok;
-            if (auto ok = check_range(prefix + ".max", a.max, kAxisRange); !ok) return ok;
-            if (!(a.min < a.max)) {
-                return core::fail(ErrorCode::kInvalidInput,
-                                  fmt::format("{}.min = {} must be below {}.max = {}", prefix,
-                                              a.min, prefix, a.max));
-            }
+        const std::string prefix = fmt::format("machine.axes.{}", a.name);
+        const Range& range = axis_range(a.name);
+        if (auto ok = check_range(prefix + ".min", a.min, range); !ok) return ok;
+        if (auto ok = check_range(prefix + ".max", a.max, range); !ok) return ok;
+        if (!(a.min < a.max)) {
+            return core::fail(
+                ErrorCode::kInvalidInput,
+                fmt::format("{}.min = {} must be below {}.max = {}", prefix, a.min, prefix, a.max));
         }
+    }
+    if (is_table_tilt(m.kinematics)) {
+        if (!m.table) {
+            return core::fail(
+                ErrorCode::kInvalidInput,
+                fmt::format("machine.table is missing: kinematics \"{}\" needs the "
+                            "table geometry (pivot, c_offset, {}, c_direction, "
+                            "retract_mm)",
+                            kinematics_name(m.kinematics), tilt_direction_key(m.kinematics)));
+        }
+        if (auto ok = check_table(*m.table, m.kinematics); !ok) return ok;
+    } else if (m.table) {
+        return core::fail(ErrorCode::kInvalidInput,
+                          fmt::format("machine.table is only for the tilting-rotary table "
+                                      "kinematics; kinematics \"{}\" has no rotary table",
+                                      kinematics_name(m.kinematics)));
     }
     if (auto ok = check_numbers("machine", m, kMachineNumbers); !ok) return ok;
     if (m.feed_min_mm_min > m.feed_max_mm_min) {
@@ -850,6 +1037,17 @@ std::string_view dialect_name(Dialect dialect) {
         case Dialect::kLinuxCnc: return "linuxcnc";
     }
     return "gm";
+}
+
+std::string_view kinematics_name(Kinematics kinematics) {
+    for (const auto& k : kKinematicsNames) {
+        if (k.kinematics == kinematics) return k.name;
+    }
+    return "xyz";
+}
+
+bool is_table_tilt(Kinematics kinematics) {
+    return kinematics == Kinematics::kTableAc || kinematics == Kinematics::kTableBc;
 }
 
 std::string expand_block(std::string_view block, double power_w, double powder_g_min,

@@ -232,6 +232,15 @@ core::Result<std::string> write_program(const Program& program, const MachinePro
     if (auto ok = validate(machine); !ok) {
         return std::unexpected(core::with_context(ok.error(), context));
     }
+    // The writers emit X Y Z only: a table-tilt machine needs rotary words and the moves
+    // turned into machine axes, which come with the 5-axis dialects (issue 6).
+    if (is_table_tilt(machine.kinematics)) {
+        return core::fail(core::ErrorCode::kUnsupported,
+                          fmt::format("kinematics \"{}\": 5-axis programs are not written yet "
+                                      "(the program writers are 3-axis, kinematics \"xyz\")",
+                                      kinematics_name(machine.kinematics)),
+                          context);
+    }
     if (auto ok = validate(process); !ok) {
         return std::unexpected(core::with_context(ok.error(), context));
     }

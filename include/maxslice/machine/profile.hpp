@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "maxslice/core/result.hpp"
+#include "maxslice/core/vec3.hpp"
 
 namespace maxslice::machine {
 
@@ -33,9 +34,13 @@ struct ProcessProfile {
     std::optional<double> powder_catch_efficiency;
 };
 
-/// How machine axes follow from part coordinates. Only a Cartesian machine for now; the
-/// tilting-rotary tables of METHOD.md section 11 come later.
-enum class Kinematics { kXyz };
+/// How machine axes follow from part coordinates (METHOD.md section 11). The head is fixed and
+/// vertical; on the table-tilt machines the table turns the part. See machine/kinematics.hpp.
+enum class Kinematics {
+    kXyz,      ///< "xyz": Cartesian X, Y, Z; the tool direction is always +Z
+    kTableAc,  ///< "xyzac-trt": A tilts the table about X, then C turns it about Z on the tilt
+    kTableBc,  ///< "xyzbc-trt": B tilts the table about Y, then C turns it about Z on the tilt
+};
 
 /// Output dialect of the program writer.
 enum class Dialect {
@@ -43,10 +48,9 @@ enum class Dialect {
     kLinuxCnc,  ///< RS-274 as LinuxCNC's interpreter reads it
 };
 
-/// Travel limits of one axis in program coordinates: mm for X, Y, Z (degrees for A, B, C
-/// once rotary kinematics exist).
+/// Travel limits of one axis in program coordinates: mm for X, Y, Z, degrees for A, B, C.
 struct AxisLimits {
-    std::string name;  ///< "X", "Y", "Z"
+    std::string name;  ///< "X", "Y", "Z", "A", "B", "C"
     double min = 0.0;
     double max = 0.0;
 };
@@ -81,13 +85,33 @@ struct NozzleProfile {
     double clearance_mm = 1.0;     ///< smallest accepted gap to deposited material, in [0, 50]
 };
 
+/// The geometry of a tilting-rotary table, TOML table [machine.table] (docs/profiles.md).
+/// Machine coordinates are the program's X, Y, Z (the tool tip, mm). The part frame is fixed
+/// to the table; with every rotary axis at 0 it is the machine frame moved to `pivot`: a part
+/// point q sits at the machine point pivot + q. The tilt axis (A along +X, or B along +Y)
+/// passes through `pivot`; the C axis, carried by the tilt, is parallel to +Z at rotary zero
+/// and passes through pivot + (c_offset_x_mm, c_offset_y_mm, 0).
+struct TableProfile {
+    core::Vec3d pivot_mm;        ///< `pivot`, a point of the tilt axis, machine coordinates
+    double c_offset_x_mm = 0.0;  ///< `c_offset[0]`: the C axis from the pivot along X, mm
+    double c_offset_y_mm = 0.0;  ///< `c_offset[1]`: the C axis from the pivot along Y, mm
+    /// `a_direction` (xyzac-trt) or `b_direction` (xyzbc-trt): +1 when a positive tilt angle
+    /// turns the table (and the part) by the right-hand rule about +X (+Y); -1 the other way.
+    int tilt_direction = 1;
+    /// `c_direction`: +1 when a positive C turns the table by the right-hand rule about the
+    /// table's +Z; -1 the other way.
+    int c_direction = 1;
+    double retract_mm = 10.0;  ///< `retract_mm`: lift along the tool axis before a rotation, > 0
+};
+
 /// A machine: kinematics, axis limits, accepted feed and power ranges, dialect and codes.
 /// TOML table `[machine]`; see docs/profiles.md.
 struct MachineProfile {
     std::string name;
     Kinematics kinematics = Kinematics::kXyz;
     Dialect dialect = Dialect::kGm;
-    std::vector<AxisLimits> axes;         ///< X, Y, Z in that order for kXyz
+    /// X, Y, Z in that order for kXyz; X, Y, Z, A, C for kTableAc; X, Y, Z, B, C for kTableBc.
+    std::vector<AxisLimits> axes;
     double feed_min_mm_min = 1.0;         ///< slowest feed the machine accepts, > 0
     double feed_max_mm_min = 10000.0;     ///< fastest feed, >= feed_min
     double laser_power_min_w = 0.0;       ///< lowest power when on (0 W = off is always fine)
@@ -97,6 +121,8 @@ struct MachineProfile {
     /// The head for the collision check; unset = no [machine.nozzle] table, and the planner
     /// then uses NozzleProfile's defaults and says so.
     std::optional<NozzleProfile> nozzle;
+    /// The table of kTableAc / kTableBc (required there, refused for kXyz).
+    std::optional<TableProfile> table;
 
     /// The limits of the named axis, or nullptr when the machine has no such axis.
     [[nodiscard]] const AxisLimits* find_axis(std::string_view axis_name) const;
@@ -119,10 +145,11 @@ struct Profiles {
 /// name the key as in the TOML file ("process.track_width_mm"), the value and the range.
 [[nodiscard]] core::Result<void> validate(const ProcessProfile& process);
 
-/// Checks a machine profile: axes present with min < max, ranges, templates (known
-/// placeholders only, one line per block), the nozzle when given (ranges, standoff_mm <=
-/// cone_length_mm, body radius and length both 0 or both > 0). Errors name the key
-/// ("machine.axes.X.min", "machine.nozzle.half_angle_deg").
+/// Checks a machine profile: the kinematics' axes present in order with min < max, ranges,
+/// templates (known placeholders only, one line per block), the nozzle when given (ranges,
+/// standoff_mm <= cone_length_mm, body radius and length both 0 or both > 0), the table
+/// present exactly for the table-tilt kinematics, with its ranges. Errors name the key
+/// ("machine.axes.X.min", "machine.nozzle.half_angle_deg", "machine.table.pivot").
 [[nodiscard]] core::Result<void> validate(const MachineProfile& machine);
 
 /// Checks that a machine can run a process: the process's feeds, laser power and powder feed
@@ -146,6 +173,12 @@ struct Profiles {
 
 /// "gm" / "linuxcnc".
 [[nodiscard]] std::string_view dialect_name(Dialect dialect);
+
+/// "xyz" / "xyzac-trt" / "xyzbc-trt", as in the profile.
+[[nodiscard]] std::string_view kinematics_name(Kinematics kinematics);
+
+/// True for the tilting-rotary table kinematics (kTableAc, kTableBc).
+[[nodiscard]] bool is_table_tilt(Kinematics kinematics);
 
 /// The text of a template block with its placeholders replaced (2 decimals each).
 /// `power_max_w` scales `{power_pct}`. Blocks were checked by validate(MachineProfile).

@@ -65,6 +65,25 @@ body_length_mm = 120.0
 clearance_mm = 1.5
 )";
 
+// Values away from TableProfile's defaults, so a key read into the wrong member shows.
+constexpr std::string_view kTable = R"(
+[machine.table]
+pivot = [1.5, -2.5, -75.0]
+c_offset = [0.25, -0.5]
+a_direction = -1
+c_direction = 1
+retract_mm = 15.0
+)";
+
+std::string fmt_line(std::string_view key, std::string_view value) {
+    return std::string(key) + " = \"" + std::string(value) + "\"";
+}
+
+std::string fmt_axis(std::string_view name, double lo, double hi) {
+    return std::string(name) + " = { min = " + std::to_string(lo) +
+           ", max = " + std::to_string(hi) + " }";
+}
+
 std::string base() {
     return std::string(kMachine) + std::string(kProcess);
 }
@@ -237,11 +256,140 @@ TEST(Profile, OtherRangesAndTypes) {
     expect_refused(with(base(), "name", "name = \"\""), {"machine.name"});
 }
 
-TEST(Profile, OtherKinematicsComeLater) {
+TEST(Profile, UnknownKinematicsIsRefused) {
     expect_refused(with(base(), "kinematics", "kinematics = \"table_ac\""),
-                   {"machine.kinematics = \"table_ac\"", "only \"xyz\"", "later"});
+                   {"machine.kinematics = \"table_ac\"", "unknown", "\"xyzac-trt\""});
+    expect_refused(with(base(), "kinematics", "kinematics = \"xyzac_trt\""),
+                   {"machine.kinematics = \"xyzac_trt\"", "did you mean `xyzac-trt`"});
+}
+
+TEST(Profile, XyzTakesNoRotaryAxesAndNoTable) {
     expect_refused(base() + "\n[machine.axes.A]\nmin = -30\nmax = 120\n",
-                   {"machine.axes.A", "rotary", "later"});
+                   {"machine.axes.A", "rotary", "\"xyzac-trt\""});
+    expect_refused(base() + std::string(kTable), {"machine.table", "only for", "\"xyz\""});
+}
+
+// A tilting-rotary table machine: the base machine with kinematics, rotary axes and a table.
+std::string table_base(std::string_view kinematics = "xyzac-trt", std::string_view tilt = "A",
+                       std::string_view table = kTable) {
+    std::string text = with(base(), "kinematics", fmt_line("kinematics", kinematics));
+    text = with(text, "Z",
+                fmt_axis("Z", 0.0, 200.0) + "\n" + fmt_axis(tilt, -120.0, 120.0) + "\n" +
+                    fmt_axis("C", -3600.0, 3600.0));
+    const std::size_t process = text.find("[process]");
+    return text.insert(process, std::string(table) + "\n");
+}
+
+TEST(Profile, TableTiltMachineIsRead) {
+    const auto r = parse_profile(table_base(), "test.toml");
+    ASSERT_TRUE(r.has_value()) << r.error().describe();
+    const MachineProfile& m = *r->machine;
+    EXPECT_EQ(m.kinematics, Kinematics::kTableAc);
+    EXPECT_EQ(kinematics_name(m.kinematics), "xyzac-trt");
+    EXPECT_TRUE(is_table_tilt(m.kinematics));
+    ASSERT_EQ(m.axes.size(), 5u);
+    const std::vector<std::string> names{"X", "Y", "Z", "A", "C"};
+    for (std::size_t i = 0; i < names.size(); ++i) EXPECT_EQ(m.axes[i].name, names[i]);
+    EXPECT_DOUBLE_EQ(m.axes[3].min, -120.0);
+    EXPECT_DOUBLE_EQ(m.axes[4].max, 3600.0);
+    ASSERT_TRUE(m.table.has_value());
+    EXPECT_DOUBLE_EQ(m.table->pivot_mm.x, 1.5);
+    EXPECT_DOUBLE_EQ(m.table->pivot_mm.y, -2.5);
+    EXPECT_DOUBLE_EQ(m.table->pivot_mm.z, -75.0);
+    EXPECT_DOUBLE_EQ(m.table->c_offset_x_mm, 0.25);
+    EXPECT_DOUBLE_EQ(m.table->c_offset_y_mm, -0.5);
+    EXPECT_EQ(m.table->tilt_direction, -1);
+    EXPECT_EQ(m.table->c_direction, 1);
+    EXPECT_DOUBLE_EQ(m.table->retract_mm, 15.0);
+
+    std::string bc_table(kTable);
+    bc_table.replace(bc_table.find("a_direction"), 1, "b");
+    const auto bc = parse_profile(table_base("xyzbc-trt", "B", bc_table), "test.toml");
+    ASSERT_TRUE(bc.has_value()) << bc.error().describe();
+    EXPECT_EQ(bc->machine->kinematics, Kinematics::kTableBc);
+    EXPECT_EQ(bc->machine->axes[3].name, "B");
+    EXPECT_EQ(bc->machine->table->tilt_direction, -1);
+    // The B/C table names its tilt sign b_direction.
+    expect_refused(table_base("xyzbc-trt", "B"),
+                   {"unknown key `machine.table.a_direction`", "did you mean `b_direction`"});
+}
+
+TEST(Profile, TableTiltNeedsItsAxesAndTable) {
+    const std::string text = table_base();
+    expect_refused(
+        text.substr(0, text.find("[machine.table]")) + text.substr(text.find("[process]")),
+        {"missing key `machine.table`", "xyzac-trt"});
+    expect_refused(with(text, "C", ""), {"missing key", "machine.axes.C"});
+    expect_refused(with(text, "A", ""), {"missing key", "machine.axes.A"});
+    expect_refused(with(text, "A", fmt_axis("B", -120.0, 120.0)), {"machine.axes.B", "xyzbc-trt"});
+    expect_refused(with(text, "A", "A = { min = -400.0, max = 120.0 }"),
+                   {"machine.axes.A.min = -400", "deg"});
+    expect_refused(with(text, "C", "C = { min = 10.0, max = -10.0 }"),
+                   {"machine.axes.C.min = 10", "machine.axes.C.max = -10"});
+}
+
+TEST(Profile, TableKeysAreCheckedAndNamed) {
+    const std::string text = table_base();
+    for (const std::string key :
+         {"pivot", "c_offset", "a_direction", "c_direction", "retract_mm"}) {
+        expect_refused(without(text, key), {"missing key", "machine.table." + key});
+    }
+    expect_refused(with(text, "pivot", "pivot = [1.0, 2.0]"),
+                   {"machine.table.pivot", "array of 3 numbers", "2 elements"});
+    expect_refused(with(text, "pivot", "pivot = [1.0, \"2\", 3.0]"),
+                   {"machine.table.pivot[1]", "must be a number"});
+    expect_refused(with(text, "pivot", "pivot = [1.0, 2.0, 1e6]"),
+                   {"machine.table.pivot[2]", "out of range"});
+    expect_refused(with(text, "c_offset", "c_offset = 3.0"),
+                   {"machine.table.c_offset", "array of 2 numbers"});
+    expect_refused(with(text, "c_offset", "c_offset = [nan, 0.0]"),
+                   {"machine.table.c_offset[0] = nan", "not a finite number"});
+    expect_refused(with(text, "a_direction", "a_direction = 0"),
+                   {"machine.table.a_direction = 0", "1 or -1"});
+    expect_refused(with(text, "c_direction", "c_direction = 1.0"),
+                   {"machine.table.c_direction", "must be an integer"});
+    expect_refused(with(text, "retract_mm", "retract_mm = 0"),
+                   {"machine.table.retract_mm = 0", "(0, 1000] mm"});
+    expect_refused(with(text, "retract_mm", "retract_mm = -5"), {"machine.table.retract_mm = -5"});
+    expect_refused(with(text, "retract_mm", "retrat_mm = 5"),
+                   {"unknown key `machine.table.retrat_mm`", "did you mean `retract_mm`"});
+    expect_refused(with(text, "pivot", "pivot = [0, 0, 0]\nspeed = 3"),
+                   {"unknown key `machine.table.speed`"});
+}
+
+TEST(Profile, ValidateChecksTheTableInCode) {
+    const auto r = parse_profile(table_base(), "test.toml");
+    ASSERT_TRUE(r.has_value()) << r.error().describe();
+    MachineProfile m = *r->machine;
+    m.table->c_direction = 2;
+    auto ok = validate(m);
+    ASSERT_FALSE(ok.has_value());
+    EXPECT_NE(ok.error().message.find("machine.table.c_direction = 2"), std::string::npos);
+    m = *r->machine;
+    m.table.reset();
+    ok = validate(m);
+    ASSERT_FALSE(ok.has_value());
+    EXPECT_NE(ok.error().message.find("machine.table"), std::string::npos);
+    m = *r->machine;
+    m.axes.pop_back();
+    ok = validate(m);
+    ASSERT_FALSE(ok.has_value());
+    EXPECT_NE(ok.error().message.find("X, Y, Z, A, C"), std::string::npos);
+}
+
+TEST(Profile, FiveAxisReferenceExampleLoads) {
+    const fs::path file = kProfilesDir / "reference_5axis_ac.toml";
+    const auto r = load_profiles(std::span(&file, 1));
+    ASSERT_TRUE(r.has_value()) << r.error().describe();
+    EXPECT_EQ(r->machine.kinematics, Kinematics::kTableAc);
+    ASSERT_TRUE(r->machine.table.has_value());
+    EXPECT_GT(r->machine.table->retract_mm, 0.0);
+    EXPECT_DOUBLE_EQ(r->process.laser_power_w, 700.0);
+    EXPECT_DOUBLE_EQ(r->process.powder_feed_g_min, 8.0);
+    const AxisLimits* a = r->machine.find_axis("A");
+    ASSERT_NE(a, nullptr);
+    EXPECT_DOUBLE_EQ(a->min, -120.0);
+    EXPECT_DOUBLE_EQ(a->max, 120.0);
 }
 
 TEST(Profile, AxisLimitsAreChecked) {

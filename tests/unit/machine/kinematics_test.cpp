@@ -1,0 +1,348 @@
+#include "maxslice/machine/kinematics.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "machine_fixtures.hpp"
+
+namespace maxslice::machine {
+namespace {
+
+using core::Vec3d;
+
+constexpr double kTipToleranceMm = 1e-6;
+constexpr double kDirectionToleranceRad = 1e-6;
+constexpr double kExactDeg = 1e-9;
+constexpr double kExactMm = 1e-9;
+
+struct TableSetup {
+    Kinematics kinematics = Kinematics::kTableAc;
+    Vec3d pivot{};
+    double offset_x = 0.0;
+    double offset_y = 0.0;
+    int tilt_sign = 1;
+    int c_sign = 1;
+    double tilt_min = -120.0;
+    double tilt_max = 120.0;
+    double c_min = -720.0;
+    double c_max = 720.0;
+    double retract = 10.0;
+};
+
+MachineProfile table_machine(const TableSetup& s) {
+    MachineProfile m = testing::gm_machine();
+    m.kinematics = s.kinematics;
+    const std::string tilt = s.kinematics == Kinematics::kTableBc ? "B" : "A";
+    m.axes = {{"X", -1000.0, 1000.0},
+              {"Y", -1000.0, 1000.0},
+              {"Z", -1000.0, 1000.0},
+              {tilt, s.tilt_min, s.tilt_max},
+              {"C", s.c_min, s.c_max}};
+    TableProfile t;
+    t.pivot_mm = s.pivot;
+    t.c_offset_x_mm = s.offset_x;
+    t.c_offset_y_mm = s.offset_y;
+    t.tilt_direction = s.tilt_sign;
+    t.c_direction = s.c_sign;
+    t.retract_mm = s.retract;
+    m.table = t;
+    return m;
+}
+
+MachineKinematics make(const TableSetup& s) {
+    auto k = MachineKinematics::create(table_machine(s));
+    EXPECT_TRUE(k.has_value()) << k.error().describe();
+    return *k;
+}
+
+double angle_between(const Vec3d& a, const Vec3d& b) {
+    return std::atan2(core::norm(core::cross(a, b)), core::dot(a, b));
+}
+
+void expect_pose(const MachinePose& got, const MachinePose& want, const std::string& what) {
+    EXPECT_NEAR(got.x, want.x, kExactMm) << what;
+    EXPECT_NEAR(got.y, want.y, kExactMm) << what;
+    EXPECT_NEAR(got.z, want.z, kExactMm) << what;
+    EXPECT_NEAR(got.a_or_b_deg, want.a_or_b_deg, kExactDeg) << what;
+    EXPECT_NEAR(got.c_deg, want.c_deg, kExactDeg) << what;
+}
+
+void expect_refused(const core::Result<MachinePose>& r, const std::vector<std::string>& fragments) {
+    ASSERT_FALSE(r.has_value()) << "accepted, expected an error with " << fragments.front();
+    EXPECT_EQ(r.error().code, core::ErrorCode::kInvalidInput);
+    for (const auto& f : fragments) {
+        EXPECT_NE(r.error().message.find(f), std::string::npos)
+            << "`" << f << "` not in: " << r.error().describe();
+    }
+}
+
+// Hand derivation, A/C table, both signs +1, pivot and offset 0. The nozzle sees the part
+// direction R^-1 z with R = R_x(A) R_z(C). For A = 90, C = 90: R_z(90) (1, 0, 0) = (0, 1, 0)
+// and R_x(90) (0, 1, 0) = (0, cos 90, sin 90) = (0, 0, 1), so +X is built at A = 90, C = 90;
+// the other solution is A = -90, C = -90 (R_z(-90) (1, 0, 0) = (0, -1, 0), R_x(-90) of that
+// = (0, 0, 1)). The tip at the pivot stays at the machine origin.
+TEST(Kinematics, AcDirectionXHasTheHandDerivedAngles) {
+    const MachineKinematics k = make({});
+    const auto near_plus = k.inverse({0, 0, 0}, {1, 0, 0}, {0, 0, 0, 10.0, 10.0});
+    ASSERT_TRUE(near_plus.has_value()) << near_plus.error().describe();
+    expect_pose(*near_plus, {0, 0, 0, 90.0, 90.0}, "previous A 10, C 10");
+    const auto near_minus = k.inverse({0, 0, 0}, {1, 0, 0}, {0, 0, 0, -80.0, -100.0});
+    ASSERT_TRUE(near_minus.has_value()) << near_minus.error().describe();
+    expect_pose(*near_minus, {0, 0, 0, -90.0, -90.0}, "previous A -80, C -100");
+}
+
+// B/C table: R = R_y(B) R_z(C). R_y(t) (x, 0, 0) = (x cos t, 0, -x sin t). Direction +X:
+// B = -90, C = 0 gives R_y(-90) (1, 0, 0) = (0, 0, 1); the other solution is B = 90, C = 180
+// (R_z(180) (1, 0, 0) = (-1, 0, 0), R_y(90) of that = (0, 0, 1)). From B = 0, C = 0 the first
+// is 90 deg away, the second 270 deg.
+TEST(Kinematics, BcDirectionXHasTheHandDerivedAngles) {
+    const MachineKinematics k = make({.kinematics = Kinematics::kTableBc});
+    const auto r = k.inverse({0, 0, 0}, {1, 0, 0}, {});
+    ASSERT_TRUE(r.has_value()) << r.error().describe();
+    expect_pose(*r, {0, 0, 0, -90.0, 0.0}, "from zero");
+    const auto other = k.inverse({0, 0, 0}, {1, 0, 0}, {0, 0, 0, 80.0, 170.0});
+    ASSERT_TRUE(other.has_value()) << other.error().describe();
+    expect_pose(*other, {0, 0, 0, 90.0, 180.0}, "from B 80, C 170");
+}
+
+// Pivot (10, 20, -50), A/C, signs +1. Direction +Y: R_x(90) (0, 1, 0) = (0, 0, 1), so A = 90,
+// C = 0. The part point q = (0, 0, 10) sits at pivot + R_x(90) q = pivot + (0, -10, 0) =
+// (10, 10, -50). With a_direction = -1 the controller's A is the opposite: A = -90.
+TEST(Kinematics, PivotAndSignMoveTheLinearAxesAsDerivedByHand) {
+    const TableSetup plus{.pivot = {10.0, 20.0, -50.0}};
+    const auto r = make(plus).inverse({0, 0, 10}, {0, 1, 0}, {});
+    ASSERT_TRUE(r.has_value()) << r.error().describe();
+    expect_pose(*r, {10.0, 10.0, -50.0, 90.0, 0.0}, "a_direction +1");
+
+    TableSetup minus = plus;
+    minus.tilt_sign = -1;
+    const auto m = make(minus).inverse({0, 0, 10}, {0, 1, 0}, {});
+    ASSERT_TRUE(m.has_value()) << m.error().describe();
+    expect_pose(*m, {10.0, 10.0, -50.0, -90.0, 0.0}, "a_direction -1");
+
+    const ToolPose f = make(minus).forward(*m);
+    EXPECT_NEAR(core::norm(f.tip_mm - Vec3d{0, 0, 10}), 0.0, kExactMm);
+    EXPECT_NEAR(angle_between(f.direction, {0, 1, 0}), 0.0, 1e-12);
+}
+
+// C offset (30, 0): C = 180 turns the part origin about (30, 0) onto (60, 0, 0). The direction
+// stays +Z (singular), so the inverse keeps C at the previous 180.
+TEST(Kinematics, COffsetIsTheCAxisPosition) {
+    const MachineKinematics k = make({.offset_x = 30.0});
+    const ToolPose f = k.forward({60.0, 0.0, 0.0, 0.0, 180.0});
+    EXPECT_NEAR(core::norm(f.tip_mm), 0.0, kExactMm);
+    EXPECT_NEAR(angle_between(f.direction, {0, 0, 1}), 0.0, 1e-12);
+    const auto r = k.inverse({0, 0, 0}, {0, 0, 1}, {0, 0, 0, 0.0, 180.0});
+    ASSERT_TRUE(r.has_value()) << r.error().describe();
+    expect_pose(*r, {60.0, 0.0, 0.0, 0.0, 180.0}, "C held at 180");
+}
+
+// Random poses inside the limits, for both tables, every sign and non-zero pivot and offset:
+// forward, then inverse from an unrelated previous pose, then forward again returns the same
+// tip and direction; from the pose itself as previous the inverse returns the pose.
+TEST(Kinematics, RoundTripOfRandomPosesInsideTheLimits) {
+    std::mt19937_64 rng(20240611);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    const auto in = [&](double lo, double hi) { return lo + (hi - lo) * unit(rng); };
+    int checked = 0;
+    for (const Kinematics kin : {Kinematics::kTableAc, Kinematics::kTableBc}) {
+        for (const int tilt_sign : {1, -1}) {
+            for (const int c_sign : {1, -1}) {
+                TableSetup s{.kinematics = kin,
+                             .pivot = {12.5, -40.0, -80.0},
+                             .offset_x = 7.0,
+                             .offset_y = -3.0,
+                             .tilt_sign = tilt_sign,
+                             .c_sign = c_sign,
+                             .tilt_min = -110.0,
+                             .tilt_max = 120.0,
+                             .c_min = -720.0,
+                             .c_max = 720.0};
+                const MachineKinematics k = make(s);
+                for (int i = 0; i < 2000; ++i) {
+                    const MachinePose pose{in(-300, 300), in(-300, 300), in(-300, 300),
+                                           in(s.tilt_min, s.tilt_max), in(s.c_min, s.c_max)};
+                    const MachinePose previous{in(-300, 300), in(-300, 300), in(-300, 300),
+                                               in(s.tilt_min, s.tilt_max), in(s.c_min, s.c_max)};
+                    const ToolPose want = k.forward(pose);
+                    ASSERT_NEAR(core::norm(want.direction), 1.0, 1e-12);
+
+                    const auto r = k.inverse(want.tip_mm, want.direction, previous);
+                    ASSERT_TRUE(r.has_value()) << r.error().describe();
+                    ASSERT_TRUE(k.check_limits(*r).has_value());
+                    const ToolPose got = k.forward(*r);
+                    ASSERT_LE(core::norm(got.tip_mm - want.tip_mm), kTipToleranceMm) << i;
+                    ASSERT_LE(angle_between(got.direction, want.direction), kDirectionToleranceRad)
+                        << i;
+
+                    const auto same = k.inverse(want.tip_mm, want.direction, pose);
+                    ASSERT_TRUE(same.has_value()) << same.error().describe();
+                    ASSERT_NEAR(same->a_or_b_deg, pose.a_or_b_deg, 1e-7) << i;
+                    ASSERT_NEAR(same->c_deg, pose.c_deg, 1e-7) << i;
+                    ASSERT_LE(std::hypot(same->x - pose.x, same->y - pose.y, same->z - pose.z),
+                              kTipToleranceMm)
+                        << i;
+                    ++checked;
+                }
+            }
+        }
+    }
+    EXPECT_EQ(checked, 2 * 2 * 2 * 2000);
+}
+
+// Along the C axis C turns nothing: A (B) = 0 and C stays where it was, also after many turns.
+TEST(Kinematics, SingularPoseHoldsC) {
+    for (const Kinematics kin : {Kinematics::kTableAc, Kinematics::kTableBc}) {
+        const MachineKinematics k = make({.kinematics = kin, .pivot = {0, 0, -40}, .offset_x = 5});
+        for (const double c : {0.0, 37.0, -170.0, 400.0}) {
+            const auto r = k.inverse({1, 2, 3}, {0, 0, 2}, {0, 0, 0, 15.0, c});
+            ASSERT_TRUE(r.has_value()) << r.error().describe();
+            EXPECT_NEAR(r->a_or_b_deg, 0.0, kExactDeg);
+            EXPECT_DOUBLE_EQ(r->c_deg, c);
+            const ToolPose f = k.forward(*r);
+            EXPECT_LE(core::norm(f.tip_mm - Vec3d{1, 2, 3}), kTipToleranceMm);
+            EXPECT_LE(angle_between(f.direction, {0, 0, 1}), kDirectionToleranceRad);
+        }
+    }
+}
+
+// A/C, A in [-30, 120] so only the positive tilt is possible. Direction (0, -1, 1) has
+// phi = -90 deg, so C = 90 - phi = 180 (A = 45); tilted 5 deg further round (phi = -95 deg) it
+// is C = 185, i.e. -175 + 360 k. The unwinding takes the equivalent nearest the previous C
+// that C's limits allow.
+TEST(Kinematics, CUnwindsToTheNearestTurnInsideItsLimits) {
+    const double phi = -95.0 * std::numbers::pi / 180.0;
+    const Vec3d d{std::cos(phi), std::sin(phi), 1.0};
+    const auto c_for = [&](double c_min, double c_max, double previous_c) {
+        const MachineKinematics k =
+            make({.tilt_min = -30.0, .tilt_max = 120.0, .c_min = c_min, .c_max = c_max});
+        const auto r = k.inverse({0, 0, 0}, d, {0, 0, 0, 45.0, previous_c});
+        EXPECT_TRUE(r.has_value()) << r.error().describe();
+        if (!r) return std::nan("");
+        EXPECT_NEAR(r->a_or_b_deg, 45.0, kExactDeg);
+        return r->c_deg;
+    };
+    EXPECT_NEAR(c_for(-200, 200, 170.0), 185.0, kExactDeg);
+    EXPECT_NEAR(c_for(-200, 200, -170.0), -175.0, kExactDeg);
+    EXPECT_NEAR(c_for(-180, 180, 170.0), -175.0, kExactDeg);  // 185 is beyond the limit
+    EXPECT_NEAR(c_for(-360, 360, 350.0), 185.0, kExactDeg);
+    EXPECT_NEAR(c_for(-360, 360, -350.0), -175.0, kExactDeg);
+    EXPECT_NEAR(c_for(-3600, 3600, 1000.0), 905.0, kExactDeg);  // 185 + 2 turns
+    EXPECT_NEAR(c_for(-3600, 3600, -3590.0), -3415.0, kExactDeg);
+
+    // Exactly C = 180 on a [-180, 180] axis: both ends are the same turn; the nearer one wins.
+    const Vec3d d180{0.0, -1.0, 1.0};
+    const MachineKinematics k =
+        make({.tilt_min = -30.0, .tilt_max = 120.0, .c_min = -180.0, .c_max = 180.0});
+    const auto up = k.inverse({0, 0, 0}, d180, {0, 0, 0, 0.0, 150.0});
+    ASSERT_TRUE(up.has_value()) << up.error().describe();
+    EXPECT_NEAR(up->c_deg, 180.0, kExactDeg);
+    const auto down = k.inverse({0, 0, 0}, d180, {0, 0, 0, 0.0, -150.0});
+    ASSERT_TRUE(down.has_value()) << down.error().describe();
+    EXPECT_NEAR(down->c_deg, -180.0, kExactDeg);
+}
+
+// Direction +X (A/C: A 90, C 90 or A -90, C -90). From A -80, C 90 the weighted distances are
+// 170 + 0 and 10 + 180: equal weights take the first; a tilt weight of 10 takes the second.
+TEST(Kinematics, NearestSolutionFollowsTheWeights) {
+    const MachineKinematics k = make({});
+    const MachinePose previous{0, 0, 0, -80.0, 90.0};
+    const auto equal = k.inverse({0, 0, 0}, {1, 0, 0}, previous);
+    ASSERT_TRUE(equal.has_value()) << equal.error().describe();
+    expect_pose(*equal, {0, 0, 0, 90.0, 90.0}, "equal weights");
+    const auto heavy_tilt = k.inverse({0, 0, 0}, {1, 0, 0}, previous, {.tilt = 10.0, .c = 1.0});
+    ASSERT_TRUE(heavy_tilt.has_value()) << heavy_tilt.error().describe();
+    expect_pose(*heavy_tilt, {0, 0, 0, -90.0, -90.0}, "tilt weight 10");
+}
+
+// When one solution is outside the limits the other is taken even when it is farther. Its C,
+// 90, is half a turn from the previous -90 either way (90 or -270): the less wound one wins.
+TEST(Kinematics, TheOtherSolutionIsTakenWhenOneIsOutOfLimits) {
+    const MachineKinematics k = make({.tilt_min = -30.0, .tilt_max = 120.0});
+    const auto r = k.inverse({0, 0, 0}, {1, 0, 0}, {0, 0, 0, -25.0, -90.0});
+    ASSERT_TRUE(r.has_value()) << r.error().describe();
+    expect_pose(*r, {0, 0, 0, 90.0, 90.0}, "A -90 is beyond -30");
+}
+
+TEST(Kinematics, UnreachableDirectionNamesTheAxis) {
+    // Straight down needs A = 180: beyond [-120, 120] for both solutions.
+    expect_refused(make({}).inverse({0, 0, 0}, {0, 0, -1}, {}),
+                   {"no pose", "A = 180.000 deg", "machine.axes.A [-120, 120]", "A = -180.000"});
+    // Tilted 150 deg from the C axis on a B/C table.
+    const double t = 150.0 * std::numbers::pi / 180.0;
+    expect_refused(make({.kinematics = Kinematics::kTableBc})
+                       .inverse({0, 0, 0}, {std::sin(t), 0, std::cos(t)}, {}),
+                   {"machine.axes.B"});
+    // C limited to [-10, 10]: direction +X needs C = 90 or -90.
+    expect_refused(make({.c_min = -10.0, .c_max = 10.0}).inverse({0, 0, 0}, {1, 0, 0}, {}),
+                   {"machine.axes.C [-10, 10]"});
+    // A tip far outside the travel.
+    expect_refused(make({}).inverse({5000, 0, 0}, {0, 0, 1}, {}), {"X = ", "machine.axes.X"});
+    expect_refused(make({}).inverse({0, 0, 0}, {0, 0, 0}, {}), {"zero direction"});
+}
+
+// Between two orientations: straight up along the tool axis by retract_mm above the higher
+// of the two, turn there, across above the target.
+TEST(Kinematics, ReorientationRetractsAlongTheToolAxisBeforeTurning) {
+    const MachineKinematics k = make({.pivot = {5, 5, -60}, .offset_x = 4, .retract = 10.0});
+    const MachinePose from{20.0, -5.0, 3.0, 0.0, 0.0};
+    const MachinePose to{-10.0, 8.0, 7.0, 30.0, 90.0};
+    const auto path = k.reorientation(from, to);
+    ASSERT_TRUE(path.has_value()) << path.error().describe();
+    ASSERT_EQ(path->size(), 3u);
+    const auto& p = *path;
+    for (const MachinePose& q : p) EXPECT_DOUBLE_EQ(q.z, 17.0);
+    // First the retract: rotary unchanged, so the tip moves along the part's build direction.
+    EXPECT_DOUBLE_EQ(p[0].a_or_b_deg, from.a_or_b_deg);
+    EXPECT_DOUBLE_EQ(p[0].c_deg, from.c_deg);
+    const ToolPose a = k.forward(from);
+    const ToolPose b = k.forward(p[0]);
+    EXPECT_LE(core::norm(b.tip_mm - (a.tip_mm + a.direction * 14.0)), kTipToleranceMm);
+    // The turn with the linear axes still.
+    EXPECT_DOUBLE_EQ(p[1].x, from.x);
+    EXPECT_DOUBLE_EQ(p[1].y, from.y);
+    EXPECT_DOUBLE_EQ(p[1].a_or_b_deg, to.a_or_b_deg);
+    EXPECT_DOUBLE_EQ(p[1].c_deg, to.c_deg);
+    // Above the target: the approach to `to` is along the tool axis.
+    const ToolPose above = k.forward(p[2]);
+    const ToolPose target = k.forward(to);
+    EXPECT_LE(core::norm(above.tip_mm - (target.tip_mm + target.direction * 10.0)),
+              kTipToleranceMm);
+
+    EXPECT_TRUE(k.reorientation(from, {1.0, 2.0, 3.0, 0.0, 0.0})->empty());
+
+    const MachineKinematics tall = make({.retract = 500.0});
+    const auto over = tall.reorientation({0, 0, 600, 0, 0}, {0, 0, 600, 10, 0});
+    ASSERT_FALSE(over.has_value());
+    EXPECT_NE(over.error().message.find("machine.axes.Z.max"), std::string::npos);
+    EXPECT_NE(over.error().message.find("machine.table.retract_mm"), std::string::npos);
+}
+
+TEST(Kinematics, XyzIsTheIdentityAndCannotTilt) {
+    auto k = MachineKinematics::create(testing::gm_machine());
+    ASSERT_TRUE(k.has_value()) << k.error().describe();
+    const ToolPose f = k->forward({1.0, 2.0, 3.0, 0.0, 0.0});
+    EXPECT_EQ(f.tip_mm, (Vec3d{1.0, 2.0, 3.0}));
+    EXPECT_EQ(f.direction, (Vec3d{0.0, 0.0, 1.0}));
+    const auto r = k->inverse({1, 2, 3}, {0, 0, 1}, {});
+    ASSERT_TRUE(r.has_value());
+    expect_pose(*r, {1, 2, 3, 0, 0}, "xyz");
+    expect_refused(k->inverse({1, 2, 3}, {0, 1, 1}, {}), {"cannot tilt"});
+    EXPECT_FALSE(k->reorientation({}, {1, 1, 1, 0, 0})->size());
+}
+
+TEST(Kinematics, CreateRefusesATableMachineWithoutItsTable) {
+    MachineProfile m = table_machine({});
+    m.table.reset();
+    const auto k = MachineKinematics::create(m);
+    ASSERT_FALSE(k.has_value());
+    EXPECT_NE(k.error().message.find("machine.table"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace maxslice::machine
