@@ -14,5 +14,8 @@ mkdir -p out
   --svg out/layers --contact-sheet out/contact_sheet.svg --json out/slices.json
 "$bin" slice "$part" --profile examples/profiles/linuxcnc_generic.toml \
   -o out/flanged_bushing.ngc
+# The multi-axis plan and its collision-checked build order (one region for this part).
+"$bin" plan "$part" --plan out/plan.json --svg out/plan --order-out out/plan_order.ply
 echo "maxslice demo: wrote out/flanged_bushing.gm, out/flanged_bushing.ngc, out/slices.json,"
-echo "  out/contact_sheet.svg and out/layers/*.svg (tracks in blue, idle moves dashed red)"
+echo "  out/contact_sheet.svg and out/layers/*.svg (tracks in blue, idle moves dashed red),"
+echo "  out/plan.json, out/plan/*.svg and out/plan_order.ply (the plan and its build order)"
