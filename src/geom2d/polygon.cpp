@@ -129,27 +129,57 @@ Centroid2 centroid_um(const Paths2& region) {
     return {cx / a_sum, cy / a_sum};
 }
 
-ClosestPoint closest_boundary_point(const Paths2& region, Centroid2 p) {
-    double best = INFINITY;
+namespace {
+
+// The boundary point closest to p (squared distance), and with `winding` the winding number
+// of p (crossing rule in doubles, half-open in y): one pass over the edges.
+struct BoundaryScan {
+    double best2 = INFINITY;
     double bx = 0.0, by = 0.0;
+    long winding = 0;
+};
+
+BoundaryScan scan_boundary(const Paths2& region, Centroid2 p, bool winding) {
+    BoundaryScan out;
     for (const Path2& path : region) {
         for (std::size_t i = 0; i < path.size(); ++i) {
             const double ax = static_cast<double>(path[i].x), ay = static_cast<double>(path[i].y);
             const Point2 q = path[(i + 1) % path.size()];
             const double dx = static_cast<double>(q.x) - ax, dy = static_cast<double>(q.y) - ay;
+            if (winding) {
+                const double c = dx * (p.y - ay) - (p.x - ax) * dy;
+                if (ay <= p.y) {
+                    if (ay + dy > p.y && c > 0.0) ++out.winding;
+                } else if (ay + dy <= p.y && c < 0.0) {
+                    --out.winding;
+                }
+            }
             const double len2 = dx * dx + dy * dy;
             double t = len2 > 0.0 ? ((p.x - ax) * dx + (p.y - ay) * dy) / len2 : 0.0;
             t = std::clamp(t, 0.0, 1.0);
             const double cx = ax + t * dx, cy = ay + t * dy;
-            const double d = std::hypot(p.x - cx, p.y - cy);
-            if (d < best) {
-                best = d;
-                bx = cx;
-                by = cy;
+            const double d2 = (p.x - cx) * (p.x - cx) + (p.y - cy) * (p.y - cy);
+            if (d2 < out.best2) {
+                out.best2 = d2;
+                out.bx = cx;
+                out.by = cy;
             }
         }
     }
-    return {{std::llround(bx), std::llround(by)}, best};
+    return out;
+}
+
+}  // namespace
+
+ClosestPoint closest_boundary_point(const Paths2& region, Centroid2 p) {
+    const BoundaryScan s = scan_boundary(region, p, false);
+    return {{std::llround(s.bx), std::llround(s.by)}, std::sqrt(s.best2)};
+}
+
+ClosestPoint closest_region_point(const Paths2& region, Centroid2 p) {
+    const BoundaryScan s = scan_boundary(region, p, true);
+    if (s.winding != 0) return {{std::llround(p.x), std::llround(p.y)}, 0.0};
+    return {{std::llround(s.bx), std::llround(s.by)}, std::sqrt(s.best2)};
 }
 
 }  // namespace maxslice::geom2d

@@ -15,6 +15,7 @@
 #include <tbb/parallel_for.h>
 
 #include "maxslice/core/units.hpp"
+#include "maxslice/geom2d/polygon.hpp"
 #include "maxslice/geom2d/wire_tree.hpp"
 
 // Collision control and build order (METHOD.md sections 7 and 8). The names follow the
@@ -41,6 +42,13 @@ constexpr double kApexInsetShare = 0.95;
 // cannot come closer is skipped.
 constexpr double kMarginCap = 10.0;
 
+// The clearance of a point t above the apex's plane (within the nozzle's length) and r from
+// its axis: to the cone's side (r cos - t sin of the half-angle) up to the cone's length, to
+// the body's side above it. Negative inside.
+double clearance_at(const Nozzle& nozzle, double t, double r, double cos_half, double sin_half) {
+    return t <= nozzle.cone_length_mm ? r * cos_half - t * sin_half : r - nozzle.body_radius_mm;
+}
+
 struct Vec2 {
     double x = 0.0;
     double y = 0.0;
@@ -56,9 +64,9 @@ struct SampleChunk {
 
 // A layer as the nozzle check sees it.
 struct LayerShape {
-    core::Vec3d d;                         // build direction = nozzle axis (unit)
-    slice::PlaneFrame top;                 // apexes lie on this plane
-    std::vector<std::vector<Vec2>> print;  // footprint on the top plane (mm, top's u, v)
+    core::Vec3d d;          // build direction = nozzle axis (unit)
+    slice::PlaneFrame top;  // apexes lie on this plane
+    geom2d::Paths2 print;   // apexes' region on the top plane (um, top's u, v)
     Vec2 print_lo{kInf, kInf};
     Vec2 print_hi{-kInf, -kInf};
     std::vector<core::Vec3d> samples;  // material points: bottom and top faces, by chunk
@@ -78,42 +86,6 @@ bool boxes_meet(const core::Vec3d& alo, const core::Vec3d& ahi, const core::Vec3
                 const core::Vec3d& bhi) {
     return alo.x <= bhi.x && blo.x <= ahi.x && alo.y <= bhi.y && blo.y <= ahi.y && alo.z <= bhi.z &&
            blo.z <= ahi.z;
-}
-
-// Distance (mm) from q to the region bounded by the contours (0 inside; non-zero winding,
-// outers counter-clockwise, holes clockwise), and the region's closest point.
-double distance_to_region(const std::vector<std::vector<Vec2>>& contours, Vec2 q, Vec2& closest) {
-    int winding = 0;
-    double best = kInf;
-    for (const std::vector<Vec2>& c : contours) {
-        const std::size_t n = c.size();
-        for (std::size_t i = 0; i < n; ++i) {
-            const Vec2 a = c[i];
-            const Vec2 b = c[(i + 1) % n];
-            if (a.y <= q.y) {
-                if (b.y > q.y && (b.x - a.x) * (q.y - a.y) - (q.x - a.x) * (b.y - a.y) > 0.0)
-                    ++winding;
-            } else if (b.y <= q.y && (b.x - a.x) * (q.y - a.y) - (q.x - a.x) * (b.y - a.y) < 0.0) {
-                --winding;
-            }
-            const double ex = b.x - a.x;
-            const double ey = b.y - a.y;
-            const double len2 = ex * ex + ey * ey;
-            double s = len2 > 0.0 ? ((q.x - a.x) * ex + (q.y - a.y) * ey) / len2 : 0.0;
-            s = std::clamp(s, 0.0, 1.0);
-            const Vec2 p{a.x + s * ex, a.y + s * ey};
-            const double dist2 = (q.x - p.x) * (q.x - p.x) + (q.y - p.y) * (q.y - p.y);
-            if (dist2 < best) {
-                best = dist2;
-                closest = p;
-            }
-        }
-    }
-    if (winding != 0) {
-        closest = q;
-        return 0.0;
-    }
-    return std::sqrt(best);
 }
 
 // Points of a region (contours in mm) at about `spacing` apart: along every contour and on a
@@ -183,13 +155,13 @@ LayerShape shape_of(const Layer& l, const Nozzle& nozzle, double spacing, double
     }
     // The apexes' region, on the top plane.
     for (const geom2d::Path2& path : apex_region(l, track_width_mm)) {
-        std::vector<Vec2>& f = s.print.emplace_back();
+        geom2d::Path2& f = s.print.emplace_back();
         for (const geom2d::Point2& q : path) {
             const core::Vec3d x = l.plane.to_3d(q);
             const core::Vec3d on_top = x - s.d * s.top.height(x);
             const Vec2 p{core::dot(on_top - s.top.origin, s.top.u),
                          core::dot(on_top - s.top.origin, s.top.v)};
-            f.push_back(p);
+            f.push_back({core::mm_to_um(p.x), core::mm_to_um(p.y)});
             s.print_lo = {std::min(s.print_lo.x, p.x), std::min(s.print_lo.y, p.y)};
             s.print_hi = {std::max(s.print_hi.x, p.x), std::max(s.print_hi.y, p.y)};
         }
@@ -305,17 +277,17 @@ Meeting meet(const LayerShape& s2, const LayerShape& s1, const Nozzle& nozzle) {
             const double bx = std::max({s2.print_lo.x - q.x, 0.0, q.x - s2.print_hi.x});
             const double by = std::max({s2.print_lo.y - q.y, 0.0, q.y - s2.print_hi.y});
             const double box = std::sqrt(bx * bx + by * by);
-            const auto clearance = [&](double r) {
-                return t <= cone ? r * ca - t * sa : r - nozzle.body_radius_mm;
-            };
-            if (clearance(box) >= m.margin) continue;
-            Vec2 c;
-            const double r = distance_to_region(s2.print, q, c);
-            const double here = clearance(r);
+            if (clearance_at(nozzle, t, box, ca, sa) >= m.margin) continue;
+            // The distance to the footprint (0 inside) and its closest point.
+            const geom2d::ClosestPoint cp = geom2d::closest_region_point(
+                s2.print, {q.x * core::kMicronsPerMm, q.y * core::kMicronsPerMm});
+            const double r = cp.distance_um / core::kMicronsPerMm;
+            const double here = clearance_at(nozzle, t, r, ca, sa);
             if (here < m.margin) {
                 m.margin = here;
                 m.hit = x;
-                m.apex = s2.top.origin + s2.top.u * c.x + s2.top.v * c.y;
+                m.apex = s2.top.origin + s2.top.u * core::um_to_mm(cp.point.x) +
+                         s2.top.v * core::um_to_mm(cp.point.y);
                 // A collision: the pair is ordered, how deep does not matter.
                 if (m.margin < nozzle.clearance_mm) return m;
             }
@@ -486,9 +458,8 @@ double nozzle_clearance(const Nozzle& nozzle, const core::Vec3d& apex, const cor
     const double cone = nozzle.cone_length_mm;
     const double length = cone + (nozzle.body_radius_mm > 0.0 ? nozzle.body_length_mm : 0.0);
     if (t <= kLevelTolerance || t > length) return kInf;
-    const double r = core::norm(rel - axis * t);
     const double a = nozzle.half_angle_deg * kDegToRad;
-    return t <= cone ? r * std::cos(a) - t * std::sin(a) : r - nozzle.body_radius_mm;
+    return clearance_at(nozzle, t, core::norm(rel - axis * t), std::cos(a), std::sin(a));
 }
 
 double BuildOrder::smallest_margin_mm() const {

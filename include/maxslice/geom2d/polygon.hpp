@@ -43,6 +43,11 @@ struct ClosestPoint {
     double distance_um = 0.0;
 };
 [[nodiscard]] ClosestPoint closest_boundary_point(const Paths2& region, Centroid2 p);
+/// The point of the region (outers counter-clockwise, holes clockwise, non-zero winding)
+/// closest to p and its distance (um): p itself (rounded) and 0 inside, else as
+/// closest_boundary_point. One pass over the edges, in doubles (points on the boundary may
+/// count either way, at distance 0 both ways).
+[[nodiscard]] ClosestPoint closest_region_point(const Paths2& region, Centroid2 p);
 
 /// How overlapping loops combine into a region.
 enum class FillRule {

@@ -351,6 +351,37 @@ TEST(Coverage, UncoveredAreaMatchesTheBooleanDifference) {
     EXPECT_EQ(uncovered_area_mm2({}, {}, 500, 50), 0.0);
 }
 
+// closest_region_point agrees with locate_point and closest_boundary_point: 0 and the point
+// itself inside (the hole excluded), the boundary's closest point outside and in the hole.
+TEST(ClosestRegionPoint, AgreesWithLocateAndClosestBoundary) {
+    const Paths2 ring{square(0, 0, 10, 10), square(3, 3, 7, 7, true)};
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> coord(-5000.0, 15000.0);
+    int inside = 0, outside = 0;
+    for (int k = 0; k < 2000; ++k) {
+        const Centroid2 p{coord(rng), coord(rng)};
+        const Point2 pi{std::llround(p.x), std::llround(p.y)};
+        const Containment where = locate_point(ring, pi);
+        if (where == Containment::kBoundary) continue;
+        const ClosestPoint c = closest_region_point(ring, p);
+        if (where == Containment::kInside) {
+            ++inside;
+            EXPECT_EQ(c.distance_um, 0.0);
+            EXPECT_EQ(c.point, pi);
+        } else {
+            ++outside;
+            const ClosestPoint b = closest_boundary_point(ring, p);
+            EXPECT_GT(c.distance_um, 0.0);
+            EXPECT_DOUBLE_EQ(c.distance_um, b.distance_um);
+            EXPECT_EQ(c.point, b.point);
+        }
+    }
+    EXPECT_GT(inside, 100);
+    EXPECT_GT(outside, 100);
+    // In the hole: the distance to the hole's wall.
+    EXPECT_NEAR(closest_region_point(ring, {5000.0, 4000.0}).distance_um, 1000.0, 1e-9);
+}
+
 TEST(Simplify, DropsVerticesThatBarelyMoveTheBoundary) {
     // A square whose sides carry many nearly collinear vertices (a 1 um zigzag).
     Path2 noisy;
