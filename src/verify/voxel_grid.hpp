@@ -1,0 +1,102 @@
+// Bit voxel grids for the verifier: a fine occupancy grid with a pyramid of coarser
+// "any voxel set below" levels for sub-linear region queries. Private to verify.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "maxslice/core/vec3.hpp"
+
+namespace maxslice::verify::detail {
+
+/// A grid of bits, z fastest: each (i, j) column is a run of 64-bit words.
+class BitGrid {
+public:
+    BitGrid() = default;
+    BitGrid(int nx, int ny, int nz)
+        : nx_(nx),
+          ny_(ny),
+          nz_(nz),
+          words_per_column_((nz + 63) / 64),
+          bits_(static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny) *
+                    static_cast<std::size_t>(words_per_column_),
+                0) {}
+
+    [[nodiscard]] int nx() const { return nx_; }
+    [[nodiscard]] int ny() const { return ny_; }
+    [[nodiscard]] int nz() const { return nz_; }
+
+    [[nodiscard]] bool get(int i, int j, int k) const {
+        return (bits_[word(i, j, k)] >> (k & 63) & 1U) != 0;
+    }
+    /// Sets bits k0..k1 (inclusive) of column (i, j).
+    void set_run(int i, int j, int k0, int k1) {
+        std::uint64_t* col = &bits_[word(i, j, 0)];
+        int k = k0;
+        while (k <= k1) {
+            const int w = k >> 6;
+            const int lo = k & 63;
+            const int hi = std::min(63, lo + (k1 - k));
+            const std::uint64_t mask =
+                (hi == 63 ? ~std::uint64_t{0} : ((std::uint64_t{1} << (hi + 1)) - 1)) &
+                ~((std::uint64_t{1} << lo) - 1);
+            col[w] |= mask;
+            k += hi - lo + 1;
+        }
+    }
+    [[nodiscard]] const std::vector<std::uint64_t>& words() const { return bits_; }
+    [[nodiscard]] std::size_t count() const {
+        std::size_t n = 0;
+        for (const std::uint64_t w : bits_) n += static_cast<std::size_t>(std::popcount(w));
+        return n;
+    }
+
+private:
+    [[nodiscard]] std::size_t word(int i, int j, int k) const {
+        return (static_cast<std::size_t>(i) * static_cast<std::size_t>(ny_) +
+                static_cast<std::size_t>(j)) *
+                   static_cast<std::size_t>(words_per_column_) +
+               static_cast<std::size_t>(k >> 6);
+    }
+
+    int nx_ = 0, ny_ = 0, nz_ = 0, words_per_column_ = 0;
+    std::vector<std::uint64_t> bits_;
+};
+
+/// The fine grid and its pyramid: level l holds one bit per 2^l voxels along each axis, set
+/// when any voxel below it is set. Only grows (beads are added, never removed).
+class OccupancyPyramid {
+public:
+    OccupancyPyramid() = default;
+    OccupancyPyramid(int nx, int ny, int nz) {
+        levels_.emplace_back(nx, ny, nz);
+        while (std::max({nx, ny, nz}) > 1) {
+            nx = (nx + 1) / 2;
+            ny = (ny + 1) / 2;
+            nz = (nz + 1) / 2;
+            levels_.emplace_back(nx, ny, nz);
+        }
+    }
+    [[nodiscard]] int level_count() const { return static_cast<int>(levels_.size()); }
+    [[nodiscard]] const BitGrid& level(int l) const { return levels_[static_cast<std::size_t>(l)]; }
+    [[nodiscard]] const BitGrid& fine() const { return levels_.front(); }
+
+    void set_run(int i, int j, int k0, int k1) {
+        for (auto& g : levels_) {
+            g.set_run(i, j, k0, k1);
+            i >>= 1;
+            j >>= 1;
+            k0 >>= 1;
+            k1 >>= 1;
+        }
+    }
+
+private:
+    std::vector<BitGrid> levels_;
+};
+
+}  // namespace maxslice::verify::detail
