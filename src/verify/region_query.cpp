@@ -59,12 +59,12 @@ struct Query {
         const double a = core::dot(rel, axis);
         const double r = core::norm(rel - axis * a);
         if (level == 0) {
-            if (region.distance(a, r) > margin) return false;
+            if (a < region.a_min || region.distance(a, r) > margin) return false;
             if (hit != nullptr) *hit = c;
             return true;
         }
         const double ext = 0.5 * size * axial_half_extent;
-        if (a + ext < region.a_min - margin || a - ext > region.a_max + margin) return false;
+        if (a + ext < region.a_min || a - ext > region.a_max + margin) return false;
         const double rho = 0.5 * size * std::numbers::sqrt3;
         if (region.distance(a, r) > margin + rho) return false;
         for (int di = 0; di < 2; ++di) {

@@ -31,7 +31,8 @@ struct Region {
 };
 
 /// Looks for a set voxel whose centre lies within `margin` of the region placed with its axis
-/// origin at `apex` along the unit `axis` (world mm). Descends the pyramid only through set
+/// origin at `apex` along the unit `axis` (world mm), and not below the region's a_min (the
+/// margin widens the region across and beyond its far end, never below its floor). Descends the pyramid only through set
 /// cells the region may reach; the first hit in a fixed order is returned (deterministic).
 [[nodiscard]] bool find_occupied(const OccupancyPyramid& grid, const core::Vec3d& origin,
                                  double voxel, const core::Vec3d& apex, const core::Vec3d& axis,

@@ -236,7 +236,7 @@ private:
 
     void build_regions() {
         const double t = std::tan(nozzle_.half_angle_deg * std::numbers::pi / 180.0);
-        const double apex = kApexToleranceVoxels * voxel_ + settings_.clearance_mm;
+        const double apex = kApexToleranceVoxels * voxel_;
         const double len = nozzle_.cone_length_mm;
         nozzle_region_ = Region{};
         nozzle_region_.add(

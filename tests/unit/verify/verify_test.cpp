@@ -1,0 +1,264 @@
+#include "maxslice/verify/verify.hpp"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "support/fixtures.hpp"
+#include "verify_programs.hpp"
+
+namespace maxslice::verify {
+namespace {
+
+using core::Vec3d;
+using testing::load;
+using testing::ProgramText;
+using testing::zigzag_block;
+
+constexpr double kHalf = 15.0;  // the block is 30 x 30 mm
+constexpr int kLayers = 12;     // 6 mm high at 0.5 mm
+
+mesh::TriangleMesh placed_block(const machine::Profiles& p) {
+    auto placed = place_model(test::box({0, 0, 0}, {2 * kHalf, 2 * kHalf, kLayers * 0.5}),
+                              {0, 0, 1}, p.machine);
+    EXPECT_TRUE(placed.has_value());
+    return placed.value_or(mesh::TriangleMesh{});
+}
+
+Vec3d plate_centre(const machine::Profiles& p) {
+    const mesh::TriangleMesh m = placed_block(p);
+    return mesh::bounding_box(m).center();
+}
+
+Report verified(const std::string& text, const machine::Profiles& p, const VerifySettings& s = {}) {
+    auto r = verify_program(text, placed_block(p), p, s);
+    EXPECT_TRUE(r.has_value()) << r.error().describe();
+    return r.value_or(Report{});
+}
+
+TEST(Verify, CleanZigzagBlockPassesGm) {
+    const machine::Profiles p = load("reference_lmd.toml");
+    ProgramText prog(p, ProgramDialect::kGm, false);
+    const Vec3d c = plate_centre(p);
+    const double length = zigzag_block(prog, p, c.x, c.y, kHalf, kLayers);
+    const Report r = verified(prog.text(), p);
+    EXPECT_TRUE(r.passed()) << report_text(r);
+    EXPECT_GE(r.coverage, 0.97) << report_text(r);
+    EXPECT_LT(r.excess, 0.05) << report_text(r);
+    EXPECT_NEAR(r.deposition_length_mm, length, 1e-6 * length);
+    EXPECT_NEAR(r.bead_height_min_mm, 0.5, 1e-9);
+    EXPECT_NEAR(r.bead_height_max_mm, 0.5, 1e-9);
+    EXPECT_EQ(r.laser_on_count, kLayers);
+    // Deposit time: the length at the deposition feed.
+    EXPECT_NEAR(r.deposit_time_s, 60.0 * length / p.process.deposition_feed_mm_min, 1e-6);
+    EXPECT_GT(r.poses_checked, 1000U);
+}
+
+TEST(Verify, CleanZigzagBlockPassesLinuxCnc) {
+    const machine::Profiles p = load("linuxcnc_generic.toml");
+    ProgramText prog(p, ProgramDialect::kLinuxCnc, false);
+    const Vec3d c = plate_centre(p);
+    EXPECT_NEAR(c.x, 250.0, 1e-9);  // the middle of the X travel
+    zigzag_block(prog, p, c.x, c.y, kHalf, kLayers);
+    prog.raw("M2");
+    const Report r = verified(prog.text(), p);
+    EXPECT_TRUE(r.passed()) << report_text(r);
+    EXPECT_GE(r.coverage, 0.97) << report_text(r);
+    EXPECT_LT(r.excess, 0.05) << report_text(r);
+    EXPECT_EQ(r.laser_on_count, kLayers);
+}
+
+TEST(Verify, TravelThroughDepositedMaterialCollides) {
+    const machine::Profiles p = load("reference_lmd.toml");
+    ProgramText prog(p, ProgramDialect::kGm, false);
+    const Vec3d c = plate_centre(p);
+    zigzag_block(prog, p, c.x, c.y, kHalf, kLayers);
+    prog.move(c.x - kHalf - 20.0, c.y, 30.0, p.process.travel_feed_mm_min);  // up and aside
+    prog.move(c.x - kHalf - 20.0, c.y, 3.0, p.process.travel_feed_mm_min);   // half-way down
+    const int through = prog.move(c.x + kHalf + 20.0, c.y, 3.0, p.process.travel_feed_mm_min);
+    const Report r = verified(prog.text(), p);
+    EXPECT_FALSE(r.passed());
+    EXPECT_EQ(r.collisions.count, 1U) << report_text(r);
+    ASSERT_TRUE(r.collisions.first);
+    EXPECT_EQ(r.collisions.first->line, through);
+    // The material met lies in the block.
+    EXPECT_LE(std::abs(r.collisions.first->point_mm.x - c.x), kHalf + r.voxel_mm);
+    EXPECT_EQ(r.unsupported.count, 0U);
+    EXPECT_EQ(r.limit_violations.count, 0U);
+}
+
+TEST(Verify, TravelDownOntoTheBlockSideCollides) {
+    // Approaching beside the block at the plate: the cone's side meets the block's wall.
+    const machine::Profiles p = load("reference_lmd.toml");
+    ProgramText prog(p, ProgramDialect::kGm, false);
+    const Vec3d c = plate_centre(p);
+    zigzag_block(prog, p, c.x, c.y, kHalf, kLayers);
+    prog.move(c.x + kHalf + 2.0, c.y, 30.0, p.process.travel_feed_mm_min);
+    const int down = prog.move(c.x + kHalf + 2.0, c.y, 1.0, p.process.travel_feed_mm_min);
+    const Report r = verified(prog.text(), p);
+    EXPECT_EQ(r.collisions.count, 1U) << report_text(r);
+    ASSERT_TRUE(r.collisions.first);
+    EXPECT_EQ(r.collisions.first->line, down);
+}
+
+TEST(Verify, BeadInMidAirIsUnsupported) {
+    const machine::Profiles p = load("reference_lmd.toml");
+    ProgramText prog(p, ProgramDialect::kGm, false);
+    const Vec3d c = plate_centre(p);
+    zigzag_block(prog, p, c.x, c.y, kHalf, kLayers);
+    // 10 mm above the block's top: a track that rests on nothing.
+    prog.move(c.x - 5.0, c.y, 16.0, p.process.travel_feed_mm_min);
+    prog.laser(true);
+    const int air = prog.move(c.x + 5.0, c.y, 16.0, p.process.deposition_feed_mm_min);
+    prog.laser(false);
+    const Report r = verified(prog.text(), p);
+    EXPECT_FALSE(r.passed());
+    EXPECT_EQ(r.unsupported.count, 1U) << report_text(r);
+    ASSERT_TRUE(r.unsupported.first);
+    EXPECT_EQ(r.unsupported.first->line, air);
+    EXPECT_NEAR(r.unsupported.first->point_mm.z, 15.5, 1e-6);  // bead bottom = tip - h
+    EXPECT_NEAR(r.unsupported_length_mm, 10.0, 1.0);
+    EXPECT_EQ(r.collisions.count, 0U) << report_text(r);
+    EXPECT_GT(r.excess, 0.0);
+}
+
+TEST(Verify, TrackOnTheTopLayerIsSupported) {
+    // The same track one layer above the top rests on the block: no finding.
+    const machine::Profiles p = load("reference_lmd.toml");
+    ProgramText prog(p, ProgramDialect::kGm, false);
+    const Vec3d c = plate_centre(p);
+    zigzag_block(prog, p, c.x, c.y, kHalf, kLayers);
+    prog.move(c.x - 5.0, c.y, kLayers * 0.5 + 0.5, p.process.travel_feed_mm_min);
+    prog.laser(true);
+    prog.move(c.x + 5.0, c.y, kLayers * 0.5 + 0.5, p.process.deposition_feed_mm_min);
+    prog.laser(false);
+    const Report r = verified(prog.text(), p);
+    EXPECT_TRUE(r.passed()) << report_text(r);
+}
+
+TEST(Verify, AxisOverItsLimitIsReported) {
+    const machine::Profiles p = load("reference_lmd.toml");
+    ProgramText prog(p, ProgramDialect::kGm, false);
+    const Vec3d c = plate_centre(p);
+    zigzag_block(prog, p, c.x, c.y, kHalf, 2);
+    prog.move(c.x, c.y, 50.0, p.process.travel_feed_mm_min);
+    const int over = prog.move(450.0, c.y, 50.0, p.process.travel_feed_mm_min);  // X max 400
+    prog.move(c.x, c.y, 50.0, p.process.travel_feed_mm_min);
+    const Report r = verified(prog.text(), p);
+    EXPECT_FALSE(r.passed());
+    EXPECT_EQ(r.limit_violations.count, 1U) << report_text(r);
+    ASSERT_TRUE(r.limit_violations.first);
+    EXPECT_EQ(r.limit_violations.first->line, over);
+    EXPECT_NE(r.limit_violations.first->detail.find("machine.axes.X"), std::string::npos);
+    EXPECT_EQ(r.collisions.count, 0U);
+}
+
+TEST(Verify, RotaryAxisOverItsLimitIsReported) {
+    const machine::Profiles p = load("reference_5axis_ac.toml");
+    ProgramText prog(p, ProgramDialect::kGm, true);
+    prog.move(0.0, 0.0, 100.0, p.process.travel_feed_mm_min);
+    const int over = prog.move(0.0, 0.0, 100.0, p.process.travel_feed_mm_min, 130.0, 0.0);
+    const Report r = verified(prog.text(), p);
+    EXPECT_EQ(r.limit_violations.count, 1U) << report_text(r);
+    ASSERT_TRUE(r.limit_violations.first);
+    EXPECT_EQ(r.limit_violations.first->line, over);
+    EXPECT_NE(r.limit_violations.first->detail.find("machine.axes.A"), std::string::npos);
+}
+
+TEST(Verify, FiveAxisBlockWithSafeReorientationPasses) {
+    const machine::Profiles p = load("reference_5axis_ac.toml");
+    ProgramText prog(p, ProgramDialect::kGm, true);
+    const Vec3d c = plate_centre(p);
+    EXPECT_NEAR(c.x, 0.0, 1e-9);  // the C axis
+    const double travel = p.process.travel_feed_mm_min;
+    zigzag_block(prog, p, c.x, c.y, kHalf, kLayers);
+    // Retract above the sphere that holds the part, turn, cross, come down beside it.
+    const double safe = 60.0;
+    prog.move(c.x - kHalf + 1.25, c.y + kHalf - 1.25, safe, travel);
+    prog.move(c.x - kHalf + 1.25, c.y + kHalf - 1.25, safe, travel, 90.0, 0.0);
+    prog.move(0.0, 0.0, safe, travel, 90.0, 0.0);
+    const Report r = verified(prog.text(), p);
+    EXPECT_TRUE(r.passed()) << report_text(r);
+    EXPECT_GE(r.coverage, 0.97);
+    EXPECT_NEAR(r.rotary_travel_deg, 90.0, 1e-9);
+}
+
+TEST(Verify, RotationWithTheNozzleDownCollides) {
+    const machine::Profiles p = load("reference_5axis_ac.toml");
+    ProgramText prog(p, ProgramDialect::kGm, true);
+    const Vec3d c = plate_centre(p);
+    zigzag_block(prog, p, c.x, c.y, kHalf, kLayers);
+    // Laser off at the last layer's end, the nozzle still on the block: turn A.
+    const double top = kLayers * 0.5;
+    prog.move(c.x, c.y, top, p.process.travel_feed_mm_min);
+    const int turn = prog.move(c.x, c.y, top, p.process.travel_feed_mm_min, 30.0, 0.0);
+    const Report r = verified(prog.text(), p);
+    EXPECT_FALSE(r.passed());
+    EXPECT_EQ(r.collisions.count, 1U) << report_text(r);
+    ASSERT_TRUE(r.collisions.first);
+    EXPECT_EQ(r.collisions.first->line, turn);
+    EXPECT_EQ(r.limit_violations.count, 0U);
+}
+
+TEST(Verify, ClearanceWidensTheHead) {
+    // A travel 4 mm beside the block's wall at half its height: the cone (30 deg) reaches the
+    // wall's radius 6.9 mm above the tip, above the block's top (3 mm up): clear for contact;
+    // the wall's top edge is 2 mm from the cone, so a 3 mm clearance meets it.
+    const machine::Profiles p = load("reference_lmd.toml");
+    ProgramText prog(p, ProgramDialect::kGm, false);
+    const Vec3d c = plate_centre(p);
+    zigzag_block(prog, p, c.x, c.y, kHalf, kLayers);
+    prog.move(c.x + kHalf + 4.0, c.y - 30.0, 30.0, p.process.travel_feed_mm_min);
+    prog.move(c.x + kHalf + 4.0, c.y - 30.0, 3.0, p.process.travel_feed_mm_min);
+    prog.move(c.x + kHalf + 4.0, c.y + 30.0, 3.0, p.process.travel_feed_mm_min);
+    EXPECT_EQ(verified(prog.text(), p).collisions.count, 0U);
+    VerifySettings s;
+    s.clearance_mm = 3.0;
+    EXPECT_GE(verified(prog.text(), p, s).collisions.count, 1U);
+}
+
+TEST(Verify, SameInputSameReportBytes) {
+    const machine::Profiles p = load("reference_5axis_ac.toml");
+    ProgramText prog(p, ProgramDialect::kGm, true);
+    const Vec3d c = plate_centre(p);
+    zigzag_block(prog, p, c.x, c.y, kHalf, 4);
+    prog.move(c.x, c.y, 2.0, p.process.travel_feed_mm_min, 20.0, 10.0);
+    const std::string a = report_json(verified(prog.text(), p));
+    const std::string b = report_json(verified(prog.text(), p));
+    EXPECT_EQ(a, b);
+    EXPECT_NE(a.find("\"passed\": false"), std::string::npos);
+}
+
+TEST(Verify, CoverageFallsWhenLayersAreMissing) {
+    const machine::Profiles p = load("reference_lmd.toml");
+    ProgramText prog(p, ProgramDialect::kGm, false);
+    const Vec3d c = plate_centre(p);
+    zigzag_block(prog, p, c.x, c.y, kHalf, kLayers / 2);
+    const Report r = verified(prog.text(), p);
+    EXPECT_TRUE(r.passed());
+    EXPECT_NEAR(r.coverage, 0.5, 0.03) << report_text(r);
+}
+
+TEST(Verify, PlaceModelPutsTheBaseDirectionUpOnThePlateCentre) {
+    const machine::Profiles p = load("linuxcnc_generic.toml");
+    // A 10 x 20 x 30 box built along +X: after placement it stands 10 mm high.
+    auto placed = place_model(test::box({5, 5, 5}, {15, 25, 35}), {1, 0, 0}, p.machine);
+    ASSERT_TRUE(placed);
+    const core::Box3d b = mesh::bounding_box(*placed);
+    EXPECT_NEAR(b.min.z, 0.0, 1e-9);
+    EXPECT_NEAR(b.max.z, 10.0, 1e-9);
+    EXPECT_NEAR(b.center().x, 250.0, 1e-9);
+    EXPECT_NEAR(b.center().y, 250.0, 1e-9);
+    EXPECT_NEAR(b.size().y * b.size().x, 600.0, 1e-6);
+    EXPECT_FALSE(place_model(test::box({0, 0, 0}, {1, 1, 1}), {0, 0, 0}, p.machine));
+}
+
+TEST(Verify, ProgramErrorsAreErrorsNotReports) {
+    const machine::Profiles p = load("reference_lmd.toml");
+    auto r = verify_program("0.00 0.00 G21\n0.00 0.00 G1 X1 Y2 Z3 Q4 F100\n", placed_block(p), p);
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.error().describe().find("line 2"), std::string::npos) << r.error().describe();
+}
+
+}  // namespace
+}  // namespace maxslice::verify
