@@ -59,14 +59,16 @@ struct Query {
         const double a = core::dot(rel, axis);
         const double r = core::norm(rel - axis * a);
         if (level == 0) {
-            if (a < region.a_min || region.distance(a, r) > margin) return false;
+            if (a < region.a_min) return false;
+            const double bound = region.distance_bound(a, r);
+            if (bound > margin || (margin > 0.0 && region.distance(a, r) > margin)) return false;
             if (hit != nullptr) *hit = c;
             return true;
         }
         const double ext = 0.5 * size * axial_half_extent;
         if (a + ext < region.a_min || a - ext > region.a_max + margin) return false;
         const double rho = 0.5 * size * std::numbers::sqrt3;
-        if (region.distance(a, r) > margin + rho) return false;
+        if (region.distance_bound(a, r) > margin + rho) return false;
         for (int di = 0; di < 2; ++di) {
             for (int dj = 0; dj < 2; ++dj) {
                 for (int dk = 0; dk < 2; ++dk) {
@@ -87,11 +89,34 @@ void Region::add(const std::array<AxialPoint, 4>& p) {
         r_max = 0.0;
     }
     polygons.push_back(p);
+    std::array<Edge, 4> e{};
+    for (std::size_t i = 0; i < 4; ++i) {
+        const AxialPoint& u = p[i];
+        const AxialPoint& w = p[(i + 1) % 4];
+        const double ea = w.a - u.a, er = w.r - u.r;
+        const double len = std::sqrt(ea * ea + er * er);
+        if (len == 0.0) {
+            e[i] = {0.0, 0.0, 0.0};  // never the largest for a point outside
+            continue;
+        }
+        e[i] = {er / len, -ea / len, (u.a * er - u.r * ea) / len};
+    }
+    edges.push_back(e);
     for (const AxialPoint& q : p) {
         a_min = std::min(a_min, q.a);
         a_max = std::max(a_max, q.a);
         r_max = std::max(r_max, std::abs(q.r));
     }
+}
+
+double Region::distance_bound(double a, double r) const {
+    double d = std::numeric_limits<double>::infinity();
+    for (const auto& poly : edges) {
+        double m = -std::numeric_limits<double>::infinity();
+        for (const Edge& e : poly) m = std::max(m, a * e.na + r * e.nr - e.offset);
+        d = std::min(d, m);
+    }
+    return d;
 }
 
 double Region::distance(double a, double r) const {
@@ -156,32 +181,50 @@ void fill(OccupancyPyramid& grid, const Vec3d& origin, double voxel, const Slabs
     const int i1 = std::min(fine.nx() - 1, index(box.max.x, 0, fine.nx(), true));
     const int j0 = std::max(0, index(box.min.y, 1, fine.ny(), false));
     const int j1 = std::min(fine.ny() - 1, index(box.max.y, 1, fine.ny(), true));
+    // Slabs parallel to z bound each row's y range; only the others are evaluated per column.
+    std::vector<const Slabs::Slab*> vertical;
+    struct Tilted {
+        double nx_over_nz, ny_over_nz, lo_over_nz, hi_over_nz;
+    };
+    std::vector<Tilted> tilted;
+    for (const auto& sl : solid.slabs) {
+        if (std::abs(sl.n.z) < 1e-12) {
+            vertical.push_back(&sl);
+        } else {
+            const double inv = 1.0 / sl.n.z;
+            double lo = sl.lo * inv, hi = sl.hi * inv;
+            if (lo > hi) std::swap(lo, hi);
+            tilted.push_back({sl.n.x * inv, sl.n.y * inv, lo, hi});
+        }
+    }
     for (int i = i0; i <= i1; ++i) {
         const double x = origin.x + (i + 0.5) * voxel;
-        for (int j = j0; j <= j1; ++j) {
-            const double y = origin.y + (j + 0.5) * voxel;
-            // The column x, y, z = t: each slab bounds t to an interval.
-            double t0 = box.min.z, t1 = box.max.z;
-            bool empty = false;
-            for (const auto& s : solid.slabs) {
-                const double base = s.n.x * x + s.n.y * y;
-                if (std::abs(s.n.z) < 1e-12) {
-                    if (base < s.lo || base > s.hi) {
-                        empty = true;
-                        break;
-                    }
-                    continue;
-                }
-                double a = (s.lo - base) / s.n.z, b = (s.hi - base) / s.n.z;
-                if (a > b) std::swap(a, b);
-                t0 = std::max(t0, a);
-                t1 = std::min(t1, b);
-                if (t0 > t1) {
-                    empty = true;
-                    break;
-                }
+        double y_lo = box.min.y, y_hi = box.max.y;
+        bool empty = false;
+        for (const auto* sl : vertical) {
+            const double base = sl->n.x * x;
+            if (std::abs(sl->n.y) < 1e-12) {
+                if (base < sl->lo || base > sl->hi) empty = true;
+                continue;
             }
-            if (empty) continue;
+            double a = (sl->lo - base) / sl->n.y, b = (sl->hi - base) / sl->n.y;
+            if (a > b) std::swap(a, b);
+            y_lo = std::max(y_lo, a);
+            y_hi = std::min(y_hi, b);
+        }
+        if (empty || y_lo > y_hi) continue;
+        const int ja = std::max(j0, index(y_lo, 1, fine.ny(), false));
+        const int jb = std::min(j1, index(y_hi, 1, fine.ny(), true));
+        for (int j = ja; j <= jb; ++j) {
+            const double y = origin.y + (j + 0.5) * voxel;
+            // The column x, y, z = t: each remaining slab bounds t to an interval.
+            double t0 = box.min.z, t1 = box.max.z;
+            for (const Tilted& sl : tilted) {
+                const double base = sl.nx_over_nz * x + sl.ny_over_nz * y;
+                t0 = std::max(t0, sl.lo_over_nz - base);
+                t1 = std::min(t1, sl.hi_over_nz - base);
+            }
+            if (t0 > t1) continue;
             const int k0 = std::max(0, index(t0, 2, fine.nz(), false));
             const int k1 = std::min(fine.nz() - 1, index(t1, 2, fine.nz(), true));
             if (k0 <= k1) grid.set_run(i, j, k0, k1);

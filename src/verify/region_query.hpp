@@ -19,7 +19,13 @@ struct AxialPoint {
 /// each symmetric about r = 0 and counter-clockwise (a to the right, r up): a cone is a
 /// trapezoid, a cylinder a rectangle.
 struct Region {
+    /// An edge's outward unit normal and offset: (a, r) . n - offset is the signed distance
+    /// to its line.
+    struct Edge {
+        double na = 0.0, nr = 0.0, offset = 0.0;
+    };
     std::vector<std::array<AxialPoint, 4>> polygons;
+    std::vector<std::array<Edge, 4>> edges;
     double a_min = 0.0;  ///< axial extent of the union
     double a_max = 0.0;
     double r_max = 0.0;  ///< radial extent
@@ -28,12 +34,16 @@ struct Region {
     /// Distance from (a, r) to the union, negative inside (exact for convex parts; for a point
     /// inside one part, minus its depth in that part).
     [[nodiscard]] double distance(double a, double r) const;
+    /// A lower bound of distance() outside the region (the largest edge-line distance of the
+    /// nearest polygon), exact inside; no square roots.
+    [[nodiscard]] double distance_bound(double a, double r) const;
 };
 
 /// Looks for a set voxel whose centre lies within `margin` of the region placed with its axis
 /// origin at `apex` along the unit `axis` (world mm), and not below the region's a_min (the
-/// margin widens the region across and beyond its far end, never below its floor). Descends the pyramid only through set
-/// cells the region may reach; the first hit in a fixed order is returned (deterministic).
+/// margin widens the region across and beyond its far end, never below its floor). Descends the
+/// pyramid only through set cells the region may reach; the first hit in a fixed order is returned
+/// (deterministic).
 [[nodiscard]] bool find_occupied(const OccupancyPyramid& grid, const core::Vec3d& origin,
                                  double voxel, const core::Vec3d& apex, const core::Vec3d& axis,
                                  const Region& region, double margin, core::Vec3d* hit);

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <utility>
 
 #include "maxslice/machine/kinematics.hpp"
@@ -167,7 +168,9 @@ public:
                 check_support(b, samples, h, rep);
                 const bool joined =
                     prev_deposit && core::norm(prev_end - samples.front().tip) < 0.5 * voxel_;
-                lay_bead(samples, h, joined);
+                const bool turns =
+                    b.pose.a_or_b_deg != b.from.a_or_b_deg || b.pose.c_deg != b.from.c_deg;
+                lay_bead(samples, h, joined, turns);
             }
             prev_deposit = deposit;
             prev_end = samples.back().tip;
@@ -385,33 +388,69 @@ private:
     // The bead of one block: between neighbouring samples a box track_width wide and h high
     // under the tip (top edge centre at the tip); round joints (an octagonal prism) where the
     // track turns and where it continues the previous block's bead.
-    void lay_bead(const std::vector<Sample>& samples, double h, bool joined_to_previous) {
+    // A block that keeps its direction is laid in straight pieces of up to four track widths
+    // (longer pieces waste time on their bounding boxes). Where the track turns by phi (within
+    // the block, or from the previous block's bead), the outer corner is closed: up to 90 deg
+    // by a mitre (both pieces extended by w/2 tan(phi/2) past the corner), beyond by a round
+    // joint.
+    void lay_bead(const std::vector<Sample>& samples, double h, bool joined_to_previous,
+                  bool turns) {
         const double w = process_.track_width_mm;
-        Vec3d prev_t{};
-        for (std::size_t i = 1; i < samples.size(); ++i) {
-            const Sample& a = samples[i - 1];
-            const Sample& b = samples[i];
+        const std::size_t stride =
+            turns ? 1 : std::max<std::size_t>(1, static_cast<std::size_t>(4.0 * w / sample_));
+        std::vector<std::size_t> at;
+        for (std::size_t i = 0; i + 1 < samples.size(); i += stride) at.push_back(i);
+        at.push_back(samples.size() - 1);
+        bool has_prev = joined_to_previous && last_piece_;
+        Vec3d prev_t = last_piece_ ? last_piece_->t : Vec3d{};
+        for (std::size_t n = 1; n < at.size(); ++n) {
+            const Sample& a = samples[at[n - 1]];
+            const Sample& b = samples[at[n]];
             const Vec3d d = core::normalized(a.dir + b.dir);
             Vec3d along = b.tip - a.tip;
             along = along - d * core::dot(along, d);
             const double len = core::norm(along);
             if (len < 1e-9) continue;
             const Vec3d t = along / len;
-            const Vec3d s = core::cross(d, t);
-            detail::Slabs box;
-            box.add(t, core::dot(t, a.tip), core::dot(t, a.tip) + len);
-            box.add(s, core::dot(s, a.tip) - 0.5 * w, core::dot(s, a.tip) + 0.5 * w);
-            box.add(d, core::dot(d, a.tip) - h, core::dot(d, a.tip));
-            const Vec3d a_bottom = a.tip - d * h, b_bottom = b.tip - d * h;
-            const double hw = 0.5 * w;
-            box.corners = {a.tip + s * hw,    a.tip - s * hw,    b.tip + s * hw,
-                           b.tip - s * hw,    a_bottom + s * hw, a_bottom - s * hw,
-                           b_bottom + s * hw, b_bottom - s * hw};
-            detail::fill(grid_, origin_, voxel_, box);
-            const bool turn = i > 1 && core::dot(prev_t, t) < 1.0 - 1e-9;
-            if (turn || (i == 1 && joined_to_previous)) lay_joint(a.tip, d, h);
+            double back = 0.0;
+            if (has_prev) {
+                Vec3d p = prev_t - d * core::dot(prev_t, d);
+                p = core::normalized(p);
+                const double c = std::clamp(core::dot(p, t), -1.0, 1.0);
+                if (c < 1.0 - 1e-12) {
+                    const double phi = std::acos(c);
+                    if (phi <= 0.5 * std::numbers::pi) {
+                        back = 0.5 * w * std::tan(0.5 * phi);
+                        lay_box(a.tip, p, d, 0.0, back, h);  // the previous piece's mitre
+                    } else {
+                        lay_joint(a.tip, d, h);
+                    }
+                }
+            }
+            lay_box(a.tip, t, d, back, len, h);
             prev_t = t;
+            has_prev = true;
+            last_piece_ = Piece{t};
         }
+    }
+
+    // The box from `tip - back t` to `tip + len t`, track wide across t and d, h deep below
+    // the tip along d.
+    void lay_box(const Vec3d& tip, const Vec3d& t, const Vec3d& d, double back, double len,
+                 double h) {
+        const double hw = 0.5 * process_.track_width_mm;
+        const Vec3d s = core::cross(d, t);
+        const double at = core::dot(t, tip), as = core::dot(s, tip), ad = core::dot(d, tip);
+        detail::Slabs box;
+        box.add(t, at - back, at + len);
+        box.add(s, as - hw, as + hw);
+        box.add(d, ad - h, ad);
+        const Vec3d a = tip - t * back, b = tip + t * len;
+        for (const Vec3d& e : {a, b, a - d * h, b - d * h}) {
+            box.corners.push_back(e + s * hw);
+            box.corners.push_back(e - s * hw);
+        }
+        detail::fill(grid_, origin_, voxel_, box);
     }
 
     void lay_joint(const Vec3d& tip, const Vec3d& d, double h) {
@@ -471,6 +510,10 @@ private:
     std::size_t poses_checked_ = 0;
     double unsupported_length_ = 0.0;
     bool limit_block_counted_ = false;
+    struct Piece {
+        Vec3d t;
+    };
+    std::optional<Piece> last_piece_;  // direction of the last bead piece laid
 };
 
 }  // namespace

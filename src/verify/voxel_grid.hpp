@@ -86,17 +86,24 @@ public:
     [[nodiscard]] const BitGrid& fine() const { return levels_.front(); }
 
     void set_run(int i, int j, int k0, int k1) {
-        for (auto& g : levels_) {
-            g.set_run(i, j, k0, k1);
+        levels_.front().set_run(i, j, k0, k1);
+        // Neighbouring columns share their coarse cells: stop at the first level whose run was
+        // the previous call's (every coarser level was set then too).
+        for (std::size_t l = 1; l < levels_.size(); ++l) {
             i >>= 1;
             j >>= 1;
             k0 >>= 1;
             k1 >>= 1;
+            std::array<int, 4>& last = last_[l];
+            if (last[0] == i && last[1] == j && last[2] == k0 && last[3] == k1) break;
+            last = {i, j, k0, k1};
+            levels_[l].set_run(i, j, k0, k1);
         }
     }
 
 private:
     std::vector<BitGrid> levels_;
+    std::vector<std::array<int, 4>> last_ = std::vector<std::array<int, 4>>(64, {-1, -1, -1, -1});
 };
 
 }  // namespace maxslice::verify::detail
