@@ -1,5 +1,7 @@
 #include "maxslice/machine/profile.hpp"
 
+#include "maxslice/machine/speed_law.hpp"
+
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
@@ -98,6 +100,11 @@ constexpr std::string_view kContourPassesKey = "contour_passes";
 constexpr Range kContourPassesRange{0.0, 100.0, false, false, ""};
 constexpr std::string_view kCatchEfficiencyKey = "powder_catch_efficiency";
 constexpr Range kCatchEfficiencyRange{0.0, 1.0, true, false, ""};
+// The speed law (METHOD.md section 10): measured (feed, track height) pairs.
+constexpr std::string_view kSpeedHeightKey = "speed_height";
+constexpr std::size_t kMaxSpeedPoints = 64;
+/// The law must lay the nominal layer at the nominal feed within this share.
+constexpr double kSpeedLawNominalTolerance = 0.02;
 
 constexpr std::array<NumberKey<MachineProfile>, 5> kMachineNumbers{{
     {"feed_min_mm_min",
@@ -302,6 +309,8 @@ public:
         return as_number(key, **node, range);
     }
 
+    [[nodiscard]] const toml::node* find(std::string_view key) const { return table_.get(key); }
+
     [[nodiscard]] core::Result<std::optional<double>> optional_number(std::string_view key,
                                                                       const Range& range) const {
         const toml::node* node = table_.get(key);
@@ -467,11 +476,49 @@ core::Result<void> check_numbers(std::string_view prefix, const Profile& value,
     return {};
 }
 
+// `speed_height = [[feed, height], ...]` (optional): each pair two numbers; ranges and order
+// are validate()'s.
+core::Result<std::vector<SpeedPoint>> read_speed_height(const TableReader& reader) {
+    std::vector<SpeedPoint> out;
+    const toml::node* node = reader.find(kSpeedHeightKey);
+    if (node == nullptr) return out;
+    const std::string key = reader.path(kSpeedHeightKey);
+    const auto* a = node->as_array();
+    if (a == nullptr || a->size() < 2 || a->size() > kMaxSpeedPoints) {
+        return core::fail(
+            ErrorCode::kInvalidInput,
+            fmt::format("`{}` must be an array of 2 to {} [feed_mm_min, height_mm] pairs, got {}",
+                        key, kMaxSpeedPoints,
+                        a == nullptr ? std::string(type_name(*node))
+                                     : fmt::format("{} elements", a->size())));
+    }
+    for (std::size_t i = 0; i < a->size(); ++i) {
+        const auto* pair = a->get(i)->as_array();
+        const auto number = [&](std::size_t j) -> std::optional<double> {
+            if (pair == nullptr || pair->size() != 2) return std::nullopt;
+            const toml::node* n = pair->get(j);
+            if (const auto* f = n->as_floating_point()) return f->get();
+            if (const auto* k = n->as_integer()) return static_cast<double>(k->get());
+            return std::nullopt;
+        };
+        const auto feed = number(0), height = number(1);
+        if (!feed || !height) {
+            return core::fail(ErrorCode::kInvalidInput,
+                              fmt::format("`{}[{}]` must be a pair of numbers [feed_mm_min, "
+                                          "height_mm], got {}",
+                                          key, i, std::string(type_name(*a->get(i)))));
+        }
+        out.push_back({*feed, *height});
+    }
+    return out;
+}
+
 core::Result<ProcessProfile> read_process(const toml::table& table) {
     const TableReader reader(table, "process");
     std::vector<std::string_view> known = keys_of(kProcessNumbers);
     known.push_back(kContourPassesKey);
     known.push_back(kCatchEfficiencyKey);
+    known.push_back(kSpeedHeightKey);
     if (auto ok = reader.only(known); !ok) return pass(ok);
 
     ProcessProfile p;
@@ -487,6 +534,9 @@ core::Result<ProcessProfile> read_process(const toml::table& table) {
     const auto efficiency = reader.optional_number(kCatchEfficiencyKey, kCatchEfficiencyRange);
     if (!efficiency) return pass(efficiency);
     p.powder_catch_efficiency = *efficiency;
+    auto law = read_speed_height(reader);
+    if (!law) return pass(law);
+    p.speed_height = std::move(*law);
 
     if (auto ok = validate(p); !ok) return pass(ok);
     return p;
@@ -805,6 +855,54 @@ const AxisLimits* MachineProfile::find_axis(std::string_view axis_name) const {
     return nullptr;
 }
 
+namespace {
+
+// The measured speed law: 2 to kMaxSpeedPoints pairs in range, feeds strictly increasing,
+// heights strictly decreasing, and the law lays the nominal layer at the nominal feed.
+core::Result<void> check_speed_height(const ProcessProfile& p) {
+    if (p.speed_height.empty()) return {};
+    const std::string key = key_path("process", kSpeedHeightKey);
+    if (p.speed_height.size() < 2 || p.speed_height.size() > kMaxSpeedPoints) {
+        return core::fail(ErrorCode::kInvalidInput,
+                          fmt::format("{} has {} pairs (allowed: 2 to {})", key,
+                                      p.speed_height.size(), kMaxSpeedPoints));
+    }
+    for (std::size_t i = 0; i < p.speed_height.size(); ++i) {
+        const SpeedPoint& q = p.speed_height[i];
+        if (auto ok = check_range(fmt::format("{}[{}] feed", key, i), q.feed_mm_min,
+                                  {0.0, kMaxFeedMmMin, true, false, "mm/min"});
+            !ok) {
+            return ok;
+        }
+        if (auto ok = check_range(fmt::format("{}[{}] height", key, i), q.height_mm,
+                                  {0.0, 20.0, true, false, "mm"});
+            !ok) {
+            return ok;
+        }
+        if (i > 0 && (q.feed_mm_min <= p.speed_height[i - 1].feed_mm_min ||
+                      q.height_mm >= p.speed_height[i - 1].height_mm)) {
+            return core::fail(
+                ErrorCode::kInvalidInput,
+                fmt::format("{}[{}] = [{}, {}] after [{}, {}]: feeds must increase and heights "
+                            "decrease (a faster track is lower)",
+                            key, i, q.feed_mm_min, q.height_mm, p.speed_height[i - 1].feed_mm_min,
+                            p.speed_height[i - 1].height_mm));
+        }
+    }
+    const double nominal = SpeedLaw::of(p).height_mm(p.deposition_feed_mm_min);
+    if (std::abs(nominal - p.layer_height_mm) > kSpeedLawNominalTolerance * p.layer_height_mm) {
+        return core::fail(
+            ErrorCode::kInvalidInput,
+            fmt::format("{} lays {:.4g} mm at process.deposition_feed_mm_min = {} but "
+                        "process.layer_height_mm is {}: they must agree within {:.0f}%",
+                        key, nominal, p.deposition_feed_mm_min, p.layer_height_mm,
+                        100.0 * kSpeedLawNominalTolerance));
+    }
+    return {};
+}
+
+}  // namespace
+
 core::Result<void> validate(const ProcessProfile& p) {
     if (auto ok = check_numbers("process", p, kProcessNumbers); !ok) return ok;
     if (!in_range(static_cast<double>(p.contour_passes), kContourPassesRange)) {
@@ -845,7 +943,7 @@ core::Result<void> validate(const ProcessProfile& p) {
                                       "process.laser_power_w = {}",
                                       p.laser_power_off_w, p.laser_power_w));
     }
-    return {};
+    return check_speed_height(p);
 }
 
 core::Result<void> validate(const MachineProfile& m) {
@@ -948,6 +1046,17 @@ core::Result<void> check_compatible(const MachineProfile& m, const ProcessProfil
     };
     if (auto ok = power("laser_power_w", p.laser_power_w); !ok) return ok;
     if (auto ok = power("laser_power_off_w", p.laser_power_off_w); !ok) return ok;
+    for (std::size_t i = 0; i < p.speed_height.size(); ++i) {
+        const double f = p.speed_height[i].feed_mm_min;
+        if (f < m.feed_min_mm_min || f > m.feed_max_mm_min) {
+            return core::fail(
+                ErrorCode::kInvalidInput,
+                fmt::format("process.{}[{}] feed {} is outside the machine's feed "
+                            "range [machine.feed_min_mm_min, "
+                            "machine.feed_max_mm_min] = [{}, {}] mm/min",
+                            kSpeedHeightKey, i, f, m.feed_min_mm_min, m.feed_max_mm_min));
+        }
+    }
     if (p.powder_feed_g_min > m.powder_feed_max_g_min) {
         return core::fail(ErrorCode::kInvalidInput,
                           fmt::format("process.powder_feed_g_min = {} is above "

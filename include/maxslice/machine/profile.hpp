@@ -12,6 +12,12 @@
 
 namespace maxslice::machine {
 
+/// One measured point of the speed law: a single track laid at this feed is this high.
+struct SpeedPoint {
+    double feed_mm_min = 0.0;
+    double height_mm = 0.0;
+};
+
 /// The deposition process (METHOD.md, reference process): what the bead needs, independent of
 /// the machine that lays it. Lengths in mm, feeds in mm/min, powder in g/min, power in W.
 /// TOML keys are the member names (table `[process]`); see docs/profiles.md.
@@ -32,6 +38,10 @@ struct ProcessProfile {
     /// Share of the delivered powder that ends up in the bead, (0, 1]; unset = unknown, and
     /// the summary then reports only the powder delivered.
     std::optional<double> powder_catch_efficiency;
+    /// `speed_height`: measured (feed, track height) pairs, feeds increasing and heights
+    /// decreasing (METHOD.md section 10); empty = the constant-mass law through the nominal
+    /// point (machine/speed_law.hpp).
+    std::vector<SpeedPoint> speed_height;
 };
 
 /// How machine axes follow from part coordinates (METHOD.md section 11). The head is fixed and

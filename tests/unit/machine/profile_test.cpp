@@ -185,6 +185,22 @@ TEST(Profile, CatchEfficiencyIsOptional) {
                    {"process.powder_catch_efficiency = 1.5", "(0, 1]"});
 }
 
+TEST(Profile, SpeedLawIsReadAndChecked) {
+    const auto r = parse_profile(
+        base() + "speed_height = [[250, 0.72], [381.0, 0.5], [650.0, 0.3]]\n", "test.toml");
+    ASSERT_TRUE(r.has_value()) << r.error().describe();
+    ASSERT_EQ(r->process->speed_height.size(), 3u);
+    EXPECT_DOUBLE_EQ(r->process->speed_height[0].feed_mm_min, 250.0);
+    EXPECT_DOUBLE_EQ(r->process->speed_height[2].height_mm, 0.3);
+    expect_refused(base() + "speed_height = [[381.0, 0.5]]\n", {"process.speed_height", "2 to 64"});
+    expect_refused(base() + "speed_height = [[250, 0.72], [381.0]]\n",
+                   {"process.speed_height[1]", "pair of numbers"});
+    expect_refused(base() + "speed_height = [[250, 0.72], [200.0, 0.5]]\n",
+                   {"process.speed_height[1]", "feeds must increase"});
+    expect_refused(base() + "speed_height = [[250, 0.9], [381.0, 0.6]]\n",
+                   {"process.speed_height", "must agree"});
+}
+
 TEST(Profile, MissingKeyIsNamed) {
     expect_refused(without(base(), "track_width_mm"),
                    {"missing key", "process.track_width_mm", "(0, 50] mm"});
