@@ -15,6 +15,7 @@
 #include <utility>
 
 #include "maxslice/machine/kinematics.hpp"
+#include "maxslice/machine/speed_law.hpp"
 #include "model_voxels.hpp"
 #include "region_query.hpp"
 #include "voxel_grid.hpp"
@@ -42,14 +43,6 @@ constexpr double kPlateToleranceVoxels = 1.0;
 constexpr double kLimitToleranceMmOrDeg = 1e-6;
 /// Subdivisions used to estimate the path of a move that turns the table.
 constexpr int kArcProbe = 16;
-
-// The height a deposit feed lays: the constant-mass law through the nominal point (height x
-// feed = layer height x deposition feed), clamped to [h_min, h_max].
-// TODO(verify): machine::SpeedLaw once it is on main.
-double bead_height_mm(const machine::ProcessProfile& p, double feed_mm_min) {
-    const double h = p.layer_height_mm * p.deposition_feed_mm_min / feed_mm_min;
-    return std::clamp(h, p.h_min_mm, p.h_max_mm);
-}
 
 double lerp(double a, double b, double t) {
     return a + (b - a) * t;
@@ -95,7 +88,8 @@ public:
           process_(profiles.process),
           kin_(kin),
           settings_(settings),
-          nozzle_(nozzle) {}
+          nozzle_(nozzle),
+          law_(machine::SpeedLaw::of(profiles.process)) {}
 
     core::Result<Report> run(const Replay& replay, const mesh::TriangleMesh& model) {
         Report rep;
@@ -127,7 +121,7 @@ public:
                 continue;
             }
             prev_known = true;
-            const double h = deposit ? bead_height_mm(process_, b.feed_mm_min) : 0.0;
+            const double h = deposit ? law_.height_mm(b.feed_mm_min) : 0.0;
             if (deposit) {
                 ++rep.deposit_moves;
                 hmin = std::min(hmin, h);
@@ -191,7 +185,7 @@ private:
         double reach = 0.0;
         for (const ReplayBlock& b : replay.blocks) {
             if (b.kind != ReplayBlock::Kind::kMove || !b.laser_on || !b.pose_known) continue;
-            const double h = bead_height_mm(process_, b.feed_mm_min);
+            const double h = law_.height_mm(b.feed_mm_min);
             reach = std::max(reach, std::max(h, 0.5 * process_.track_width_mm));
             box.add(b.tip_mm);
             box.add(kin_.forward(b.from).tip_mm);
@@ -500,6 +494,7 @@ private:
     const machine::MachineKinematics& kin_;
     const VerifySettings& settings_;
     machine::NozzleProfile nozzle_;
+    machine::SpeedLaw law_;  // deposit feed -> bead height (docs/program-dialects.md)
     Vec3d origin_{};
     double voxel_ = 1.0;
     double sample_ = 1.0;

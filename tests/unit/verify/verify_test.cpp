@@ -239,6 +239,35 @@ TEST(Verify, CoverageFallsWhenLayersAreMissing) {
     EXPECT_NEAR(r.coverage, 0.5, 0.03) << report_text(r);
 }
 
+// One track on the plate at `feed`: its report (fine voxels: a 0.3 mm bead is two of the
+// automatic 0.15 mm voxels, 0.5 mm three or four).
+Report single_track(const machine::Profiles& p, double feed) {
+    VerifySettings s;
+    s.voxel_mm = 0.05;
+    ProgramText prog(p, ProgramDialect::kGm, false);
+    const Vec3d c = plate_centre(p);
+    prog.move(c.x - 10.0, c.y, 0.5, p.process.travel_feed_mm_min);
+    prog.laser(true);
+    prog.move(c.x + 10.0, c.y, 0.5, feed);
+    prog.laser(false);
+    return verified(prog.text(), p, s);
+}
+
+TEST(Verify, BeadHeightFollowsTheSpeedLaw) {
+    machine::Profiles p = load("reference_lmd.toml");
+    // Constant mass through the nominal point: 0.5 mm at 381 mm/min, 0.3 mm at 635 mm/min.
+    const Report nominal = single_track(p, 381.0);
+    const Report fast = single_track(p, 635.0);
+    EXPECT_NEAR(nominal.bead_height_max_mm, 0.5, 1e-9);
+    EXPECT_NEAR(fast.bead_height_max_mm, 0.3, 1e-9);
+    EXPECT_NEAR(fast.deposited_volume_mm3 / nominal.deposited_volume_mm3, 0.3 / 0.5, 0.06);
+    EXPECT_NEAR(nominal.deposited_volume_mm3, 20.0 * 2.5 * 0.5, 0.1 * 25.0);
+    // Measured pairs take over.
+    p.process.speed_height = {
+        {250.0, 0.72}, {300.0, 0.62}, {381.0, 0.5}, {500.0, 0.4}, {650.0, 0.3}};
+    EXPECT_NEAR(single_track(p, 300.0).bead_height_max_mm, 0.62, 1e-9);
+}
+
 TEST(Verify, PlaceModelPutsTheBaseDirectionUpOnThePlateCentre) {
     const machine::Profiles p = load("linuxcnc_generic.toml");
     // A 10 x 20 x 30 box built along +X: after placement it stands 10 mm high.
