@@ -575,7 +575,7 @@ core::Result<Report> verify_program(std::string_view program_text,
     auto kin = machine::MachineKinematics::create(profiles.machine);
     if (!kin) return std::unexpected(kin.error());
     auto replay = replay_program(program_text, profiles, dialect);
-    if (!replay) return std::unexpected(core::with_context(replay.error(), "program"));
+    if (!replay) return std::unexpected(replay.error());
     const machine::NozzleProfile nozzle =
         profiles.machine.nozzle.value_or(machine::NozzleProfile{});
     Verifier v(profiles, *kin, settings, nozzle);
