@@ -150,9 +150,9 @@ bool find_occupied(const OccupancyPyramid& grid, const Vec3d& origin, double vox
         if (i0[c] > i1[c]) return false;
         span = std::max(span, i1[c] - i0[c] + 1);
     }
-    // Start at the level where the box spans about four cells along its longest side.
+    // Start at the level where the box spans about two cells along its longest side.
     int level = 0;
-    while (level + 1 < grid.level_count() && (span >> level) > 4) ++level;
+    while (level + 1 < grid.level_count() && (span >> level) > 2) ++level;
     const Query q{grid,   origin, voxel,
                   apex,   axis,   std::abs(axis.x) + std::abs(axis.y) + std::abs(axis.z),
                   region, margin, hit};

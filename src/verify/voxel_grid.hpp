@@ -36,6 +36,12 @@ public:
     /// Sets bits k0..k1 (inclusive) of column (i, j).
     void set_run(int i, int j, int k0, int k1) {
         std::uint64_t* col = &bits_[word(i, j, 0)];
+        if ((k0 >> 6) == (k1 >> 6)) {  // one word: the usual bead column
+            const int lo = k0 & 63, n = k1 - k0 + 1;
+            const std::uint64_t ones = n == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << n) - 1;
+            col[k0 >> 6] |= ones << lo;
+            return;
+        }
         int k = k0;
         while (k <= k1) {
             const int w = k >> 6;
