@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <filesystem>
+#include <optional>
 #include <string>
 
 #include "maxslice/machine/profile.hpp"
@@ -48,10 +49,20 @@ public:
         }
     }
 
+    /// Every later move adds `offset` to X Y Z and, unless given, writes these rotary values
+    /// (a tool-centre-point program: X Y Z = pivot + tip).
+    void set_frame(const core::Vec3d& offset, double a, double c) {
+        offset_ = offset;
+        a_ = a;
+        c_ = c;
+    }
+
     /// A G1 block; returns its line number.
-    int move(double x, double y, double z, double feed, double a = 0.0, double c = 0.0) {
-        std::string b = fmt::format("G1 X{:.3f} Y{:.3f} Z{:.3f}", x, y, z);
-        if (rotary_) b += fmt::format(" A{:.3f} C{:.3f}", a, c);
+    int move(double x, double y, double z, double feed, std::optional<double> a = std::nullopt,
+             std::optional<double> c = std::nullopt) {
+        std::string b =
+            fmt::format("G1 X{:.3f} Y{:.3f} Z{:.3f}", x + offset_.x, y + offset_.y, z + offset_.z);
+        if (rotary_) b += fmt::format(" A{:.3f} C{:.3f}", a.value_or(a_), c.value_or(c_));
         b += fmt::format(" F{:.1f}", feed);
         return line(b);
     }
@@ -90,6 +101,9 @@ private:
     const machine::Profiles& p_;
     ProgramDialect d_;
     bool rotary_;
+    core::Vec3d offset_{};
+    double a_ = 0.0;
+    double c_ = 0.0;
     bool on_ = false;
     int lines_ = 0;
     std::string out_;

@@ -69,22 +69,27 @@ TEST(Verify, CleanZigzagBlockPassesLinuxCnc) {
 }
 
 TEST(Verify, TravelThroughDepositedMaterialCollides) {
-    const machine::Profiles p = load("reference_lmd.toml");
-    ProgramText prog(p, ProgramDialect::kGm, false);
-    const Vec3d c = plate_centre(p);
-    zigzag_block(prog, p, c.x, c.y, kHalf, kLayers);
-    prog.move(c.x - kHalf - 20.0, c.y, 30.0, p.process.travel_feed_mm_min);  // up and aside
-    prog.move(c.x - kHalf - 20.0, c.y, 3.0, p.process.travel_feed_mm_min);   // half-way down
-    const int through = prog.move(c.x + kHalf + 20.0, c.y, 3.0, p.process.travel_feed_mm_min);
-    const Report r = verified(prog.text(), p);
-    EXPECT_FALSE(r.passed());
-    EXPECT_EQ(r.collisions.count, 1U) << report_text(r);
-    ASSERT_TRUE(r.collisions.first);
-    EXPECT_EQ(r.collisions.first->line, through);
-    // The material met lies in the block.
-    EXPECT_LE(std::abs(r.collisions.first->point_mm.x - c.x), kHalf + r.voxel_mm);
-    EXPECT_EQ(r.unsupported.count, 0U);
-    EXPECT_EQ(r.limit_violations.count, 0U);
+    for (const auto& [file, dialect] :
+         {std::pair{"reference_lmd.toml", ProgramDialect::kGm},
+          std::pair{"linuxcnc_generic.toml", ProgramDialect::kLinuxCnc}}) {
+        SCOPED_TRACE(file);
+        const machine::Profiles p = load(file);
+        ProgramText prog(p, dialect, false);
+        const Vec3d c = plate_centre(p);
+        zigzag_block(prog, p, c.x, c.y, kHalf, kLayers);
+        prog.move(c.x - kHalf - 20.0, c.y, 30.0, p.process.travel_feed_mm_min);  // up and aside
+        prog.move(c.x - kHalf - 20.0, c.y, 3.0, p.process.travel_feed_mm_min);   // half-way down
+        const int through = prog.move(c.x + kHalf + 20.0, c.y, 3.0, p.process.travel_feed_mm_min);
+        const Report r = verified(prog.text(), p);
+        EXPECT_FALSE(r.passed());
+        EXPECT_EQ(r.collisions.count, 1U) << report_text(r);
+        ASSERT_TRUE(r.collisions.first);
+        EXPECT_EQ(r.collisions.first->line, through);
+        // The material met lies in the block.
+        EXPECT_LE(std::abs(r.collisions.first->point_mm.x - c.x), kHalf + r.voxel_mm);
+        EXPECT_EQ(r.unsupported.count, 0U);
+        EXPECT_EQ(r.limit_violations.count, 0U);
+    }
 }
 
 TEST(Verify, TravelDownOntoTheBlockSideCollides) {
@@ -198,6 +203,45 @@ TEST(Verify, RotationWithTheNozzleDownCollides) {
     ASSERT_TRUE(r.collisions.first);
     EXPECT_EQ(r.collisions.first->line, turn);
     EXPECT_EQ(r.limit_violations.count, 0U);
+}
+
+// A fanuc program under tool centre point control builds the block with the table turned by
+// C = 45 and an offset pivot: X Y Z are pivot + the part-frame tip, so the beads land on the
+// model whatever C is; read as joint space the same text lays the block turned by 45 deg
+// about the C axis (the model's centre), which covers about 83% of it.
+TEST(Verify, ToolCentrePointProgramBuildsTheBlockAtAnyC) {
+    machine::Profiles p = load("reference_5axis_ac.toml");
+    p.machine.table->pivot_mm = {10.0, 20.0, -50.0};
+    p.machine.table->c_offset_x_mm = 3.0;
+    p.machine.table->c_offset_y_mm = -4.0;
+    const Vec3d c = plate_centre(p);
+    EXPECT_NEAR(c.x, 3.0, 1e-9);
+    EXPECT_NEAR(c.y, -4.0, 1e-9);
+    ProgramText prog(p, ProgramDialect::kFanuc, true);
+    prog.raw("G49");
+    prog.move(0.0, 0.0, 300.0, p.process.travel_feed_mm_min, 0.0, 0.0);
+    prog.move(0.0, 0.0, 300.0, p.process.travel_feed_mm_min, 0.0, 45.0);
+    prog.raw("G43.4 H1");
+    prog.set_frame(p.machine.table->pivot_mm, 0.0, 45.0);
+    zigzag_block(prog, p, c.x, c.y, kHalf, kLayers);
+    prog.raw("G49");
+    prog.raw("M30");
+    prog.raw("%");
+    VerifySettings s;
+    s.dialect = ProgramDialect::kFanuc;
+    const Report r = verified(prog.text(), p, s);
+    EXPECT_TRUE(r.passed()) << report_text(r);
+    EXPECT_GE(r.coverage, 0.97) << report_text(r);
+    EXPECT_LT(r.excess, 0.05) << report_text(r);
+    std::string joint = prog.text();
+    for (const std::string word : {"G43.4 H1\n", "G49\n"}) {
+        for (auto pos = joint.find(word); pos != std::string::npos; pos = joint.find(word)) {
+            joint.erase(pos, word.size());
+        }
+    }
+    const Report j = verified(joint, p, s);
+    EXPECT_LT(j.coverage, 0.9) << report_text(j);
+    EXPECT_GT(j.coverage, 0.75) << report_text(j);
 }
 
 TEST(Verify, ClearanceWidensTheHead) {
