@@ -45,12 +45,10 @@ BitGrid voxelize_model(const mesh::TriangleMesh& mesh, const core::Vec3d& origin
         const double xmax = std::max({p[0].x, p[1].x, p[2].x});
         const double ymin = std::min({p[0].y, p[1].y, p[2].y});
         const double ymax = std::max({p[0].y, p[1].y, p[2].y});
-        const int i0 = std::max(0, static_cast<int>(std::ceil((xmin - origin.x) / voxel - 0.5)));
-        const int i1 =
-            std::min(nx - 1, static_cast<int>(std::floor((xmax - origin.x) / voxel - 0.5)));
-        const int j0 = std::max(0, static_cast<int>(std::ceil((ymin - origin.y) / voxel - 0.5)));
-        const int j1 =
-            std::min(ny - 1, static_cast<int>(std::floor((ymax - origin.y) / voxel - 0.5)));
+        const int i0 = std::max(0, ceil_index((xmin - origin.x) / voxel - 0.5));
+        const int i1 = std::min(nx - 1, floor_index((xmax - origin.x) / voxel - 0.5));
+        const int j0 = std::max(0, ceil_index((ymin - origin.y) / voxel - 0.5));
+        const int j1 = std::min(ny - 1, floor_index((ymax - origin.y) / voxel - 0.5));
         for (int i = i0; i <= i1; ++i) {
             const double x = origin.x + (i + 0.5) * voxel;
             for (int j = j0; j <= j1; ++j) {
@@ -86,10 +84,8 @@ BitGrid voxelize_model(const mesh::TriangleMesh& mesh, const core::Vec3d& origin
             winding += hits[h].sign;
             if (before <= 0 && winding > 0) enter = hits[h].z;
             if (before > 0 && winding <= 0) {
-                const int k0 =
-                    std::max(0, static_cast<int>(std::ceil((enter - origin.z) / voxel - 0.5)));
-                const int k1 = std::min(
-                    nz - 1, static_cast<int>(std::floor((hits[h].z - origin.z) / voxel - 0.5)));
+                const int k0 = std::max(0, ceil_index((enter - origin.z) / voxel - 0.5));
+                const int k1 = std::min(nz - 1, floor_index((hits[h].z - origin.z) / voxel - 0.5));
                 if (k0 <= k1) grid.set_run(i, j, k0, k1);
             }
         }

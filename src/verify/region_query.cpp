@@ -145,8 +145,8 @@ bool find_occupied(const OccupancyPyramid& grid, const Vec3d& origin, double vox
     int span = 1;
     for (std::size_t c = 0; c < 3; ++c) {
         const double o = origin[static_cast<int>(c)];
-        i0[c] = std::max(0, static_cast<int>(std::floor((lo[c] - o) / voxel)));
-        i1[c] = std::min(n[c] - 1, static_cast<int>(std::floor((hi[c] - o) / voxel)));
+        i0[c] = std::max(0, floor_index((lo[c] - o) / voxel));
+        i1[c] = std::min(n[c] - 1, floor_index((hi[c] - o) / voxel));
         if (i0[c] > i1[c]) return false;
         span = std::max(span, i1[c] - i0[c] + 1);
     }
@@ -174,7 +174,7 @@ void fill(OccupancyPyramid& grid, const Vec3d& origin, double voxel, const Slabs
     const auto index = [&](double x, int axis, int n, bool upper) {
         // Voxel centres origin + (i + 0.5) v inside [x_lo, x_hi].
         const double f = (x - origin[axis]) / voxel - 0.5;
-        const int i = upper ? static_cast<int>(std::floor(f)) : static_cast<int>(std::ceil(f));
+        const int i = upper ? floor_index(f) : ceil_index(f);
         return std::clamp(i, -1, n);
     };
     const int i0 = std::max(0, index(box.min.x, 0, fine.nx(), false));

@@ -41,6 +41,9 @@ constexpr double kSupportDepthVoxels = 2.0;
 constexpr double kPlateToleranceVoxels = 1.0;
 /// Axis values within this of a limit pass (the program rounds to 3 decimals).
 constexpr double kLimitToleranceMmOrDeg = 1e-6;
+/// Most poses checked along one block (a 100 m move at 1 mm; a program sending the tool
+/// farther is caught by the axis limits).
+constexpr double kMaxSamples = 1.0e5;
 /// Subdivisions used to estimate the path of a move that turns the table.
 constexpr int kArcProbe = 16;
 
@@ -280,7 +283,7 @@ private:
                 prev = s;
             }
         }
-        const int n = std::max(1, static_cast<int>(std::ceil(path / sample_)));
+        const int n = static_cast<int>(std::clamp(std::ceil(path / sample_), 1.0, kMaxSamples));
         std::vector<Sample> out;
         out.reserve(static_cast<std::size_t>(n) + 1);
         for (int i = 0; i <= n; ++i) out.push_back(at(static_cast<double>(i) / n));

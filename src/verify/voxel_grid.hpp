@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -12,6 +13,15 @@
 #include "maxslice/core/vec3.hpp"
 
 namespace maxslice::verify::detail {
+
+/// floor / ceil of a grid coordinate as an int, saturated far outside any grid (a program may
+/// send the tool anywhere).
+[[nodiscard]] inline int floor_index(double f) {
+    return static_cast<int>(std::floor(std::clamp(f, -4.0, 1.0e9)));
+}
+[[nodiscard]] inline int ceil_index(double f) {
+    return static_cast<int>(std::ceil(std::clamp(f, -4.0, 1.0e9)));
+}
 
 /// A grid of bits, z fastest: each (i, j) column is a run of 64-bit words.
 class BitGrid {
