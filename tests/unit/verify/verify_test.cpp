@@ -1,6 +1,7 @@
 #include "maxslice/verify/verify.hpp"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <string>
 
@@ -271,6 +272,26 @@ TEST(Verify, SameInputSameReportBytes) {
     const std::string b = report_json(verified(prog.text(), p));
     EXPECT_EQ(a, b);
     EXPECT_NE(a.find("\"passed\": false"), std::string::npos);
+}
+
+TEST(Verify, JsonReportParsesAndCarriesTheFindings) {
+    const machine::Profiles p = load("reference_lmd.toml");
+    ProgramText prog(p, ProgramDialect::kGm, false);
+    const Vec3d c = plate_centre(p);
+    zigzag_block(prog, p, c.x, c.y, kHalf, 4);
+    prog.move(c.x, c.y, 30.0, p.process.travel_feed_mm_min);
+    const int over = prog.move(c.x, 450.0, 30.0, p.process.travel_feed_mm_min);
+    const Report r = verified(prog.text(), p);
+    const auto j = nlohmann::json::parse(report_json(r));
+    EXPECT_FALSE(j.at("passed").get<bool>());
+    EXPECT_EQ(j.at("limit_violations").at("count").get<int>(), 1);
+    EXPECT_EQ(j.at("limit_violations").at("first").at("line").get<int>(), over);
+    EXPECT_EQ(j.at("collisions").at("count").get<int>(), 0);
+    EXPECT_FALSE(j.at("collisions").contains("first"));
+    EXPECT_NEAR(j.at("coverage").get<double>(), r.coverage, 1e-6);
+    EXPECT_NEAR(j.at("build_time_s").get<double>(), r.build_time_s, 1e-3);
+    EXPECT_EQ(j.at("dialect").get<std::string>(), "gm");
+    EXPECT_NE(report_text(r).find("FAILED"), std::string::npos);
 }
 
 TEST(Verify, CoverageFallsWhenLayersAreMissing) {
