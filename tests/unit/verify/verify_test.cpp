@@ -5,6 +5,9 @@
 
 #include <string>
 
+#include "maxslice/machine/program_builder.hpp"
+#include "maxslice/machine/summary.hpp"
+#include "maxslice/machine/writer.hpp"
 #include "support/fixtures.hpp"
 #include "verify_programs.hpp"
 
@@ -292,6 +295,41 @@ TEST(Verify, JsonReportParsesAndCarriesTheFindings) {
     EXPECT_NEAR(j.at("build_time_s").get<double>(), r.build_time_s, 1e-3);
     EXPECT_EQ(j.at("dialect").get<std::string>(), "gm");
     EXPECT_NE(report_text(r).find("FAILED"), std::string::npos);
+}
+
+// The writers' own output (3-axis gm and linuxcnc): the replay's lengths, times and laser
+// count agree with machine::summarize of the program written.
+TEST(Verify, AgreesWithTheWritersSummary) {
+    for (const char* file : {"reference_lmd.toml", "linuxcnc_generic.toml"}) {
+        SCOPED_TRACE(file);
+        const machine::Profiles p = load(file);
+        const Vec3d c = plate_centre(p);
+        machine::Program program;
+        for (int k = 1; k <= 8; ++k) {
+            const double z = 0.5 * k;
+            for (const double r : {13.75, 11.5, 9.25}) {
+                const std::vector<Vec3d> loop = {{c.x - r, c.y - r, z},
+                                                 {c.x + r, c.y - r, z},
+                                                 {c.x + r, c.y + r, z},
+                                                 {c.x - r, c.y + r, z},
+                                                 {c.x - r, c.y - r, z}};
+                machine::append_wire(program, loop, p.process, k);
+            }
+        }
+        auto text = machine::write_program(program, p.machine, p.process);
+        ASSERT_TRUE(text) << text.error().describe();
+        auto sum = machine::summarize(program, p.process);
+        ASSERT_TRUE(sum);
+        const Report r = verified(*text, p);
+        EXPECT_NEAR(r.deposition_length_mm, sum->deposit_length_mm, 1e-4 * sum->deposit_length_mm);
+        EXPECT_NEAR(r.idle_length_mm, sum->travel_length_mm, 1e-4 * sum->travel_length_mm);
+        EXPECT_NEAR(r.deposit_time_s, sum->deposit_time_s, 1e-4 * sum->deposit_time_s);
+        EXPECT_NEAR(r.idle_time_s, sum->travel_time_s, 1e-4 * sum->travel_time_s);
+        EXPECT_NEAR(r.dwell_time_s, sum->dwell_time_s, 1e-9);
+        EXPECT_NEAR(r.build_time_s, sum->build_time_s, 1e-4 * sum->build_time_s);
+        EXPECT_EQ(r.laser_on_count, sum->laser_on_count);
+        EXPECT_TRUE(r.passed()) << report_text(r);
+    }
 }
 
 TEST(Verify, CoverageFallsWhenLayersAreMissing) {
