@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <string>
 
 namespace maxslice::machine {
@@ -83,6 +84,7 @@ core::Result<std::vector<MachineMove>> to_machine_moves(const Program& program,
         }
 
         MachinePose pose;
+        std::string out_of_reach;  // why the previous rotary values do not reach this tip
         if (!table) {
             const double length = core::norm(m.direction);
             const double tilt =
@@ -96,24 +98,45 @@ core::Result<std::vector<MachineMove>> to_machine_moves(const Program& program,
             }
             pose = {m.position.x, m.position.y, m.position.z, 0.0, 0.0};
             if (auto ok = kinematics.check_limits(pose); !ok) return fail(ok.error().message);
-        } else if (positioned && same_direction(m.direction, current_direction)) {
-            pose = kinematics.pose_at(m.position, current.a_or_b_deg, current.c_deg);
-            if (auto ok = kinematics.check_limits(pose); !ok) {
-                return fail(fmt::format("the tip ({:.3f}, {:.3f}, {:.3f}) mm is out of reach: {}",
-                                        m.position.x, m.position.y, m.position.z,
-                                        ok.error().message));
-            }
         } else {
-            const auto solved = kinematics.inverse(m.position, m.direction, current);
-            if (!solved) return fail(solved.error().message);
-            pose = *solved;
-            // The same rotary values within rounding: keep them exactly.
-            if (positioned && same_rotary(pose, current)) {
-                pose = kinematics.pose_at(m.position, current.a_or_b_deg, current.c_deg);
+            // The same direction keeps the rotary values exactly, as long as the tip stays
+            // within reach with them; otherwise the inverse looks for a pose (perhaps the other
+            // solution, which needs a turn).
+            const bool same = positioned && same_direction(m.direction, current_direction);
+            std::optional<MachinePose> kept;
+            if (same) {
+                const MachinePose p =
+                    kinematics.pose_at(m.position, current.a_or_b_deg, current.c_deg);
+                if (auto ok = kinematics.check_limits(p); ok) {
+                    kept = p;
+                } else {
+                    out_of_reach = ok.error().message;
+                }
+            }
+            if (kept) {
+                pose = *kept;
+            } else {
+                const auto solved = kinematics.inverse(m.position, m.direction, current);
+                if (!solved) return fail(solved.error().message);
+                pose = *solved;
+                // The same rotary values within rounding: keep them exactly.
+                if (positioned && same_rotary(pose, current)) {
+                    const MachinePose p =
+                        kinematics.pose_at(m.position, current.a_or_b_deg, current.c_deg);
+                    if (kinematics.check_limits(p)) pose = p;
+                }
             }
         }
 
         const bool turns = table && (!positioned || !same_rotary(pose, current));
+        if (turns && (m.kind == MoveKind::kDeposit || laser_on) && !out_of_reach.empty()) {
+            return fail(fmt::format(
+                "the table would have to turn within a deposited wire: with the wire's rotary "
+                "values ({} {:.3f} deg, C {:.3f} deg) the tip ({:.3f}, {:.3f}, {:.3f}) mm is out "
+                "of reach ({})",
+                kinematics.kinematics() == Kinematics::kTableBc ? "B" : "A", current.a_or_b_deg,
+                current.c_deg, m.position.x, m.position.y, m.position.z, out_of_reach));
+        }
         if (turns && (m.kind == MoveKind::kDeposit || laser_on)) {
             return fail(fmt::format(
                 "the build direction changes within a deposited wire (from {} to {}: {} "

@@ -594,6 +594,44 @@ TEST(MachineMoves, SequencesStandBeforeTheirTargets) {
     EXPECT_EQ(program_moves, program.moves.size());
 }
 
+// With the pivot and C axis at 0 the two solutions of one direction are half a turn of each
+// other about Z: (x, y, z) and (-x, -y, z). Direction (0, 1, 1): A 45, C 0 from rotary zero,
+// the tip (10, 0, 0) at X 10. The tip (-60, 0, 0) is at X -60 with those values, beyond
+// X min -50; the other solution (A -45, C 180) puts it at X 60. A travel there turns the table
+// (a sequence is inserted); a deposit move there is refused.
+TEST(MachineMoves, ATipOutOfReachTakesTheOtherSolution) {
+    MachineProfile m = ac_machine(Dialect::kGm);
+    m.axes[0].min = -50.0;
+    const auto k = MachineKinematics::create(m);
+    ASSERT_TRUE(k.has_value());
+    const ProcessProfile process = reference_ac().process;
+    const Vec3d d = core::normalized({0, 1, 1});
+    Program travel;
+    append_travel(travel, {10, 0, 0}, process, 0, 0, d);
+    append_travel(travel, {-60, 0, 0}, process, 0, 0, d);
+    const auto moves = to_machine_moves(travel, *k, 0.0);
+    ASSERT_TRUE(moves.has_value()) << moves.error().describe();
+    ASSERT_EQ(moves->size(), 8u);  // start sequence, move 0, sequence, move 1
+    EXPECT_NEAR((*moves)[3].pose.x, 10.0, 1e-9);
+    EXPECT_NEAR((*moves)[3].pose.a_or_b_deg, 45.0, 1e-9);
+    EXPECT_EQ((*moves)[4].step, ReorientStep::kRetract);
+    EXPECT_NEAR((*moves)[7].pose.x, 60.0, 1e-9);
+    EXPECT_NEAR((*moves)[7].pose.a_or_b_deg, -45.0, 1e-9);
+    EXPECT_NEAR(std::remainder((*moves)[7].pose.c_deg - 180.0, 360.0), 0.0, 1e-9);
+
+    Program wire;
+    const std::vector<Vec3d> points{{10, 0, 0}, {-60, 0, 0}};
+    append_wire(wire, points, process, 0, 0, d);
+    const auto refused = to_machine_moves(wire, *k, 0.0);
+    ASSERT_FALSE(refused.has_value());
+    EXPECT_NE(refused.error().message.find("move 2 (layer 0, region 0)"), std::string::npos)
+        << refused.error().message;
+    EXPECT_NE(refused.error().message.find("turn within a deposited wire"), std::string::npos)
+        << refused.error().message;
+    EXPECT_NE(refused.error().message.find("machine.axes.X"), std::string::npos)
+        << refused.error().message;
+}
+
 // The sphere of clear_height_mm holds the part in any table position.
 TEST(MachineMoves, ClearHeightIsAboveThePartInEveryTablePosition) {
     for (const MachineProfile& m :
