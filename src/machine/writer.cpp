@@ -195,7 +195,10 @@ struct RsStyle {
     std::string_view dwell;   // followed by seconds
     std::string_view tcp_on;  // empty: no tool centre point control (joint space)
     std::string_view tcp_off;
-    std::vector<std::string_view> closing;  // after program_end and, when TCP is used, tcp_off
+    // Tool length compensation alone, so that X Y Z are the tool tip also with TCP off: after
+    // the modes on an xyz machine, after tcp_off in every re-orientation; tcp_off cancels it.
+    std::string_view length_on;
+    std::vector<std::string_view> closing;  // after program_end and tcp_off
 };
 
 RsStyle rs_style(Dialect dialect) {
@@ -209,14 +212,16 @@ RsStyle rs_style(Dialect dialect) {
                     "G4 X",
                     "G43.4 H1",
                     "G49",
+                    "G43 H1",
                     {"M30", "%"}};
         case Dialect::kSiemens:
-            return {"siemens", {},       "; ",      "",     "G71 G90 G94 G17",
-                    "G4 F",    "TRAORI", "TRAFOOF", {"M30"}};
+            // TRAFOOF keeps the tool offset: X Y Z stay the tool tip without a length word.
+            return {"siemens", {},       "; ",      "", "G71 G90 G94 G17",
+                    "G4 F",    "TRAORI", "TRAFOOF", "", {"M30"}};
         case Dialect::kGm:
         case Dialect::kLinuxCnc: break;
     }
-    return {"linuxcnc", {}, "(", ")", "G21 G90 G94 G17", "G4 P", "", "", {"M2"}};
+    return {"linuxcnc", {}, "(", ")", "G21 G90 G94 G17", "G4 P", "", "", "", {"M2"}};
 }
 
 // linuxcnc, fanuc and siemens: one block per line, comments, codes for laser and powder.
@@ -245,6 +250,7 @@ public:
                                 words_.pivot.x, words_.pivot.y, words_.pivot.z, clear_z_mm_));
         }
         line(style_.modes);
+        if (!tcp_ && !style_.length_on.empty()) line(style_.length_on);
         blocks(machine_.codes.program_start, process_.laser_power_off_w, 0.0, false);
         std::optional<std::pair<int, int>> layer;
         double power_w = 0.0;
@@ -257,11 +263,14 @@ public:
                 comment(fmt::format("layer {} region {}", m.layer, m.region));
             }
             // Re-orientations run in joint space: the control goes off at the start of each
-            // sequence (the first one too: the controller's state is unknown) and on again
-            // before the approach.
+            // sequence (the first one too: the controller's state is unknown), with the tool
+            // length still applied (fanuc: G49 cancels both, G43 H1 restores the length, or
+            // the tip would be the tool length below z_safe), and on again before the
+            // approach.
             if (tcp_ &&
                 (mm.step == ReorientStep::kStartRetract || mm.step == ReorientStep::kRetract)) {
                 line(style_.tcp_off);
+                if (!style_.length_on.empty()) line(style_.length_on);
                 tcp_on = false;
             }
             const bool positioning = m.kind == MoveKind::kTravel || m.kind == MoveKind::kDeposit;
@@ -308,7 +317,7 @@ public:
             }
         }
         blocks(machine_.codes.program_end, process_.laser_power_off_w, 0.0, false);
-        if (tcp_) line(style_.tcp_off);
+        if (tcp_ || !style_.length_on.empty()) line(style_.tcp_off);
         for (const auto& l : style_.closing) line(l);
         return std::move(out_);
     }

@@ -28,11 +28,12 @@ struct WriteOptions {
 /// - `linuxcnc`: RS-274 for LinuxCNC: G21 G90 G94 G17, a comment on each layer change,
 ///   laser and powder through the profile's codes, `G4 P<seconds>`, `G1` at the travel feed
 ///   for idle moves, M2 at the end.
-/// - `fanuc`: the same blocks framed by `%`, `O1000 (MAXSLICE)`, `G4 X<seconds>`, M30.
+/// - `fanuc`: the same blocks framed by `%`, `O1000 (MAXSLICE)`, `G4 X<seconds>`, G49 M30 %;
+///   X Y Z are the tool tip through `G43 H1` (tool length) outside tool centre point control.
 /// - `siemens`: `;` comments, G71 G90 G94 G17, `G4 F<seconds>`, M30.
 /// On a table-tilt machine every positioning block carries X Y Z A|B C F; the moves come from
 /// to_machine_moves() (one conversion for all dialects) with the re-orientation sequences it
-/// inserts. `gm` and `linuxcnc` write joint space; `fanuc` (G43.4 H1 / G49) and `siemens`
+/// inserts. `gm` and `linuxcnc` write joint space; `fanuc` (G43.4 H1 / G49 G43 H1) and `siemens`
 /// (TRAORI / TRAFOOF) write the program moves under tool centre point control, X Y Z =
 /// pivot + part tip, and the re-orientation steps in joint space with the control off.
 /// Before writing, the profiles are validated, check_program() runs and the conversion checks

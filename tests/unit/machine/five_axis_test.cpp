@@ -434,6 +434,17 @@ TEST(FiveAxis, DialectFraming) {
     EXPECT_NE(fanuc->find("\nG4 X0.500\n"), std::string::npos);
     EXPECT_NE(fanuc->find("\n(layer 3 region 1)\n"), std::string::npos);
     EXPECT_TRUE(fanuc->ends_with("\nG49\nM30\n%\n"));
+    // Every re-orientation: TCP off, the tool length back on (X Y Z stay the tool tip), and
+    // G43.4 H1 again right before the approach.
+    std::size_t sequences = 0;
+    for (std::size_t at = fanuc->find("\nG49\n"); at != std::string::npos;
+         at = fanuc->find("\nG49\n", at + 1)) {
+        const std::string_view rest = std::string_view(*fanuc).substr(at);
+        if (rest == "\nG49\nM30\n%\n") continue;
+        ++sequences;
+        EXPECT_TRUE(rest.starts_with("\nG49\nG43 H1\nG1 ")) << rest.substr(0, 40);
+    }
+    EXPECT_EQ(sequences, 5u);  // the start and the four direction changes
 
     const auto siemens = write_program(program, ac_machine(Dialect::kSiemens), process);
     ASSERT_TRUE(siemens.has_value()) << siemens.error().describe();
@@ -443,6 +454,7 @@ TEST(FiveAxis, DialectFraming) {
     EXPECT_NE(siemens->find("\n; layer 3 region 1\n"), std::string::npos);
     EXPECT_EQ(siemens->find('('), std::string::npos);
     EXPECT_TRUE(siemens->ends_with("\nTRAFOOF\nM30\n"));
+    EXPECT_EQ(siemens->find("G43"), std::string::npos);
 
     const auto cnc = write_program(program, ac_machine(Dialect::kLinuxCnc), process);
     ASSERT_TRUE(cnc.has_value());
@@ -465,8 +477,14 @@ TEST(FiveAxis, FanucAndSiemensOnACartesianMachineWritePlainXyz) {
         m.dialect = dialect;
         const auto text = write_program(program, m, process);
         ASSERT_TRUE(text.has_value()) << text.error().describe();
-        for (const char* absent : {" A", " B", " C", "G43.4", "G49", "TRAORI", "TRAFOOF"}) {
+        for (const char* absent : {" A", " B", " C", "G43.4", "TRAORI", "TRAFOOF"}) {
             EXPECT_EQ(text->find(absent), std::string::npos) << absent;
+        }
+        // Fanuc: X Y Z are the tool tip through the tool length compensation H1.
+        if (dialect == Dialect::kFanuc) {
+            EXPECT_NE(text->find("\nG21 G90 G94 G17\nG43 H1\n"), std::string::npos);
+        } else {
+            EXPECT_EQ(text->find("G43"), std::string::npos);
         }
         const auto read = testing::read_text(*text, false, "M64 P0", "M65 P0");
         ASSERT_EQ(read.moves.size(), positioning(program).size());
@@ -474,7 +492,7 @@ TEST(FiveAxis, FanucAndSiemensOnACartesianMachineWritePlainXyz) {
             EXPECT_NEAR(read.moves[i].x, positioning(program)[i]->position.x, kRoundMm);
             EXPECT_NEAR(read.moves[i].z, positioning(program)[i]->position.z, kRoundMm);
         }
-        EXPECT_TRUE(text->ends_with(dialect == Dialect::kFanuc ? "\nM30\n%\n" : "\nM30\n"));
+        EXPECT_TRUE(text->ends_with(dialect == Dialect::kFanuc ? "\nG49\nM30\n%\n" : "\nM30\n"));
     }
 }
 
