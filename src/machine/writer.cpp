@@ -72,6 +72,12 @@ std::string comment_text(std::string_view text) {
     return out;
 }
 
+std::string mm_text(double value) {
+    std::string out;
+    append_fixed(out, value, kMmDecimals);
+    return out;
+}
+
 bool has_placeholder(std::string_view block) {
     return block.find('{') != std::string_view::npos;
 }
@@ -246,8 +252,9 @@ public:
         if (words_.rotary) {
             comment(fmt::format("kinematics {}, {}", kinematics_name(machine_.kinematics),
                                 tcp_ ? "tool centre point control" : "joint space"));
-            comment(fmt::format("pivot {:.3f} {:.3f} {:.3f} mm, clearance height {:.3f} mm",
-                                words_.pivot.x, words_.pivot.y, words_.pivot.z, clear_z_mm_));
+            comment(fmt::format("pivot {} {} {} mm, clearance height {} mm",
+                                mm_text(words_.pivot.x), mm_text(words_.pivot.y),
+                                mm_text(words_.pivot.z), mm_text(clear_z_mm_)));
         }
         line(style_.modes);
         if (!tcp_ && !style_.length_on.empty()) line(style_.length_on);

@@ -561,6 +561,23 @@ TEST(FiveAxis, SafeHeightAboveTheZLimitIsRefused) {
     EXPECT_TRUE(ok.has_value()) << ok.error().describe();
 }
 
+TEST(FiveAxis, ClearanceHeightMustBeFinite) {
+    const ProcessProfile process = reference_ac().process;
+    expect_refused(five_axis_program(process), ac_machine(Dialect::kGm),
+                   {"clearance height", "not a finite number"}, {.clear_z_mm = NAN});
+}
+
+TEST(FiveAxis, EmptyProgramIsTheFrameAlone) {
+    const ProcessProfile process = reference_ac().process;
+    const auto gm = write_program(Program{}, ac_machine(Dialect::kGm), process);
+    ASSERT_TRUE(gm.has_value()) << gm.error().describe();
+    EXPECT_EQ(*gm, "0.00 0.00 G21\n0.00 0.00 G90\n");
+    const auto fanuc = write_program(Program{}, ac_machine(Dialect::kFanuc), process);
+    ASSERT_TRUE(fanuc.has_value()) << fanuc.error().describe();
+    EXPECT_TRUE(fanuc->ends_with("\nG21 G90 G94 G17\nG49\nM30\n%\n")) << *fanuc;
+    EXPECT_EQ(fanuc->find("G1 "), std::string::npos);
+}
+
 // ---- the conversion ---------------------------------------------------------------------------
 
 TEST(MachineMoves, XyzIsTheIdentity) {
