@@ -296,6 +296,11 @@ MachinePose MachineKinematics::pose_at(const Vec3d& tip_mm, double a_or_b_deg, d
 
 core::Result<double> MachineKinematics::safe_height(double z_from_mm, double z_to_mm,
                                                     double clear_z_mm) const {
+    if (std::isnan(z_from_mm) || std::isnan(z_to_mm) || std::isnan(clear_z_mm)) {
+        return core::fail(ErrorCode::kInvalidInput,
+                          fmt::format("re-orientation heights {}, {}, {} mm are not numbers",
+                                      z_from_mm, z_to_mm, clear_z_mm));
+    }
     const double below = std::max({z_from_mm, z_to_mm, clear_z_mm});
     const double z_safe = below + retract_mm_;
     const Limits& z = limits_[2];

@@ -340,6 +340,7 @@ TEST(Kinematics, ReorientationClimbsToTheClearanceHeight) {
     EXPECT_NE(over.error().message.find("machine.axes.Z.max"), std::string::npos);
     EXPECT_NE(over.error().message.find("clearance height 995.000 mm"), std::string::npos);
     EXPECT_DOUBLE_EQ(*k.safe_height(3.0, 7.0, 5.0), 17.0);
+    EXPECT_FALSE(k.safe_height(3.0, 7.0, NAN).has_value());
 }
 
 // pose_at places the part tip under the nozzle for given rotary values: forward() gives the
