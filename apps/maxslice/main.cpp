@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "maxslice/core/units.hpp"
+#include "maxslice/machine/machine_moves.hpp"
 #include "maxslice/machine/profile.hpp"
 #include "maxslice/machine/writer.hpp"
 #include "maxslice/pipeline/plan_job.hpp"
@@ -134,6 +135,7 @@ struct SliceOptions {
     std::optional<double> min_layer, max_layer;
     std::string svg_dir, contact_sheet, json_file;
     bool allow_overhangs = false;
+    bool no_verify = false;
 };
 
 // The profiles for a program: the files given, or the built-in reference cell, with the
@@ -157,15 +159,14 @@ core::Result<machine::Profiles> load_profiles(const SliceOptions& so) {
         }
     }
     if (!so.dialect.empty()) {
-        if (so.dialect == "gm") {
-            profiles.machine.dialect = machine::Dialect::kGm;
-        } else if (so.dialect == "linuxcnc") {
-            profiles.machine.dialect = machine::Dialect::kLinuxCnc;
-        } else {
-            return core::fail(core::ErrorCode::kInvalidInput,
-                              "unknown dialect '" + so.dialect + "' (use gm or linuxcnc)",
-                              "--dialect");
+        const auto dialect = machine::parse_dialect(so.dialect);
+        if (!dialect) {
+            return core::fail(
+                core::ErrorCode::kInvalidInput,
+                "unknown dialect '" + so.dialect + "' (use gm, linuxcnc, fanuc or siemens)",
+                "--dialect");
         }
+        profiles.machine.dialect = *dialect;
     }
     return profiles;
 }
@@ -178,6 +179,84 @@ int write_text_file(const std::string& file, const std::string& text) {
     const bool ok = std::fwrite(text.data(), 1, text.size(), f) == text.size();
     if (std::fclose(f) != 0 || !ok)
         return report_error({core::ErrorCode::kIo, "write failed", file});
+    return kExitOk;
+}
+
+// A table-tilt machine: plan the placed part (regions, tilts, splits), order its layers with
+// the nozzle check, turn them into moves and write the 5-axis program.
+int run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
+                        pipeline::PreparedPart& part, const machine::Profiles& profiles,
+                        pipeline::StageTimes& times) {
+    const auto progress = make_progress();
+    auto t0 = std::chrono::steady_clock::now();
+    pipeline::PlanJobSettings ps;
+    ps.plan = pipeline::plan_settings(profiles.process);
+    auto planned = pipeline::plan_mesh(part.imported.mesh, ps, progress.get());
+    if (!planned) return report_error(planned.error());
+    std::string nozzle_source;
+    const plan::Nozzle nozzle = pipeline::nozzle_of(profiles.machine, &nozzle_source);
+    if (auto ok = pipeline::order_plan(*planned, nozzle, nozzle_source, progress.get()); !ok) {
+        return report_error(ok.error());
+    }
+    times.slice_s = seconds_since(t0);
+    const plan::Plan& plan = planned->plan;
+    if (!plan.unsupported_layers.empty()) {
+        const plan::Layer& l = plan.layers[static_cast<std::size_t>(plan.unsupported_layers[0])];
+        return report_error({core::ErrorCode::kInvalidInput,
+                             fmt::format("{} layers rest on nothing (the first: layer {} in region "
+                                         "{}, a body or branch the plan cannot reach from the "
+                                         "plate): no program without support is possible",
+                                         plan.unsupported_layers.size(), l.id, l.region),
+                             opt.path});
+    }
+    if (!planned->order->complete()) {
+        const plan::Conflict& c = planned->order->conflicts.front();
+        return report_error(
+            {core::ErrorCode::kInvalidInput,
+             fmt::format("no collision-free build order exists with this nozzle ({} "
+                         "conflicts), so no program is written: {}. See the partial order: "
+                         "maxslice plan PART --profile ... --plan-out plan.json",
+                         planned->order->conflicts.size(), c.reason),
+             opt.path});
+    }
+    const std::string name = std::filesystem::path(opt.path).filename().string();
+    t0 = std::chrono::steady_clock::now();
+    auto p = pipeline::plan_multiaxis_program(plan, *planned->order, part.imported.mesh, profiles,
+                                              name, progress.get());
+    if (!p) return report_error(p.error());
+    times.paths_s = seconds_since(t0);
+    t0 = std::chrono::steady_clock::now();
+    machine::WriteOptions wo;
+    wo.clear_z_mm = machine::clear_height_mm(profiles.machine, part.imported.mesh.vertices);
+    auto text = machine::write_program(p->program, profiles.machine, profiles.process, wo);
+    if (!text) return report_error(text.error());
+    times.write_s = seconds_since(t0);
+    (void)so.no_verify;
+    if (const int rc = write_text_file(so.output, *text); rc != kExitOk) return rc;
+
+    const auto& sum = p->summary;
+    std::printf("regions         %zu (%d splits), %zu layers (%d tilted)\n", plan.regions.size(),
+                plan.split_count(), plan.layers.size(), plan.tilted_layer_count());
+    std::printf("build order     %d jumps (fewest %d), %zu sections, %d section travels\n",
+                planned->order->jumps, planned->order->min_jumps, planned->order->sections.size(),
+                p->section_changes);
+    std::printf("program         %s (%s, %s, %zu moves)\n", so.output.c_str(),
+                std::string(machine::dialect_name(profiles.machine.dialect)).c_str(),
+                std::string(machine::kinematics_name(profiles.machine.kinematics)).c_str(),
+                sum.move_count);
+    std::printf("deposition      %.1f mm in %d wires\n", sum.deposit_length_mm, sum.laser_on_count);
+    std::printf("idle travel     %.1f mm (before re-orientation moves)\n", sum.travel_length_mm);
+    const pipeline::ThicknessReport& th = p->thickness;
+    std::printf("local thickness %.3f - %.3f mm; %zu of %zu segments off the speed window",
+                th.thickness_min_mm, th.thickness_max_mm, th.clamped, th.segments);
+    if (th.clamped > 0) {
+        std::printf(" (worst %.3f mm, layer %d at %.2f, %.2f, %.2f)", th.worst_error_mm,
+                    th.worst_layer, th.worst_at.x, th.worst_at.y, th.worst_at.z);
+    }
+    std::printf("\n");
+    std::printf("uncovered       %.2f mm2 of %.1f mm2 (%d layers over 1%%)\n", p->uncovered_mm2,
+                p->region_area_mm2, p->layers_with_uncovered);
+    if (opt.timings) print_timings(times, true);
     return kExitOk;
 }
 
@@ -217,6 +296,9 @@ int run_slice(const PartOptions& opt, const SliceOptions& so) {
         part->imported.mesh = pipeline::place_on_plate(std::move(part->imported.mesh), ss.direction,
                                                        pipeline::plate_center(profiles->machine));
         ss.direction = {0.0, 0.0, 1.0};
+        if (machine::is_table_tilt(profiles->machine.kinematics)) {
+            return run_multiaxis_slice(opt, so, *part, *profiles, times);
+        }
     }
     const auto progress = make_progress();
     auto stack = pipeline::slice_part(part->imported.mesh, ss, progress.get(), &times);
@@ -469,7 +551,7 @@ int run(int argc, char** argv) {
                       "Machine/process profile TOML file(s) (default: the built-in reference "
                       "LMD cell, examples/profiles/reference_lmd.toml)");
     slice->add_option("--dialect", so.dialect,
-                      "Program dialect: gm or linuxcnc (default: the "
+                      "Program dialect: gm, linuxcnc, fanuc or siemens (default: the "
                       "machine profile's)");
     slice->add_option("--direction", so.direction, "Slicing (build) direction X,Y,Z")
         ->delimiter(',')
@@ -487,6 +569,8 @@ int run(int argc, char** argv) {
     slice->add_flag("--allow-overhangs", so.allow_overhangs,
                     "Write a 3-axis program even for a part whose overhangs need a multi-axis "
                     "build (they are deposited on nothing; for trials)");
+    slice->add_flag("--no-verify", so.no_verify,
+                    "Do not replay the written program in the independent verifier");
 
     PartOptions plan_opt;
     PlanOptions po;

@@ -258,14 +258,8 @@ core::Result<MachinePose> MachineKinematics::inverse(const Vec3d& tip_mm, const 
                             cand.c_deg, cl.min, cl.max));
             continue;
         }
-        MachinePose pose{0.0, 0.0, 0.0, *tilt, *c};
-        // The linear axes from the final angles: m = pivot + R_tilt (o + R_C (q - o)).
-        const double t = tilt_rad(pose), cr = c_rad(pose);
-        const Vec3d on_tilt = c_offset_mm_ + rotate(tip_mm - c_offset_mm_, 0.0, cr);
-        const Vec3d m = pivot_mm_ + rotate(on_tilt, t, 0.0);
-        pose.x = m.x;
-        pose.y = m.y;
-        pose.z = m.z;
+        // The linear axes from the final angles.
+        const MachinePose pose = pose_at(tip_mm, *tilt, *c);
         if (auto ok = check_limits(pose); !ok) {
             fail_reason(ok.error().message);
             continue;
@@ -287,9 +281,47 @@ core::Result<MachinePose> MachineKinematics::inverse(const Vec3d& tip_mm, const 
     return *best;
 }
 
-core::Result<std::vector<MachinePose>> MachineKinematics::reorientation(
-    const MachinePose& from, const MachinePose& to) const {
-    if (!finite(from) || !finite(to)) {
+MachinePose MachineKinematics::pose_at(const Vec3d& tip_mm, double a_or_b_deg, double c_deg) const {
+    if (kinematics_ == Kinematics::kXyz) return {tip_mm.x, tip_mm.y, tip_mm.z, 0.0, 0.0};
+    MachinePose pose{0.0, 0.0, 0.0, a_or_b_deg, c_deg};
+    // m = pivot + R_tilt (o + R_C (q - o)).
+    const double t = tilt_rad(pose), c = c_rad(pose);
+    const Vec3d on_tilt = c_offset_mm_ + rotate(tip_mm - c_offset_mm_, 0.0, c);
+    const Vec3d m = pivot_mm_ + rotate(on_tilt, t, 0.0);
+    pose.x = m.x;
+    pose.y = m.y;
+    pose.z = m.z;
+    return pose;
+}
+
+core::Result<double> MachineKinematics::safe_height(double z_from_mm, double z_to_mm,
+                                                    double clear_z_mm) const {
+    if (std::isnan(z_from_mm) || std::isnan(z_to_mm) || std::isnan(clear_z_mm)) {
+        return core::fail(ErrorCode::kInvalidInput,
+                          fmt::format("re-orientation heights {}, {}, {} mm are not numbers",
+                                      z_from_mm, z_to_mm, clear_z_mm));
+    }
+    const double below = std::max({z_from_mm, z_to_mm, clear_z_mm});
+    const double z_safe = below + retract_mm_;
+    const Limits& z = limits_[2];
+    if (!std::isfinite(z_safe) || z_safe > z.max + kLimitTolerance) {
+        const std::string clear = std::isfinite(clear_z_mm)
+                                      ? fmt::format(", clearance height {:.3f} mm", clear_z_mm)
+                                      : std::string();
+        return core::fail(
+            ErrorCode::kInvalidInput,
+            fmt::format("the retract before a re-orientation needs Z = {:.3f} mm, above "
+                        "machine.axes.Z.max = {} mm (the highest of Z {:.3f} mm, Z {:.3f} mm{} "
+                        "+ machine.table.retract_mm = {} mm)",
+                        z_safe, z.max, z_from_mm, z_to_mm, clear, retract_mm_));
+    }
+    return z_safe;
+}
+
+core::Result<std::vector<MachinePose>> MachineKinematics::reorientation(const MachinePose& from,
+                                                                        const MachinePose& to,
+                                                                        double clear_z_mm) const {
+    if (!finite(from) || !finite(to) || std::isnan(clear_z_mm)) {
         return core::fail(ErrorCode::kInvalidInput, "re-orientation between non-finite poses");
     }
     std::vector<MachinePose> out;
@@ -297,19 +329,12 @@ core::Result<std::vector<MachinePose>> MachineKinematics::reorientation(
         std::abs(from.c_deg - to.c_deg) <= kSameAngleDeg) {
         return out;
     }
-    const double z_safe = std::max(from.z, to.z) + retract_mm_;
-    const Limits& z = limits_[2];
-    if (z_safe > z.max + kLimitTolerance) {
-        return core::fail(ErrorCode::kInvalidInput,
-                          fmt::format("the retract before a re-orientation needs Z = {:.3f} mm, "
-                                      "above machine.axes.Z.max = {} mm (Z {:.3f} mm + "
-                                      "machine.table.retract_mm = {} mm)",
-                                      z_safe, z.max, std::max(from.z, to.z), retract_mm_));
-    }
+    const auto z_safe = safe_height(from.z, to.z, clear_z_mm);
+    if (!z_safe) return std::unexpected(z_safe.error());
     // Straight up along the tool axis, turn the table there, then across above the target.
-    out.push_back({from.x, from.y, z_safe, from.a_or_b_deg, from.c_deg});
-    out.push_back({from.x, from.y, z_safe, to.a_or_b_deg, to.c_deg});
-    out.push_back({to.x, to.y, z_safe, to.a_or_b_deg, to.c_deg});
+    out.push_back({from.x, from.y, *z_safe, from.a_or_b_deg, from.c_deg});
+    out.push_back({from.x, from.y, *z_safe, to.a_or_b_deg, to.c_deg});
+    out.push_back({to.x, to.y, *z_safe, to.a_or_b_deg, to.c_deg});
     return out;
 }
 

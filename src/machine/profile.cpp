@@ -706,18 +706,16 @@ core::Result<MachineProfile> read_machine(const toml::table& table) {
     }
     m.kinematics = known_kinematics->kinematics;
 
-    const auto dialect = reader.string("dialect", "\"gm\" or \"linuxcnc\"");
+    constexpr std::string_view kDialectExpected = "\"gm\", \"linuxcnc\", \"fanuc\" or \"siemens\"";
+    const auto dialect = reader.string("dialect", kDialectExpected);
     if (!dialect) return pass(dialect);
-    if (*dialect == "gm") {
-        m.dialect = Dialect::kGm;
-    } else if (*dialect == "linuxcnc") {
-        m.dialect = Dialect::kLinuxCnc;
-    } else {
+    const auto known_dialect = parse_dialect(*dialect);
+    if (!known_dialect) {
         return core::fail(ErrorCode::kInvalidInput,
-                          fmt::format("machine.dialect = \"{}\" is unknown (allowed: \"gm\", "
-                                      "\"linuxcnc\")",
-                                      *dialect));
+                          fmt::format("machine.dialect = \"{}\" is unknown (allowed: {})", *dialect,
+                                      kDialectExpected));
     }
+    m.dialect = *known_dialect;
 
     const auto axes = read_axes(reader, m.kinematics);
     if (!axes) return pass(axes);
@@ -1009,12 +1007,14 @@ core::Result<void> validate(const MachineProfile& m) {
             if (auto ok = check_block(c.key, i, t.blocks[i]); !ok) return ok;
         }
     }
-    // LinuxCNC has no power column: without codes the laser would never switch.
-    if (m.dialect == Dialect::kLinuxCnc) {
+    // Only gm has a power column: elsewhere, without codes the laser would never switch.
+    if (m.dialect != Dialect::kGm) {
         if (m.codes.laser_on.blocks.empty() || m.codes.laser_off.blocks.empty()) {
             return core::fail(ErrorCode::kInvalidInput,
-                              "machine.codes.laser_on and machine.codes.laser_off must not be "
-                              "empty for dialect \"linuxcnc\" (nothing else switches the laser)");
+                              fmt::format("machine.codes.laser_on and machine.codes.laser_off "
+                                          "must not be empty for dialect \"{}\" (nothing else "
+                                          "switches the laser)",
+                                          dialect_name(m.dialect)));
         }
     }
     if (m.nozzle) {
@@ -1144,8 +1144,17 @@ std::string_view dialect_name(Dialect dialect) {
     switch (dialect) {
         case Dialect::kGm: return "gm";
         case Dialect::kLinuxCnc: return "linuxcnc";
+        case Dialect::kFanuc: return "fanuc";
+        case Dialect::kSiemens: return "siemens";
     }
     return "gm";
+}
+
+std::optional<Dialect> parse_dialect(std::string_view name) {
+    for (const Dialect d : {Dialect::kGm, Dialect::kLinuxCnc, Dialect::kFanuc, Dialect::kSiemens}) {
+        if (dialect_name(d) == name) return d;
+    }
+    return std::nullopt;
 }
 
 std::string_view kinematics_name(Kinematics kinematics) {

@@ -1,5 +1,9 @@
 #include "maxslice/machine/program_builder.hpp"
 
+#include <vector>
+
+#include "maxslice/core/assert.hpp"
+
 namespace maxslice::machine {
 namespace {
 
@@ -32,6 +36,15 @@ void append_wire(Program& program, std::span<const core::Vec3d> points,
                  const ProcessProfile& process, int layer, int region,
                  const core::Vec3d& direction) {
     if (points.size() < 2) return;
+    const std::vector<double> feeds(points.size() - 1, process.deposition_feed_mm_min);
+    append_wire(program, points, feeds, process, layer, region, direction);
+}
+
+void append_wire(Program& program, std::span<const core::Vec3d> points,
+                 std::span<const double> feeds, const ProcessProfile& process, int layer,
+                 int region, const core::Vec3d& direction) {
+    if (points.size() < 2) return;
+    MAXSLICE_ASSERT(feeds.size() + 1 == points.size());
     const Move* last = last_positioning(program);
     if (last == nullptr || core::norm(last->position - points.front()) > kAlreadyThereMm) {
         append_travel(program, points.front(), process, layer, region, direction);
@@ -50,7 +63,7 @@ void append_wire(Program& program, std::span<const core::Vec3d> points,
         Move d = on;
         d.kind = MoveKind::kDeposit;
         d.position = points[i];
-        d.feed_mm_min = process.deposition_feed_mm_min;
+        d.feed_mm_min = feeds[i - 1];
         d.dwell_ms = 0.0;
         program.moves.push_back(d);
     }

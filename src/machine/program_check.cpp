@@ -78,6 +78,9 @@ core::Result<void> check_program(const Program& program, const MachineProfile& m
                         fmt::format("{}: tool direction ({}, {}, {}) is not a unit vector",
                                     where(i, m), m.direction.x, m.direction.y, m.direction.z));
         }
+        // Table machines take any unit direction: whether the inverse exists within the limits,
+        // and the limits of every machine pose (the inserted re-orientation steps too), is
+        // what to_machine_moves checks.
         if (machine.kinematics == Kinematics::kXyz) {
             const double angle =
                 std::acos(std::clamp(m.direction.z / core::norm(m.direction), -1.0, 1.0));

@@ -6,12 +6,14 @@
 
 #include "maxslice/core/units.hpp"
 #include "maxslice/machine/program_builder.hpp"
+#include "maxslice/machine/speed_law.hpp"
 
 namespace maxslice::pipeline {
 
 using core::Vec3d;
 
 Vec3d plate_center(const machine::MachineProfile& machine) {
+    if (machine.table) return {machine.table->c_offset_x_mm, machine.table->c_offset_y_mm, 0.0};
     Vec3d c{};
     if (const auto* x = machine.find_axis("X")) c.x = 0.5 * (x->min + x->max);
     if (const auto* y = machine.find_axis("Y")) c.y = 0.5 * (y->min + y->max);
@@ -67,7 +69,10 @@ core::Result<PlannedProgram> plan_program(const SliceStack& stack,
     for (const slice::Slice& s : stack.slices) regions.push_back(&s.wires);
     auto planned = path::plan_layers(regions, settings, geom2d::Point2{}, progress);
     if (!planned) return std::unexpected(planned.error());
+    // Every layer at the feed that lays its thickness (adaptive layers vary).
+    const machine::SpeedLaw law = machine::SpeedLaw::of(profiles.process);
     std::vector<Vec3d> points;
+    std::vector<double> feeds;
     for (std::size_t i = 0; i < stack.slices.size(); ++i) {
         const slice::Slice& s = stack.slices[i];
         auto tp = std::move((*planned)[i]);
@@ -89,7 +94,10 @@ core::Result<PlannedProgram> plan_program(const SliceStack& stack,
         for (const path::Stroke& stroke : tp.strokes) {
             points.clear();
             for (const geom2d::Point2& q : stroke.points) points.push_back(s.plane.to_3d(q, lift));
-            machine::append_wire(out.program, points, profiles.process, layer, 0, s.plane.normal);
+            if (points.size() < 2) continue;
+            feeds.assign(points.size() - 1, law.feed_mm_min(s.thickness()));
+            machine::append_wire(out.program, points, feeds, profiles.process, layer, 0,
+                                 s.plane.normal);
         }
         out.toolpaths.push_back(std::move(tp));
     }

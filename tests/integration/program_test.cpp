@@ -180,3 +180,160 @@ TEST(Program, SameBytesForAnyThreadCount) {
     EXPECT_EQ(slurp(dir / "linuxcnc1"), slurp(dir / "linuxcnc2"));
     EXPECT_GT(slurp(dir / "gm1").size(), 10000u);
 }
+
+namespace {
+
+// One positioning block of a 5-axis program: the words written, and the modal values after it
+// (NAN until an axis is first written).
+struct AxisBlock {
+    bool x = false, y = false, z = false, tilt = false, c = false, f = false;
+    double mx = NAN, my = NAN, mz = NAN, mtilt = NAN, mc = NAN;
+    bool laser = false, tcp = false;
+    std::string text;
+};
+
+std::vector<AxisBlock> read_axis_blocks(const std::string& text, bool columns, char tilt,
+                                        const std::string& laser_on, const std::string& laser_off,
+                                        const std::string& tcp_on, const std::string& tcp_off) {
+    std::vector<AxisBlock> out;
+    std::istringstream in(text);
+    std::string line;
+    AxisBlock state;
+    while (std::getline(in, line)) {
+        std::string block = line;
+        if (columns) {
+            std::istringstream ls(line);
+            double power = 0.0, powder = 0.0;
+            ls >> power >> powder >> std::ws;
+            std::getline(ls, block);
+        }
+        if (block == laser_on) state.laser = true;
+        if (block == laser_off) state.laser = false;
+        if (!tcp_on.empty() && block == tcp_on) state.tcp = true;
+        if (!tcp_off.empty() && block == tcp_off) state.tcp = false;
+        if (!block.starts_with("G1 ")) continue;
+        AxisBlock b = state;
+        const auto take = [&](char letter, bool& written, double& modal) {
+            const double v = word(block, letter);
+            written = !std::isnan(v);
+            if (written) modal = v;
+        };
+        take('X', b.x, state.mx);
+        take('Y', b.y, state.my);
+        take('Z', b.z, state.mz);
+        take(tilt, b.tilt, state.mtilt);
+        take('C', b.c, state.mc);
+        double f = NAN;
+        take('F', b.f, f);
+        b.mx = state.mx;
+        b.my = state.my;
+        b.mz = state.mz;
+        b.mtilt = state.mtilt;
+        b.mc = state.mc;
+        b.text = block;
+        out.push_back(b);
+    }
+    return out;
+}
+
+struct FiveAxisExample {
+    std::string profile;
+    std::string dialect;
+    char tilt;
+    bool columns;
+    std::string laser_on, laser_off, tcp_on, tcp_off;
+};
+
+const std::vector<FiveAxisExample>& five_axis_examples() {
+    static const std::vector<FiveAxisExample> examples = {
+        {"reference_5axis_ac.toml", "gm", 'A', true, "M8", "M9", "", ""},
+        {"linuxcnc_5axis_ac.toml", "linuxcnc", 'A', false, "M64 P0", "M65 P0", "", ""},
+        {"fanuc_5axis_ac.toml", "fanuc", 'A', false, "M73", "M74", "G43.4 H1", "G49"},
+        {"siemens_5axis_bc.toml", "siemens", 'B', false, "M73", "M74", "TRAORI", "TRAFOOF"},
+    };
+    return examples;
+}
+
+}  // namespace
+
+// The bundled 5-axis profiles give programs in their dialects: the start sequence (retract with
+// Z alone, the turn, the cross), five axis words on every other positioning block, no rotary
+// change while the laser is on, and tool centre point control on for every program move.
+TEST(Program, FiveAxisExamplesWriteTheirDialects) {
+    const fs::path dir = temp_dir("five_axis");
+    for (const FiveAxisExample& e : five_axis_examples()) {
+        SCOPED_TRACE(e.profile);
+        const fs::path out = dir / ("p." + e.dialect);
+        const CliRun r =
+            run_cli({"slice", kExample.string(), "--profile",
+                     (kSource / "examples/profiles" / e.profile).string(), "-o", out.string()});
+        ASSERT_EQ(r.exit_code, 0) << r.err;
+        const std::string text = slurp(out);
+        EXPECT_EQ(text.find("-0.000"), std::string::npos);
+        const auto blocks =
+            read_axis_blocks(text, e.columns, e.tilt, e.laser_on, e.laser_off, e.tcp_on, e.tcp_off);
+        ASSERT_GT(blocks.size(), 1000u);
+        EXPECT_TRUE(blocks[0].z && !blocks[0].x && !blocks[0].y && !blocks[0].tilt && !blocks[0].c)
+            << blocks[0].text;
+        EXPECT_TRUE(blocks[1].z && blocks[1].tilt && blocks[1].c && !blocks[1].x) << blocks[1].text;
+        EXPECT_EQ(blocks[1].mz, blocks[0].mz);
+        EXPECT_FALSE(blocks[0].tcp || blocks[1].tcp || blocks[2].tcp);
+        int deposits = 0;
+        for (std::size_t i = 2; i < blocks.size(); ++i) {
+            const AxisBlock& b = blocks[i];
+            EXPECT_TRUE(b.x && b.y && b.z && b.tilt && b.c && b.f) << b.text;
+            if (b.laser) {
+                ++deposits;
+                EXPECT_EQ(b.mtilt, blocks[i - 1].mtilt) << b.text;
+                EXPECT_EQ(b.mc, blocks[i - 1].mc) << b.text;
+                if (!e.tcp_on.empty()) {
+                    EXPECT_TRUE(b.tcp) << b.text;
+                }
+            }
+        }
+        EXPECT_GT(deposits, 1000);
+        if (!e.tcp_on.empty()) {
+            EXPECT_NE(text.find("\n" + e.tcp_off + "\nM30\n"), std::string::npos);
+        }
+    }
+}
+
+// LinuxCNC's interpreter reads the joint-space program and moves every axis to the values
+// written.
+TEST(Program, FiveAxisLinuxCncPassesRs274WithTheWrittenAxisValues) {
+    if (!fs::exists("/usr/bin/rs274")) GTEST_SKIP() << "rs274 (linuxcnc-uspace) not installed";
+    const fs::path dir = temp_dir("five_axis_rs274");
+    const fs::path ngc = dir / "p.ngc";
+    const CliRun r = run_cli({"slice", kExample.string(), "--profile",
+                              (kSource / "examples/profiles/linuxcnc_5axis_ac.toml").string(), "-o",
+                              ngc.string()});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const std::string cmd = "rs274 -g " + shell_quote(ngc.string()) + " " +
+                            shell_quote((dir / "canon.txt").string()) + " </dev/null 2>" +
+                            shell_quote((dir / "rs274.err").string());
+    ASSERT_EQ(std::system(cmd.c_str()), 0) << slurp(dir / "rs274.err");
+    const auto blocks = read_axis_blocks(slurp(ngc), false, 'A', "M64 P0", "M65 P0", "", "");
+    std::istringstream calls(slurp(dir / "canon.txt"));
+    std::string line;
+    std::size_t n = 0;
+    while (std::getline(calls, line)) {
+        const auto at = line.find("STRAIGHT_FEED(");
+        if (at == std::string::npos) continue;
+        ASSERT_LT(n, blocks.size());
+        const AxisBlock& b = blocks[n++];
+        double v[6] = {};
+        char comma = 0;
+        std::istringstream args(line.substr(at + 14));
+        for (int a = 0; a < 6; ++a) {
+            args >> v[a];
+            if (a < 5) args >> comma;
+        }
+        ASSERT_FALSE(args.fail()) << line;
+        // rs274 starts every axis at 0: an axis not written yet reads 0.
+        const double want[6] = {b.mx, b.my, b.mz, b.mtilt, 0.0, b.mc};
+        for (int a = 0; a < 6; ++a) {
+            EXPECT_NEAR(v[a], std::isnan(want[a]) ? 0.0 : want[a], 1e-3) << b.text;
+        }
+    }
+    EXPECT_EQ(n, blocks.size());
+}

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <array>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -75,16 +76,30 @@ public:
     /// deg). Errors (kInvalidInput) name the axis, value and limits.
     [[nodiscard]] core::Result<void> check_limits(const MachinePose& pose) const;
 
-    /// The safe re-orientation from `from` to `to` (METHOD.md section 11): the poses to pass
-    /// through between them. When a rotary axis changes: retract straight up along the tool
-    /// axis (+Z) to z_safe = max(from.z, to.z) + retract_mm, turn the table there, move across
+    /// The pose with the rotary values `a_or_b_deg` and `c_deg` that holds the part-frame
+    /// `tip_mm` under the nozzle (the linear axes of inverse() for given angles). No limit
+    /// check (see check_limits). For "xyz" the rotary values are ignored (0 in the result).
+    [[nodiscard]] MachinePose pose_at(const core::Vec3d& tip_mm, double a_or_b_deg,
+                                      double c_deg) const;
+
+    /// The safe re-orientation from `from` to `to` (METHOD.md section 11,
+    /// docs/program-dialects.md): the poses to pass through between them. When a rotary axis
+    /// changes: retract straight up along the tool axis (+Z) to
+    /// z_safe = max(from.z, to.z, clear_z_mm) + retract_mm, turn the table there, move across
     /// at z_safe over the target; the caller's next move (to `to`) is the approach along the
-    /// tool axis. Empty when no rotary axis changes. The clearance is along the tool axis only:
-    /// whether the turning part sweeps through the head is the collision check's question.
-    /// Errors (kInvalidInput): z_safe above the Z limit (naming machine.axes.Z and
+    /// tool axis. `clear_z_mm` is the height the tool tip must clear whatever the table does
+    /// (see clear_height_mm in machine_moves.hpp; -infinity: none). Empty when no rotary axis
+    /// changes. Errors (kInvalidInput): z_safe above the Z limit (naming machine.axes.Z and
     /// machine.table.retract_mm).
-    [[nodiscard]] core::Result<std::vector<MachinePose>> reorientation(const MachinePose& from,
-                                                                       const MachinePose& to) const;
+    [[nodiscard]] core::Result<std::vector<MachinePose>> reorientation(
+        const MachinePose& from, const MachinePose& to,
+        double clear_z_mm = -std::numeric_limits<double>::infinity()) const;
+
+    /// z_safe of a re-orientation between poses at heights z_from_mm and z_to_mm:
+    /// max(z_from_mm, z_to_mm, clear_z_mm) + retract_mm, checked against the Z limit as in
+    /// reorientation().
+    [[nodiscard]] core::Result<double> safe_height(double z_from_mm, double z_to_mm,
+                                                   double clear_z_mm) const;
 
 private:
     struct Limits {

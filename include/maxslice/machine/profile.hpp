@@ -55,7 +55,9 @@ enum class Kinematics {
 /// Output dialect of the program writer.
 enum class Dialect {
     kGm,        ///< the reference lab's format: power and powder columns, then a G-code block
-    kLinuxCnc,  ///< RS-274 as LinuxCNC's interpreter reads it
+    kLinuxCnc,  ///< RS-274 as LinuxCNC's interpreter reads it (joint space on table machines)
+    kFanuc,     ///< Fanuc-style RS-274, tool centre point control (G43.4) on table machines
+    kSiemens,   ///< Siemens Sinumerik, TRAORI on table machines
 };
 
 /// Travel limits of one axis in program coordinates: mm for X, Y, Z, degrees for A, B, C.
@@ -181,8 +183,12 @@ struct Profiles {
 /// once (e.g. a machine file and a process file), and checks the pair is compatible.
 [[nodiscard]] core::Result<Profiles> load_profiles(std::span<const std::filesystem::path> files);
 
-/// "gm" / "linuxcnc".
+/// "gm" / "linuxcnc" / "fanuc" / "siemens", as in the profile.
 [[nodiscard]] std::string_view dialect_name(Dialect dialect);
+
+/// The dialect of a profile's (or the CLI's) name: "gm", "linuxcnc", "fanuc", "siemens";
+/// nullopt for any other text (case-sensitive).
+[[nodiscard]] std::optional<Dialect> parse_dialect(std::string_view name);
 
 /// "xyz" / "xyzac-trt" / "xyzbc-trt", as in the profile.
 [[nodiscard]] std::string_view kinematics_name(Kinematics kinematics);

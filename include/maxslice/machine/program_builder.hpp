@@ -21,4 +21,11 @@ void append_wire(Program& program, std::span<const core::Vec3d> points,
                  const ProcessProfile& process, int layer, int region = 0,
                  const core::Vec3d& direction = {0.0, 0.0, 1.0});
 
+/// append_wire with a feed per segment: `feeds[i]` (mm/min) runs from points[i] to
+/// points[i + 1] (feeds.size() == points.size() - 1), e.g. from the speed law for the local
+/// thickness of a wedge layer (METHOD.md section 10).
+void append_wire(Program& program, std::span<const core::Vec3d> points,
+                 std::span<const double> feeds, const ProcessProfile& process, int layer,
+                 int region = 0, const core::Vec3d& direction = {0.0, 0.0, 1.0});
+
 }  // namespace maxslice::machine

@@ -9,8 +9,9 @@ namespace maxslice::machine {
 /// The checks every emitted move passes before any text is written, in every build type
 /// (they are not assertions and never clamp):
 /// - finite numbers only (position, direction, feed, power, powder, dwell);
-/// - the tool direction is one the kinematics can hold (+Z for `xyz`);
-/// - each axis within the machine profile's limits;
+/// - the tool direction is a unit vector, +Z for `xyz`;
+/// - for `xyz`, each axis within the machine profile's limits (table machines: the axis limits
+///   apply to machine poses, which to_machine_moves() computes and checks);
 /// - feeds of travel and deposit moves within the machine's feed range;
 /// - laser power 0 or within the machine's power range, powder within [0, max];
 /// - sequence: deposit moves only between a laser-on and a laser-off, travel moves with the

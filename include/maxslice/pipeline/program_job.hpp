@@ -11,6 +11,8 @@
 #include "maxslice/mesh/triangle_mesh.hpp"
 #include "maxslice/path/toolpath.hpp"
 #include "maxslice/pipeline/slice_job.hpp"
+#include "maxslice/plan/order.hpp"
+#include "maxslice/plan/planner.hpp"
 
 namespace maxslice::pipeline {
 
@@ -22,7 +24,9 @@ namespace maxslice::pipeline {
                                                 const core::Vec3d& direction,
                                                 const core::Vec3d& plate_center = {});
 
-/// The middle of a machine's X and Y travel (Z = 0): where place_on_plate puts a part.
+/// Where place_on_plate puts a part (Z = 0): the middle of the X and Y travel of an "xyz"
+/// machine, the C axis (table.c_offset, part coordinates) of a table-tilt machine
+/// (docs/program-dialects.md).
 [[nodiscard]] core::Vec3d plate_center(const machine::MachineProfile& machine);
 
 /// The toolpath settings a process profile implies.
@@ -46,5 +50,44 @@ struct PlannedProgram {
                                                         const machine::Profiles& profiles,
                                                         const std::string& part_name,
                                                         const core::Progress* progress = nullptr);
+
+/// Where the speed law could not lay a layer's local thickness (METHOD.md section 10).
+struct ThicknessReport {
+    std::size_t segments = 0;       ///< deposit moves
+    std::size_t clamped = 0;        ///< of them, laid thicker or thinner than planned (> 1 um)
+    double worst_error_mm = 0.0;    ///< largest |laid - planned| height
+    int worst_layer = -1;           ///< where (layer id), -1 when none
+    core::Vec3d worst_at;           ///< the segment's middle, part coordinates
+    double thickness_min_mm = 0.0;  ///< planned local thickness range over the segments
+    double thickness_max_mm = 0.0;
+};
+
+/// A multi-axis deposition program and what went into it.
+struct MultiAxisProgram {
+    std::vector<int> order;                      ///< layer ids in build order
+    std::vector<path::LayerToolpath> toolpaths;  ///< per entry of order
+    machine::Program program;
+    machine::ProgramSummary summary;
+    double region_area_mm2 = 0.0;
+    double uncovered_mm2 = 0.0;
+    int layers_with_uncovered = 0;
+    ThicknessReport thickness;
+    int section_changes = 0;  ///< travels over the part's top between sections
+};
+
+/// The moves of a planned, ordered part (METHOD.md sections 9 to 11), in part coordinates
+/// with each layer's build direction: tracks for every layer (path::plan_layers, in build
+/// order), each stroke's points lifted onto the layer's top (a wedge layer's tilted top
+/// plane), every deposit move with the feed that lays the local thickness (the process's
+/// machine::SpeedLaw; wedge tracks cut into pieces of at most half a track), travel between
+/// strokes at the layer's top, between layers of one section a rise along the build
+/// direction then across, between sections of one direction a rise above the part's top
+/// along it, across and down. Direction changes are left to the writer's re-orientation.
+/// `placed` is the part as planned (for the heights above it). Errors: an incomplete order
+/// (kInvalidInput, naming the first conflict), invalid settings, cancelled.
+[[nodiscard]] core::Result<MultiAxisProgram> plan_multiaxis_program(
+    const plan::Plan& plan, const plan::BuildOrder& order, const mesh::TriangleMesh& placed,
+    const machine::Profiles& profiles, const std::string& part_name,
+    const core::Progress* progress = nullptr);
 
 }  // namespace maxslice::pipeline

@@ -323,6 +323,56 @@ TEST(Kinematics, ReorientationRetractsAlongTheToolAxisBeforeTurning) {
     EXPECT_NE(over.error().message.find("machine.table.retract_mm"), std::string::npos);
 }
 
+// The clearance height raises z_safe when it is above both poses; the Z limit still applies.
+TEST(Kinematics, ReorientationClimbsToTheClearanceHeight) {
+    const MachineKinematics k = make({.retract = 10.0});
+    const MachinePose from{20.0, -5.0, 3.0, 0.0, 0.0};
+    const MachinePose to{-10.0, 8.0, 7.0, 30.0, 90.0};
+    const auto high = k.reorientation(from, to, 250.0);
+    ASSERT_TRUE(high.has_value()) << high.error().describe();
+    ASSERT_EQ(high->size(), 3u);
+    for (const MachinePose& q : *high) EXPECT_DOUBLE_EQ(q.z, 260.0);
+    const auto low = k.reorientation(from, to, -40.0);
+    ASSERT_TRUE(low.has_value());
+    for (const MachinePose& q : *low) EXPECT_DOUBLE_EQ(q.z, 17.0);
+    const auto over = k.reorientation(from, to, 995.0);
+    ASSERT_FALSE(over.has_value());
+    EXPECT_NE(over.error().message.find("machine.axes.Z.max"), std::string::npos);
+    EXPECT_NE(over.error().message.find("clearance height 995.000 mm"), std::string::npos);
+    EXPECT_DOUBLE_EQ(*k.safe_height(3.0, 7.0, 5.0), 17.0);
+    EXPECT_FALSE(k.safe_height(3.0, 7.0, NAN).has_value());
+}
+
+// pose_at places the part tip under the nozzle for given rotary values: forward() gives the
+// tip back, and inverse() agrees with it at its own angles.
+TEST(Kinematics, PoseAtPutsTheTipUnderTheNozzle) {
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> coord(-80.0, 80.0);
+    std::uniform_real_distribution<double> angle(-110.0, 110.0);
+    for (const TableSetup& s :
+         {TableSetup{.pivot = {10, 20, -50}, .offset_x = 4, .offset_y = -6, .tilt_sign = -1},
+          TableSetup{.kinematics = Kinematics::kTableBc,
+          .pivot = {-15, 5, -40},
+          .offset_x = -3,
+          .c_sign = -1}}) {
+        const MachineKinematics k = make(s);
+        for (int i = 0; i < 50; ++i) {
+            const Vec3d q{coord(rng), coord(rng), coord(rng)};
+            const double a = angle(rng), c = 3.0 * angle(rng);
+            const MachinePose p = k.pose_at(q, a, c);
+            EXPECT_EQ(p.a_or_b_deg, a);
+            EXPECT_EQ(p.c_deg, c);
+            EXPECT_LE(core::norm(k.forward(p).tip_mm - q), kTipToleranceMm);
+            const auto inv = k.inverse(q, k.forward(p).direction, p);
+            ASSERT_TRUE(inv.has_value()) << inv.error().describe();
+            expect_pose(*inv, k.pose_at(q, inv->a_or_b_deg, inv->c_deg), "inverse vs pose_at");
+        }
+    }
+    auto xyz = MachineKinematics::create(testing::gm_machine());
+    ASSERT_TRUE(xyz.has_value());
+    expect_pose(xyz->pose_at({1, 2, 3}, 45.0, 90.0), {1, 2, 3, 0, 0}, "xyz ignores rotary");
+}
+
 TEST(Kinematics, XyzIsTheIdentityAndCannotTilt) {
     auto k = MachineKinematics::create(testing::gm_machine());
     ASSERT_TRUE(k.has_value()) << k.error().describe();

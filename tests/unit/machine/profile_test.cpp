@@ -220,8 +220,26 @@ TEST(Profile, OverlapOfOneIsRefused) {
 }
 
 TEST(Profile, UnknownDialectIsRefused) {
-    expect_refused(with(base(), "dialect", "dialect = \"fanuc\""),
-                   {"machine.dialect = \"fanuc\"", "\"gm\"", "\"linuxcnc\""});
+    expect_refused(
+        with(base(), "dialect", "dialect = \"heidenhain\""),
+        {"machine.dialect = \"heidenhain\"", "\"gm\"", "\"linuxcnc\"", "\"fanuc\"", "\"siemens\""});
+}
+
+TEST(Profile, EveryDialectParsesBackFromItsName) {
+    for (const Dialect d : {Dialect::kGm, Dialect::kLinuxCnc, Dialect::kFanuc, Dialect::kSiemens}) {
+        EXPECT_EQ(parse_dialect(dialect_name(d)), d);
+    }
+    EXPECT_FALSE(parse_dialect("Fanuc").has_value());
+    EXPECT_FALSE(parse_dialect("").has_value());
+    EXPECT_FALSE(parse_dialect("gm ").has_value());
+}
+
+TEST(Profile, DialectsWithoutAPowerColumnNeedLaserCodes) {
+    for (const char* dialect : {"fanuc", "siemens"}) {
+        std::string text = with(base(), "dialect", std::string("dialect = \"") + dialect + "\"");
+        text = with(text, "laser_on", "laser_on = \"\"");
+        expect_refused(text, {"machine.codes.laser_on", dialect});
+    }
 }
 
 TEST(Profile, LayerAboveTrackWidthIsRefused) {

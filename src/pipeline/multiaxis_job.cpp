@@ -1,0 +1,223 @@
+// The moves of a multi-axis plan in build order (METHOD.md sections 9 to 11).
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "maxslice/machine/program_builder.hpp"
+#include "maxslice/machine/speed_law.hpp"
+#include "maxslice/pipeline/program_job.hpp"
+
+namespace maxslice::pipeline {
+namespace {
+
+using core::Vec3d;
+
+/// A laid height this far from the planned one counts as clamped (mm).
+constexpr double kClampToleranceMm = 1e-3;
+/// Height above the part's top for a travel between sections (mm), at least.
+constexpr double kSectionTravelMarginMm = 2.0;
+
+// What a layer's tracks need: where its top is, which way it is built, and the plane its
+// bottom lies on when it is a wedge.
+struct LayerFrame {
+    const plan::Layer* layer = nullptr;
+    Vec3d direction;
+    const slice::PlaneFrame* bottom = nullptr;  // wedge layers only
+
+    // The tool tip for a point of the layer's wires: the point on the layer's top plane
+    // along the build direction.
+    [[nodiscard]] Vec3d tip(const geom2d::Point2& q) const {
+        const Vec3d x = layer->plane.to_3d(q);
+        return x - direction * layer->top.height(x);
+    }
+    // The local thickness under a tip: to the bottom plane along the build direction.
+    [[nodiscard]] double thickness(const Vec3d& tip) const {
+        if (bottom == nullptr) return layer->span.thickness();
+        return bottom->height(tip) / core::dot(direction, bottom->normal);
+    }
+};
+
+LayerFrame frame_of(const plan::Plan& plan, const plan::Layer& layer) {
+    LayerFrame f;
+    f.layer = &layer;
+    f.direction = layer.top.normal;
+    if (!layer.tilted) return f;
+    // A wedge lies on the top of the layer below it in its region (the march's lower layer).
+    for (const int p : layer.parents) {
+        const plan::Layer& parent = plan.layers[static_cast<std::size_t>(p)];
+        if (parent.region == layer.region && parent.index_in_region + 1 == layer.index_in_region) {
+            f.bottom = &parent.top;
+            break;
+        }
+    }
+    return f;
+}
+
+double highest_along(const mesh::TriangleMesh& mesh, const Vec3d& d) {
+    double h = -std::numeric_limits<double>::infinity();
+    for (const auto& v : mesh.vertices) h = std::max(h, core::dot(v, d));
+    return h;
+}
+
+class MoveBuilder {
+public:
+    MoveBuilder(const plan::Plan& plan, const mesh::TriangleMesh& placed,
+                const machine::Profiles& profiles, MultiAxisProgram& out)
+        : plan_(plan),
+          placed_(placed),
+          process_(profiles.process),
+          law_(machine::SpeedLaw::of(profiles.process)),
+          out_(out) {
+        const auto& nozzle = profiles.machine.nozzle;
+        margin_mm_ = std::max(kSectionTravelMarginMm, nozzle ? nozzle->clearance_mm : 0.0);
+        out_.thickness.thickness_min_mm = std::numeric_limits<double>::infinity();
+        out_.thickness.thickness_max_mm = 0.0;
+    }
+
+    void layer(const plan::Layer& layer, const path::LayerToolpath& tp, int section) {
+        if (tp.strokes.empty()) return;
+        const LayerFrame f = frame_of(plan_, layer);
+        const Vec3d first = f.tip(tp.strokes.front().points.front());
+        travel_to_layer(first, f.direction, layer, section);
+        for (const path::Stroke& stroke : tp.strokes) {
+            points_.clear();
+            feeds_.clear();
+            const double piece = f.bottom ? 0.5 * process_.track_width_mm : 0.0;
+            Vec3d prev = f.tip(stroke.points.front());
+            points_.push_back(prev);
+            for (std::size_t i = 1; i < stroke.points.size(); ++i) {
+                const Vec3d next = f.tip(stroke.points[i]);
+                // Wedge tracks in pieces of at most half a track, each with its own feed.
+                const double len = core::norm(next - prev);
+                const int n =
+                    piece > 0.0 ? std::max(1, static_cast<int>(std::ceil(len / piece))) : 1;
+                for (int k = 1; k <= n; ++k) {
+                    const Vec3d a = prev + (next - prev) * (static_cast<double>(k - 1) / n);
+                    const Vec3d b =
+                        k == n ? next : prev + (next - prev) * (static_cast<double>(k) / n);
+                    feeds_.push_back(feed_for(f, layer, (a + b) * 0.5));
+                    points_.push_back(b);
+                }
+                prev = next;
+            }
+            machine::append_wire(out_.program, points_, feeds_, process_, layer.id, layer.region,
+                                 f.direction);
+        }
+        last_section_ = section;
+        last_direction_ = f.direction;
+    }
+
+private:
+    double feed_for(const LayerFrame& f, const plan::Layer& layer, const Vec3d& at) {
+        const double planned = f.thickness(at);
+        const double feed = law_.feed_mm_min(planned);
+        const double error = std::abs(law_.height_mm(feed) - planned);
+        ThicknessReport& t = out_.thickness;
+        ++t.segments;
+        t.thickness_min_mm = std::min(t.thickness_min_mm, planned);
+        t.thickness_max_mm = std::max(t.thickness_max_mm, planned);
+        if (error > kClampToleranceMm) ++t.clamped;
+        if (error > t.worst_error_mm) {
+            t.worst_error_mm = error;
+            t.worst_layer = layer.id;
+            t.worst_at = at;
+        }
+        return feed;
+    }
+
+    const machine::Move* last_position() const {
+        const auto& moves = out_.program.moves;
+        for (auto it = moves.rbegin(); it != moves.rend(); ++it) {
+            if (it->kind == machine::MoveKind::kTravel || it->kind == machine::MoveKind::kDeposit)
+                return &*it;
+        }
+        return nullptr;
+    }
+
+    void travel(const Vec3d& to, const Vec3d& d, const plan::Layer& layer) {
+        machine::append_travel(out_.program, to, process_, layer.id, layer.region, d);
+    }
+
+    // From the last layer's end to this layer's first tip. Same section: rise along the
+    // build direction to the new top, then across (the wire's own travel). Another section
+    // of the same direction: up above the part's top, across, down. A new direction: the
+    // writer's re-orientation (retract, turn, cross, approach) takes the head there.
+    void travel_to_layer(const Vec3d& first, const Vec3d& d, const plan::Layer& layer,
+                         int section) {
+        const machine::Move* last = last_position();
+        if (last == nullptr) return;
+        const Vec3d from = last->position;
+        if (core::dot(last_direction_, d) < 1.0 - 1e-12) return;
+        if (section == last_section_) {
+            const double rise = core::dot(first - from, d);
+            if (rise > 0.0) travel(from + d * rise, d, layer);
+            return;
+        }
+        ++out_.section_changes;
+        const double top = highest_along(placed_, d) + margin_mm_;
+        const double up_from = top - core::dot(from, d);
+        const double up_to = top - core::dot(first, d);
+        if (up_from > 0.0) travel(from + d * up_from, d, layer);
+        if (up_to > 0.0) travel(first + d * up_to, d, layer);
+    }
+
+    const plan::Plan& plan_;
+    const mesh::TriangleMesh& placed_;
+    const machine::ProcessProfile& process_;
+    const machine::SpeedLaw law_;
+    MultiAxisProgram& out_;
+    double margin_mm_ = kSectionTravelMarginMm;
+    int last_section_ = -1;
+    Vec3d last_direction_{0.0, 0.0, 1.0};
+    std::vector<Vec3d> points_;
+    std::vector<double> feeds_;
+};
+
+}  // namespace
+
+core::Result<MultiAxisProgram> plan_multiaxis_program(const plan::Plan& plan,
+                                                      const plan::BuildOrder& order,
+                                                      const mesh::TriangleMesh& placed,
+                                                      const machine::Profiles& profiles,
+                                                      const std::string& part_name,
+                                                      const core::Progress* progress) {
+    if (!order.complete()) {
+        const plan::Conflict& c = order.conflicts.front();
+        return core::fail(core::ErrorCode::kInvalidInput,
+                          fmt::format("no collision-free build order: {} ({} conflicts)", c.reason,
+                                      order.conflicts.size()),
+                          "part " + part_name);
+    }
+    const path::PathSettings settings = path_settings(profiles.process);
+    if (auto ok = path::validate(settings); !ok) return std::unexpected(ok.error());
+    MultiAxisProgram out;
+    out.order = order.order;
+    out.program.part_name = part_name;
+    std::vector<const geom2d::WireTree*> regions;
+    regions.reserve(out.order.size());
+    for (const int id : out.order)
+        regions.push_back(&plan.layers[static_cast<std::size_t>(id)].wires);
+    auto planned = path::plan_layers(regions, settings, geom2d::Point2{}, progress);
+    if (!planned) return std::unexpected(planned.error());
+    out.toolpaths = std::move(*planned);
+
+    MoveBuilder builder(plan, placed, profiles, out);
+    for (std::size_t i = 0; i < out.order.size(); ++i) {
+        const plan::Layer& layer = plan.layers[static_cast<std::size_t>(out.order[i])];
+        const path::LayerToolpath& tp = out.toolpaths[i];
+        out.region_area_mm2 += layer.area_mm2;
+        out.uncovered_mm2 += tp.uncovered_mm2;
+        if (tp.uncovered_mm2 > 0.01 * layer.area_mm2) ++out.layers_with_uncovered;
+        builder.layer(layer, tp, order.section_of[static_cast<std::size_t>(layer.id)]);
+    }
+    if (out.thickness.segments == 0) out.thickness.thickness_min_mm = 0.0;
+    auto summary = machine::summarize(out.program, profiles.process);
+    if (!summary) return std::unexpected(summary.error());
+    out.summary = *summary;
+    return out;
+}
+
+}  // namespace maxslice::pipeline
