@@ -365,6 +365,9 @@ private:
             } else if (fanuc && is(43.4)) {
                 if (!w['H']) return fail(ErrorCode::kInvalidInput, "G43.4 without H");
                 tcp_ = true;
+            } else if (fanuc && is(43)) {
+                // Tool length compensation alone: X Y Z stay the tool tip in joint space.
+                if (!w['H']) return fail(ErrorCode::kInvalidInput, "G43 without H");
             } else if (fanuc && is(49)) {
                 tcp_ = false;
             } else {
@@ -399,7 +402,7 @@ private:
                 case 'B': ok = profiles_.machine.kinematics == machine::Kinematics::kTableBc; break;
                 case 'C': ok = table_; break;
                 case 'P': ok = dwell && !fanuc && !siemens; break;
-                case 'H': ok = fanuc && w.has_g(43.4); break;
+                case 'H': ok = fanuc && (w.has_g(43.4) || w.has_g(43)); break;
                 case 'O': ok = fanuc; break;
                 default: ok = false;
             }

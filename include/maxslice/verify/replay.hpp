@@ -15,7 +15,8 @@ namespace maxslice::verify {
 enum class ProgramDialect {
     kGm,        ///< power and powder columns, then one block; G4 P in ms
     kLinuxCnc,  ///< RS-274 (LinuxCNC 2.9); `( )` and `;` comments; G4 P in s
-    kFanuc,     ///< `%`, `O` number, `( )` comments, G43.4 H1 / G49 tool centre point; G4 X in s
+    kFanuc,     ///< `%`, `O` number, `( )` comments, G43.4 H1 / G49 tool centre point (G43 H1:
+                ///< tool length only, X Y Z stay the tip); G4 X in s
     kSiemens,   ///< `;` comments, G71, TRAORI / TRAFOOF tool centre point; G4 F in s
 };
 

@@ -5,6 +5,7 @@
 
 #include <string>
 
+#include "maxslice/machine/machine_moves.hpp"
 #include "maxslice/machine/program_builder.hpp"
 #include "maxslice/machine/summary.hpp"
 #include "maxslice/machine/writer.hpp"
@@ -329,6 +330,63 @@ TEST(Verify, AgreesWithTheWritersSummary) {
         EXPECT_NEAR(r.build_time_s, sum->build_time_s, 1e-4 * sum->build_time_s);
         EXPECT_EQ(r.laser_on_count, sum->laser_on_count);
         EXPECT_TRUE(r.passed()) << report_text(r);
+    }
+}
+
+// The 5-axis writers' output in every dialect (joint space for gm and linuxcnc, tool centre
+// point control for fanuc and siemens): a block built along +Z, then, after a re-orientation,
+// one wire laid along +Y against the block's +Y wall. It replays clean, covers the block,
+// and the one sideways wire rests on the wall (supported) and is the only excess.
+TEST(Verify, FiveAxisWritersOutputReplaysCleanInEveryDialect) {
+    for (const char* file : {"reference_5axis_ac.toml", "linuxcnc_5axis_ac.toml",
+                             "fanuc_5axis_ac.toml", "siemens_5axis_bc.toml"}) {
+        SCOPED_TRACE(file);
+        const machine::Profiles p = load(file);
+        ASSERT_FALSE(p.machine.name.empty());
+        const mesh::TriangleMesh model = placed_block(p);
+        const Vec3d c = mesh::bounding_box(model).center();
+        const double w = p.process.track_width_mm, h = p.process.layer_height_mm;
+        const int tracks = 17;
+        const double pitch = (2 * kHalf - w) / (tracks - 1);
+        machine::Program program;
+        for (int layer = 1; layer <= kLayers; ++layer) {
+            std::vector<Vec3d> wire;
+            for (int i = 0; i < tracks; ++i) {
+                const double y = c.y - kHalf + 0.5 * w + i * pitch;
+                const double xa = c.x - kHalf + 0.5 * w, xb = c.x + kHalf - 0.5 * w;
+                wire.push_back({i % 2 == 0 ? xa : xb, y, layer * h});
+                wire.push_back({i % 2 == 0 ? xb : xa, y, layer * h});
+            }
+            machine::append_wire(program, wire, p.process, layer - 1);
+        }
+        // One track on the +Y wall, built along +Y: its top edge centre h out of the wall.
+        const Vec3d side{0.0, 1.0, 0.0};
+        const double yw = c.y + kHalf + h;
+        const std::vector<Vec3d> along = {{c.x - 10.0, yw, 3.0}, {c.x + 10.0, yw, 3.0}};
+        const std::size_t block_moves = program.moves.size();
+        machine::append_wire(program, along, p.process, kLayers, 1, side);
+        machine::WriteOptions wo;
+        wo.clear_z_mm = machine::clear_height_mm(p.machine, model.vertices);
+        auto text = machine::write_program(program, p.machine, p.process, wo);
+        ASSERT_TRUE(text) << text.error().describe();
+        auto r = verify_program(*text, model, p);
+        ASSERT_TRUE(r) << r.error().describe();
+        EXPECT_TRUE(r->passed()) << report_text(*r);
+        EXPECT_GE(r->coverage, 0.97) << report_text(*r);
+        EXPECT_GT(r->rotary_travel_deg, 80.0) << report_text(*r);
+        // The sideways bead (20 x 2.5 x 0.5 mm3 = 25 mm3) is outside the model.
+        EXPECT_NEAR(r->excess_volume_mm3, 25.0, 8.0) << report_text(*r);
+        EXPECT_EQ(r->laser_on_count, kLayers + 1);
+        // The same wire 2.5 mm off the wall rests on nothing.
+        const std::vector<Vec3d> off = {{c.x - 10.0, yw + 2.5, 3.0}, {c.x + 10.0, yw + 2.5, 3.0}};
+        program.moves.resize(block_moves);
+        machine::append_wire(program, off, p.process, kLayers, 1, side);
+        text = machine::write_program(program, p.machine, p.process, wo);
+        ASSERT_TRUE(text) << text.error().describe();
+        r = verify_program(*text, model, p);
+        ASSERT_TRUE(r) << r.error().describe();
+        EXPECT_EQ(r->unsupported.count, 1U) << report_text(*r);
+        EXPECT_EQ(r->collisions.count, 0U) << report_text(*r);
     }
 }
 
