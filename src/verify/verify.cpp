@@ -108,8 +108,6 @@ public:
 
         double hmin = std::numeric_limits<double>::infinity(), hmax = 0.0;
         bool prev_known = false;
-        bool prev_deposit = false;
-        Vec3d prev_end{};
         for (const ReplayBlock& b : replay.blocks) {
             if (b.kind == ReplayBlock::Kind::kDwell) {
                 rep.dwell_time_s += b.dwell_s;
@@ -118,9 +116,17 @@ public:
             ++rep.moves;
             check_limits(b, b.pose, rep, true);
             const bool deposit = b.laser_on;
+            // A wire ends where the next move does not continue it: its round end goes in
+            // before this move is checked.
+            const bool joined =
+                deposit && prev_known && b.pose_known && open_end_ &&
+                core::norm(open_end_->tip - kin_.forward(b.from).tip_mm) < 0.5 * voxel_;
+            if (open_end_ && !joined) {
+                lay_joint(open_end_->tip, open_end_->dir, open_end_->h);
+                open_end_.reset();
+            }
             if (!prev_known || !b.pose_known) {
                 prev_known = b.pose_known;
-                prev_deposit = false;
                 continue;
             }
             prev_known = true;
@@ -163,15 +169,14 @@ public:
             check_collisions(b, samples, rep);
             if (deposit) {
                 check_support(b, samples, h, rep);
-                const bool joined =
-                    prev_deposit && core::norm(prev_end - samples.front().tip) < 0.5 * voxel_;
                 const bool turns =
                     b.pose.a_or_b_deg != b.from.a_or_b_deg || b.pose.c_deg != b.from.c_deg;
                 lay_bead(samples, h, joined, turns);
+                if (!joined) lay_joint(samples.front().tip, samples.front().dir, h);
+                open_end_ = OpenEnd{samples.back().tip, samples.back().dir, h};
             }
-            prev_deposit = deposit;
-            prev_end = samples.back().tip;
         }
+        if (open_end_) lay_joint(open_end_->tip, open_end_->dir, open_end_->h);
         rep.poses_checked = poses_checked_;
         rep.bead_height_min_mm = rep.deposit_moves > 0 ? hmin : 0.0;
         rep.bead_height_max_mm = hmax;
@@ -382,14 +387,13 @@ private:
         }
     }
 
-    // The bead of one block: between neighbouring samples a box track_width wide and h high
-    // under the tip (top edge centre at the tip); round joints (an octagonal prism) where the
-    // track turns and where it continues the previous block's bead.
-    // A block that keeps its direction is laid in straight pieces of up to four track widths
-    // (longer pieces waste time on their bounding boxes). Where the track turns by phi (within
-    // the block, or from the previous block's bead), the outer corner is closed: up to 90 deg
-    // by a mitre (both pieces extended by w/2 tan(phi/2) past the corner), beyond by a round
-    // joint.
+    // The bead of one block: boxes track_width wide and h high under the tip (top edge centre
+    // at the tip). A block that keeps its direction is laid in straight pieces of up to four track
+    // widths (longer pieces waste time on their bounding boxes). Where the track turns by phi
+    // (within the block, or from the previous block's bead), the outer corner is closed: up to 90
+    // deg by a mitre (both pieces extended by w/2 tan(phi/2) past the corner), beyond by a round
+    // joint (an octagonal prism). Wire ends get the same round joint (run() lays them): the
+    // melt pool is a disc of the track's width.
     void lay_bead(const std::vector<Sample>& samples, double h, bool joined_to_previous,
                   bool turns) {
         const double w = process_.track_width_mm;
@@ -512,6 +516,12 @@ private:
         Vec3d t;
     };
     std::optional<Piece> last_piece_;  // direction of the last bead piece laid
+    struct OpenEnd {
+        Vec3d tip;
+        Vec3d dir;
+        double h = 0.0;
+    };
+    std::optional<OpenEnd> open_end_;  // the end of the wire being laid
 };
 
 }  // namespace
