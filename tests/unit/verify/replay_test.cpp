@@ -2,13 +2,18 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "maxslice/machine/program_builder.hpp"
+#include "maxslice/machine/writer.hpp"
 #include "verify_programs.hpp"
 
 namespace maxslice::verify {
@@ -195,24 +200,17 @@ TEST(Replay, GarbageNeverCrashes) {
     }
 }
 
-// LinuxCNC's standalone interpreter reads a hand-written 5-axis program; its canonical
-// STRAIGHT_FEED / STRAIGHT_TRAVERSE calls give the axis values, which the replay must match.
-TEST(Replay, MachinePosesMatchLinuxCncsInterpreter) {
-    if (!fs::exists("/usr/bin/rs274")) GTEST_SKIP() << "rs274 (linuxcnc-uspace) not installed";
-    const machine::Profiles p = ac_table(machine::Dialect::kLinuxCnc);
-    const std::string program =
-        "(maxslice verify test)\nG21 G90 G94 G17\nG1 Z200 F2540\nG1 A0 C0\n"
-        "G1 X10 Y20 F2540\nG1 X10 Y20 Z5.5 A0 C0 F2540\nM64 P1\nM68 E0 Q700.00\nM64 P0\n"
-        "G4 P0.5\nG1 X20.125 Y20 Z5.5 A0 C0 F381\nG1 Y30.5 F400.0\nM65 P0\nM68 E0 Q0\n"
-        "G1 Z60 F2540\nG1 A45.5 C-30.25\nG0 X-12.5 Y7.75\nG1 Z4.25\nG1 X-10 Y8 Z4.25 A45.5 "
-        "C-30.25 F381\nG0 Z100 A-60 C720\nG1 X1 Y2 Z3 A4 C5 F100\nM2\n";
-    const fs::path dir = fs::temp_directory_path() / "maxslice_verify_rs274";
+// Runs LinuxCNC's standalone interpreter on `program`; the axis values (x, y, z, a, b, c) of its
+// canonical STRAIGHT_FEED / STRAIGHT_TRAVERSE calls, or nothing when it fails.
+std::optional<std::vector<std::array<double, 6>>> rs274_moves(const std::string& program,
+                                                              const std::string& name) {
+    const fs::path dir = fs::temp_directory_path() / ("maxslice_verify_rs274_" + name);
     fs::create_directories(dir);
-    const fs::path ngc = dir / "five_axis.ngc", canon = dir / "canon.txt";
+    const fs::path ngc = dir / "program.ngc", canon = dir / "canon.txt";
     std::ofstream(ngc) << program;
     const std::string cmd =
         "rs274 -g '" + ngc.string() + "' '" + canon.string() + "' </dev/null >/dev/null 2>&1";
-    ASSERT_EQ(std::system(cmd.c_str()), 0);
+    if (std::system(cmd.c_str()) != 0) return std::nullopt;
     std::ifstream in(canon);
     std::vector<std::array<double, 6>> moves;
     for (std::string line; std::getline(in, line);) {
@@ -224,19 +222,21 @@ TEST(Replay, MachinePosesMatchLinuxCncsInterpreter) {
             for (char& ch : args) {
                 if (ch == ',' || ch == ')') ch = ' ';
             }
-            std::istringstream s(args);
-            for (double& x : v) s >> x;
+            std::istringstream str(args);
+            for (double& x : v) str >> x;
             moves.push_back(v);
         }
     }
-    auto r = replay_program(program, p, ProgramDialect::kLinuxCnc);
-    ASSERT_TRUE(r) << r.error().describe();
+    fs::remove_all(dir);
+    return moves;
+}
+
+void expect_same_poses(const std::vector<std::array<double, 6>>& moves, const Replay& r) {
     std::vector<machine::MachinePose> poses;
-    for (const auto& b : r->blocks) {
+    for (const auto& b : r.blocks) {
         if (b.kind == ReplayBlock::Kind::kMove) poses.push_back(b.pose);
     }
     ASSERT_EQ(moves.size(), poses.size());
-    ASSERT_GE(moves.size(), 10U);
     for (std::size_t i = 0; i < moves.size(); ++i) {
         const auto& m = moves[i];
         const auto& q = poses[i];
@@ -246,6 +246,25 @@ TEST(Replay, MachinePosesMatchLinuxCncsInterpreter) {
         EXPECT_NEAR(q.a_or_b_deg, m[3], 1e-3) << i;
         EXPECT_NEAR(q.c_deg, m[5], 1e-3) << i;
     }
+}
+
+// LinuxCNC's standalone interpreter reads a hand-written 5-axis program; its canonical
+// STRAIGHT_FEED / STRAIGHT_TRAVERSE calls give the axis values, which the replay must match.
+TEST(Replay, MachinePosesMatchLinuxCncsInterpreter) {
+    if (!fs::exists("/usr/bin/rs274")) GTEST_SKIP() << "rs274 (linuxcnc-uspace) not installed";
+    const machine::Profiles p = ac_table(machine::Dialect::kLinuxCnc);
+    const std::string program =
+        "(maxslice verify test)\nG21 G90 G94 G17\nG1 Z200 F2540\nG1 A0 C0\n"
+        "G1 X10 Y20 F2540\nG1 X10 Y20 Z5.5 A0 C0 F2540\nM64 P1\nM68 E0 Q700.00\nM64 P0\n"
+        "G4 P0.5\nG1 X20.125 Y20 Z5.5 A0 C0 F381\nG1 Y30.5 F400.0\nM65 P0\nM68 E0 Q0\n"
+        "G1 Z60 F2540\nG1 A45.5 C-30.25\nG0 X-12.5 Y7.75\nG1 Z4.25\nG1 X-10 Y8 Z4.25 A45.5 "
+        "C-30.25 F381\nG0 Z100 A-60 C720\nG1 X1 Y2 Z3 A4 C5 F100\nM2\n";
+    const auto moves = rs274_moves(program, "hand");
+    ASSERT_TRUE(moves);
+    ASSERT_GE(moves->size(), 10U);
+    auto r = replay_program(program, p, ProgramDialect::kLinuxCnc);
+    ASSERT_TRUE(r) << r.error().describe();
+    expect_same_poses(*moves, *r);
     // Forward kinematics of the replay: the tip is where the part frame says.
     auto kin = machine::MachineKinematics::create(p.machine);
     ASSERT_TRUE(kin);
@@ -253,7 +272,35 @@ TEST(Replay, MachinePosesMatchLinuxCncsInterpreter) {
         const machine::ToolPose tp = kin->forward(b.pose);
         EXPECT_NEAR(core::norm(tp.tip_mm - b.tip_mm), 0.0, 1e-12);
     }
-    fs::remove_all(dir);
+}
+
+// The 5-axis linuxcnc writer's own output (a wire along +Z, a re-orientation, a wire along
+// +Y): LinuxCNC's interpreter and the replay agree on every pose.
+TEST(Replay, WrittenFiveAxisProgramMatchesLinuxCncsInterpreter) {
+    if (!fs::exists("/usr/bin/rs274")) GTEST_SKIP() << "rs274 (linuxcnc-uspace) not installed";
+    const machine::Profiles p = load("linuxcnc_5axis_ac.toml");
+    ASSERT_FALSE(p.machine.name.empty());
+    machine::Program program;
+    const std::vector<Vec3d> up = {{-10, -10, 0.5}, {10, -10, 0.5}, {10, 10, 0.5}};
+    machine::append_wire(program, up, p.process, 0);
+    const std::vector<Vec3d> side = {{-10, 10.5, 5}, {10, 10.5, 5}};
+    machine::append_wire(program, side, p.process, 1, 1, {0.0, 1.0, 0.0});
+    const std::vector<Vec3d> slant = {{-5, 0, 12}, {5, 0, 12}};
+    machine::append_wire(program, slant, p.process, 2, 2, {0.6, 0.0, 0.8});
+    auto text = machine::write_program(program, p.machine, p.process);
+    ASSERT_TRUE(text) << text.error().describe();
+    const auto moves = rs274_moves(*text, "written");
+    ASSERT_TRUE(moves);
+    auto r = replay_program(*text, p, ProgramDialect::kLinuxCnc);
+    ASSERT_TRUE(r) << r.error().describe();
+    ASSERT_GE(moves->size(), 12U);
+    expect_same_poses(*moves, *r);
+    int depositing = 0;
+    for (const auto& b : r->blocks) depositing += b.kind == ReplayBlock::Kind::kMove && b.laser_on;
+    EXPECT_EQ(depositing, 4);
+    int tilted = 0;  // the table turned for the side and slanted wires
+    for (const auto& m : *moves) tilted += std::abs(m[3]) > 1.0;
+    EXPECT_GE(tilted, 4);
 }
 
 }  // namespace
