@@ -107,6 +107,7 @@ std::string report_text(const Report& r) {
     if (r.default_nozzle) {
         out += "nozzle          no [machine.nozzle] in the profile: default cone (30 deg, 40 mm)\n";
     }
+    if (r.deposit_moves == 0) out += "note            the program deposits nothing\n";
     out += finding_text("collisions", r.collisions);
     out += finding_text("unsupported", r.unsupported);
     out += finding_text("axis limits", r.limit_violations);
