@@ -257,9 +257,17 @@ private:
     // neighbours, for the tip and for the far end of the head.
     std::vector<Sample> sample_block(const ReplayBlock& b) const {
         const Vec3d tip0 = kin_.forward(b.from).tip_mm;
+        const bool turns = b.pose.a_or_b_deg != b.from.a_or_b_deg || b.pose.c_deg != b.from.c_deg;
         const auto at = [&](double t) {
             Sample s;
             s.pose = lerp(b.from, b.pose, t);
+            if (!turns) {
+                // Fixed rotary values: forward is affine in X Y Z, and in tool-centre-point
+                // mode X Y Z are affine in the tip, so everything is linear along the block.
+                s.tip = tip0 + (b.tip_mm - tip0) * t;
+                s.dir = b.direction;
+                return s;
+            }
             if (b.tcp) {
                 const Vec3d tip = tip0 + (b.tip_mm - tip0) * t;
                 const Vec3d m = machine_xyz(kin_, tip, s.pose);
@@ -272,7 +280,6 @@ private:
             s.dir = tp.direction;
             return s;
         };
-        const bool turns = b.pose.a_or_b_deg != b.from.a_or_b_deg || b.pose.c_deg != b.from.c_deg;
         double path = 0.0;
         if (!turns) {
             path = core::norm(b.tip_mm - tip0);
@@ -465,12 +472,18 @@ private:
             prism.add(n, core::dot(n, tip) - r, core::dot(n, tip) + r);
         }
         // A circumscribed octagon reaches r / cos(22.5 deg) from the axis.
-        const double rc = r / std::cos(std::numbers::pi / 8.0);
-        for (const double top : {0.0, -h}) {
+        static const std::array<std::array<double, 2>, 8> kOctagon = [] {
+            std::array<std::array<double, 2>, 8> c{};
+            const double rc = 1.0 / std::cos(std::numbers::pi / 8.0);
             for (int i = 0; i < 8; ++i) {
                 const double ang = (i + 0.5) * std::numbers::pi / 4.0;
-                prism.corners.push_back(tip + d * top + u * (rc * std::cos(ang)) +
-                                        v * (rc * std::sin(ang)));
+                c[static_cast<std::size_t>(i)] = {rc * std::cos(ang), rc * std::sin(ang)};
+            }
+            return c;
+        }();
+        for (const double top : {0.0, -h}) {
+            for (const auto& [cu, cv] : kOctagon) {
+                prism.corners.push_back(tip + d * top + u * (r * cu) + v * (r * cv));
             }
         }
         detail::fill(grid_, origin_, voxel_, prism);
