@@ -1,0 +1,122 @@
+#include "verify_command.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+
+#include "maxslice/core/units.hpp"
+#include "maxslice/io/read_mesh.hpp"
+#include "maxslice/machine/profile.hpp"
+#include "maxslice/verify/verify.hpp"
+
+namespace maxslice::app {
+namespace {
+
+constexpr int kExitOk = 0;
+constexpr int kExitInternal = 1;
+constexpr int kExitBadInput = 2;
+
+// As main.cpp's report_error (to be folded into one helper).
+int report_error(const core::Error& e) {
+    std::fprintf(stderr, "maxslice: error: %s\n", e.describe().c_str());
+    return e.code == core::ErrorCode::kInternal ? kExitInternal : kExitBadInput;
+}
+
+core::Result<std::string> read_text(const std::string& file) {
+    std::ifstream in(file, std::ios::binary);
+    if (!in) return core::fail(core::ErrorCode::kIo, "cannot open", "file " + file);
+    std::ostringstream s;
+    s << in.rdbuf();
+    if (in.bad()) return core::fail(core::ErrorCode::kIo, "read failed", "file " + file);
+    return s.str();
+}
+
+}  // namespace
+
+CLI::App* add_verify_command(CLI::App& app, VerifyCommandOptions& opts) {
+    CLI::App* cmd = app.add_subcommand(
+        "verify",
+        "Replay a program independently of the planner: lay beads, check the nozzle against "
+        "deposited material, support, axis limits; measure coverage and excess");
+    cmd->add_option("PROGRAM", opts.program, "Program file (gm, linuxcnc, fanuc or siemens)")
+        ->required();
+    cmd->add_option("--model", opts.model, "The part the program builds (placed as the job does)")
+        ->required();
+    cmd->add_option("--profile", opts.profiles, "Machine/process profile TOML file(s)")->required();
+    cmd->add_option("--json", opts.json_file, "Write the report as JSON to this file");
+    cmd->add_option("--dialect", opts.dialect,
+                    "Program dialect: gm, linuxcnc, fanuc or siemens (default: the profile's)");
+    cmd->add_option("--direction", opts.direction, "Base (build) direction X,Y,Z of the part")
+        ->delimiter(',')
+        ->expected(3);
+    cmd->add_option("--voxel", opts.voxel_mm, "Voxel edge in mm (default: automatic)")
+        ->check(CLI::NonNegativeNumber);
+    cmd->add_option("--clearance", opts.clearance_mm,
+                    "Gap to material counted as a collision, mm (default 0: contact)")
+        ->check(CLI::NonNegativeNumber);
+    cmd->add_option("--units", opts.units,
+                    "Unit of the model file's numbers: mm, in, m, cm, um, ft");
+    return cmd;
+}
+
+int run_verify(const VerifyCommandOptions& opts) {
+    std::vector<std::filesystem::path> files(opts.profiles.begin(), opts.profiles.end());
+    auto profiles = machine::load_profiles(files);
+    if (!profiles) return report_error(profiles.error());
+
+    verify::VerifySettings settings;
+    settings.voxel_mm = opts.voxel_mm;
+    settings.clearance_mm = opts.clearance_mm;
+    if (!opts.dialect.empty()) {
+        auto d = verify::parse_dialect(opts.dialect);
+        if (!d) return report_error(core::with_context(d.error(), "--dialect"));
+        settings.dialect = *d;
+    }
+    io::ImportOptions import;
+    if (!opts.units.empty()) {
+        auto u = core::parse_unit(opts.units);
+        if (!u) {
+            return report_error({core::ErrorCode::kInvalidInput,
+                                 "unknown unit '" + opts.units + "' (use mm, in, m, cm, um or ft)",
+                                 "--units"});
+        }
+        import.units = *u;
+    }
+    auto model = io::read_mesh(opts.model, import);
+    if (!model) return report_error(model.error());
+    const core::Vec3d direction{opts.direction[0], opts.direction[1], opts.direction[2]};
+    auto placed = verify::place_model(std::move(model->mesh), direction, profiles->machine);
+    if (!placed) return report_error(placed.error());
+
+    auto text = read_text(opts.program);
+    if (!text) return report_error(text.error());
+    auto report = verify::verify_program(*text, *placed, *profiles, settings);
+    if (!report) return report_error(core::with_context(report.error(), "file " + opts.program));
+
+    std::fputs(verify::report_text(*report).c_str(), stdout);
+    if (!opts.json_file.empty()) {
+        const std::string json = verify::report_json(*report);
+        std::FILE* f = std::fopen(opts.json_file.c_str(), "wb");
+        if (f == nullptr)
+            return report_error({core::ErrorCode::kIo, "cannot open for writing", opts.json_file});
+        const bool ok = std::fwrite(json.data(), 1, json.size(), f) == json.size();
+        if (std::fclose(f) != 0 || !ok) {
+            return report_error({core::ErrorCode::kIo, "write failed", opts.json_file});
+        }
+    }
+    if (!report->passed()) {
+        std::fprintf(stderr,
+                     "maxslice: error: verification failed: %zu collisions, %zu unsupported "
+                     "beads, %zu axis-limit violations\n",
+                     report->collisions.count, report->unsupported.count,
+                     report->limit_violations.count);
+        return kExitBadInput;
+    }
+    return kExitOk;
+}
+
+}  // namespace maxslice::app

@@ -1,0 +1,36 @@
+// `maxslice verify PROGRAM --model PART --profile FILE...`: the independent verifier
+// (docs/verifier.md).
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace CLI {
+class App;
+}
+
+namespace maxslice::app {
+
+/// The verify command's options, filled by CLI11.
+struct VerifyCommandOptions {
+    std::string program;
+    std::string model;
+    std::vector<std::string> profiles;
+    std::string json_file;
+    std::string dialect;
+    std::vector<double> direction{0.0, 0.0, 1.0};
+    double voxel_mm = 0.0;
+    double clearance_mm = 0.0;
+    std::string units;
+};
+
+/// Adds the `verify` subcommand to `app`, binding its options to `opts` (which must outlive
+/// the parse); returns the subcommand.
+CLI::App* add_verify_command(CLI::App& app, VerifyCommandOptions& opts);
+
+/// Runs the verification: prints the text report on stdout, writes the JSON report when asked.
+/// Exit code: 0 when the program passes, 2 when it fails the checks or the input is bad (with a
+/// message on stderr), 1 for an internal error.
+int run_verify(const VerifyCommandOptions& opts);
+
+}  // namespace maxslice::app

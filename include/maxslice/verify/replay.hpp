@@ -1,0 +1,74 @@
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "maxslice/core/result.hpp"
+#include "maxslice/core/vec3.hpp"
+#include "maxslice/machine/kinematics.hpp"
+#include "maxslice/machine/profile.hpp"
+
+namespace maxslice::verify {
+
+/// The program dialects the verifier reads (docs/program-dialects.md, docs/profiles.md).
+enum class ProgramDialect {
+    kGm,        ///< power and powder columns, then one block; G4 P in ms
+    kLinuxCnc,  ///< RS-274 (LinuxCNC 2.9); `( )` and `;` comments; G4 P in s
+    kFanuc,     ///< `%`, `O` number, `( )` comments, G43.4 H1 / G49 tool centre point; G4 X in s
+    kSiemens,   ///< `;` comments, G71, TRAORI / TRAFOOF tool centre point; G4 F in s
+};
+
+/// "gm", "linuxcnc", "fanuc", "siemens".
+[[nodiscard]] std::string_view dialect_name(ProgramDialect dialect);
+
+/// The dialect of a name as above; kInvalidInput for any other name.
+[[nodiscard]] core::Result<ProgramDialect> parse_dialect(std::string_view name);
+
+/// The dialect a machine profile names (through machine::dialect_name, so profile dialects
+/// added later are read by name).
+[[nodiscard]] core::Result<ProgramDialect> dialect_of(const machine::MachineProfile& machine);
+
+/// One replayed block that moves or waits.
+struct ReplayBlock {
+    enum class Kind {
+        kMove,   ///< G0 / G1 positioning
+        kDwell,  ///< G4
+    };
+    Kind kind = Kind::kMove;
+    int line = 0;               ///< 1-based line number in the program text
+    bool rapid = false;         ///< G0 (timed at the machine's feed_max_mm_min)
+    bool tcp = false;           ///< written under tool centre point control (X Y Z = pivot + tip)
+    bool pose_known = false;    ///< every axis of the machine has been programmed by now
+    machine::MachinePose from;  ///< machine pose at the start of the block
+    machine::MachinePose pose;  ///< machine pose at the end (program X Y Z, A|B, C)
+    core::Vec3d tip_mm;         ///< part-frame tool tip at the end (MachineKinematics::forward)
+    core::Vec3d direction;      ///< part-frame build direction at the end (unit)
+    double feed_mm_min = 0.0;   ///< modal feed (mm/min; deg/min for a rotary-only block)
+    bool laser_on = false;      ///< the laser is on during this block (a move with it on deposits)
+    double dwell_s = 0.0;       ///< kDwell: seconds
+};
+
+/// A parsed program: its blocks that move or wait, in order.
+struct Replay {
+    ProgramDialect dialect = ProgramDialect::kGm;
+    int line_count = 0;               ///< lines in the text
+    int laser_on_count = 0;           ///< off -> on switches
+    std::vector<ReplayBlock> blocks;  ///< moves and dwells only
+};
+
+/// Parses a program of `dialect` for the machine and process of `profiles` and replays it
+/// through machine::MachineKinematics::forward (docs/program-dialects.md). Axis words are modal
+/// (an axis not yet programmed counts as 0, as LinuxCNC's interpreter does, and the block is
+/// marked pose_known = false). The laser is on: gm, when a line's power column exceeds
+/// process.laser_power_off_w; other dialects, after a line matching a block of the profile's
+/// `[machine.codes]` laser_on template (placeholders stand for numbers; a `{power}` at or below
+/// the off power counts as off) until one matching laser_off. Literal template blocks win over
+/// ones with placeholders. Errors (kInvalidInput, kUnsupported for G20, G91, G93 ...), with
+/// context "line N": malformed numbers, unknown words or codes, axis words the machine lacks,
+/// a motion block before any G0 / G1, tool centre point words in a joint-space dialect.
+[[nodiscard]] core::Result<Replay> replay_program(std::string_view program_text,
+                                                  const machine::Profiles& profiles,
+                                                  ProgramDialect dialect);
+
+}  // namespace maxslice::verify

@@ -1,0 +1,114 @@
+#pragma once
+
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "maxslice/core/result.hpp"
+#include "maxslice/core/vec3.hpp"
+#include "maxslice/machine/profile.hpp"
+#include "maxslice/mesh/triangle_mesh.hpp"
+#include "maxslice/verify/replay.hpp"
+
+namespace maxslice::verify {
+
+/// How to verify a program (docs/verifier.md).
+struct VerifySettings {
+    /// Voxel edge in mm; 0 = automatic: min(track / 4, h_min / 2), coarsened until the grid
+    /// holds at most max_voxels.
+    double voxel_mm = 0.0;
+    /// Largest number of voxels of the automatic grid (a given voxel_mm is refused above it).
+    double max_voxels = 4.0e8;
+    /// Largest distance (mm) the tool tip, or the far end of the nozzle, moves between two
+    /// checked poses; 0 = automatic: half a track, at most 1 mm, at least one voxel.
+    double sample_mm = 0.0;
+    /// Gap below which the head counts as colliding with deposited material, mm. 0 = pure
+    /// contact (decision 0010); the profile's nozzle clearance_mm may be given here instead.
+    double clearance_mm = 0.0;
+    /// The program's dialect; unset = the machine profile's.
+    std::optional<ProgramDialect> dialect;
+};
+
+/// Where a finding first happened.
+struct Location {
+    int line = 0;          ///< 1-based program line
+    core::Vec3d point_mm;  ///< part frame: the contact / bead / tip point
+    std::string detail;    ///< what was found, for a person
+};
+
+/// A kind of fault: how many program blocks have it and the first one.
+struct Finding {
+    std::size_t count = 0;
+    std::optional<Location> first;
+};
+
+/// What the verifier found (docs/verifier.md). Volumes in mm^3, lengths in mm, times in s.
+struct Report {
+    std::string dialect;
+    std::string machine_kinematics;
+    int lines = 0;
+    std::size_t moves = 0;  ///< positioning blocks
+    std::size_t deposit_moves = 0;
+    int laser_on_count = 0;
+    double voxel_mm = 0.0;
+    double sample_mm = 0.0;
+    std::size_t poses_checked = 0;  ///< sampled poses the nozzle was checked at
+    bool default_nozzle = false;    ///< the profile has no [machine.nozzle]: defaults used
+    double clearance_mm = 0.0;
+
+    Finding collisions;   ///< blocks where the head meets material of earlier blocks
+    Finding unsupported;  ///< deposit blocks with a bead piece resting on nothing
+    double unsupported_length_mm = 0.0;
+    Finding limit_violations;  ///< blocks with a pose outside machine.axes
+
+    double model_volume_mm3 = 0.0;      ///< voxelized model
+    double deposited_volume_mm3 = 0.0;  ///< voxelized beads
+    double covered_volume_mm3 = 0.0;    ///< model inside beads
+    double excess_volume_mm3 = 0.0;     ///< beads outside the model
+    double coverage = 0.0;              ///< covered / model, [0, 1]
+    double excess = 0.0;                ///< excess / model
+
+    double deposition_length_mm = 0.0;  ///< tool tip path with the laser on (part frame)
+    double idle_length_mm = 0.0;        ///< linear axes' path with the laser off (machine)
+    double rotary_travel_deg = 0.0;     ///< sum of |dA|+|dC| (or B)
+    double deposit_time_s = 0.0;
+    double idle_time_s = 0.0;  ///< laser-off moves (G0 at machine.feed_max_mm_min)
+    double dwell_time_s = 0.0;
+    double build_time_s = 0.0;  ///< sum of the above (no acceleration: a lower bound)
+    double bead_height_min_mm = 0.0;
+    double bead_height_max_mm = 0.0;
+
+    /// No collisions, no unsupported beads and no axis-limit violations.
+    [[nodiscard]] bool passed() const {
+        return collisions.count == 0 && unsupported.count == 0 && limit_violations.count == 0;
+    }
+};
+
+/// The model placed as the job places a part on the plate (docs/program-dialects.md): rotated
+/// so that `base_direction` points to +Z (Rodrigues about d x Z, a half turn about X for -Z),
+/// lowest point at Z = 0, the centre of its XY bounding box on the plate centre (the middle of
+/// the X and Y travel for "xyz" machines, (c_offset) for table machines). Part frame, mm.
+/// Errors (kInvalidInput): empty mesh, zero or non-finite direction.
+[[nodiscard]] core::Result<mesh::TriangleMesh> place_model(mesh::TriangleMesh model,
+                                                           const core::Vec3d& base_direction,
+                                                           const machine::MachineProfile& machine);
+
+/// Verifies a program against the placed model (part frame) and the profiles: replays it
+/// (replay_program), lays beads in a voxel grid and checks collisions, support and axis limits
+/// and measures coverage, excess, lengths and time. A program that fails the checks is a
+/// Report with passed() false, not an error. Errors: the program does not parse (context
+/// "line N"), invalid profiles or settings, a grid too large for max_voxels.
+[[nodiscard]] core::Result<Report> verify_program(std::string_view program_text,
+                                                  const mesh::TriangleMesh& placed_model,
+                                                  const machine::Profiles& profiles,
+                                                  const VerifySettings& settings = {});
+
+/// The report as JSON (fixed key order and number formats: same report, same bytes).
+[[nodiscard]] std::string report_json(const Report& report);
+
+/// The report as text for a person, one finding per line.
+[[nodiscard]] std::string report_text(const Report& report);
+
+}  // namespace maxslice::verify

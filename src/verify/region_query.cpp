@@ -1,0 +1,235 @@
+#include "region_query.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+namespace maxslice::verify::detail {
+namespace {
+
+using core::Vec3d;
+
+double segment_distance(const AxialPoint& p, const AxialPoint& q, double a, double r) {
+    const double ea = q.a - p.a, er = q.r - p.r;
+    const double len2 = ea * ea + er * er;
+    double t = len2 > 0.0 ? ((a - p.a) * ea + (r - p.r) * er) / len2 : 0.0;
+    t = std::clamp(t, 0.0, 1.0);
+    const double da = a - (p.a + t * ea), dr = r - (p.r + t * er);
+    return std::sqrt(da * da + dr * dr);
+}
+
+double polygon_distance(const std::array<AxialPoint, 4>& poly, double a, double r) {
+    double inside = -std::numeric_limits<double>::infinity();
+    bool outside = false;
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < 4; ++i) {
+        const AxialPoint& p = poly[i];
+        const AxialPoint& q = poly[(i + 1) % 4];
+        const double ea = q.a - p.a, er = q.r - p.r;
+        const double len = std::sqrt(ea * ea + er * er);
+        if (len == 0.0) continue;
+        // Outward normal of a counter-clockwise edge: (er, -ea).
+        const double line = ((a - p.a) * er - (r - p.r) * ea) / len;
+        if (line > 0.0) outside = true;
+        inside = std::max(inside, line);
+        best = std::min(best, segment_distance(p, q, a, r));
+    }
+    return outside ? best : inside;
+}
+
+struct Query {
+    const OccupancyPyramid& grid;
+    Vec3d origin;
+    double voxel;
+    Vec3d apex;
+    Vec3d axis;
+    double axial_half_extent;  // |axis.x| + |axis.y| + |axis.z|, times half a cell
+    const Region& region;
+    double margin;
+    Vec3d* hit;
+
+    bool cell(int level, int i, int j, int k) const {
+        const BitGrid& g = grid.level(level);
+        if (i >= g.nx() || j >= g.ny() || k >= g.nz()) return false;
+        if (!g.get(i, j, k)) return false;
+        const double size = voxel * static_cast<double>(1 << level);
+        const Vec3d c = origin + Vec3d{(i + 0.5) * size, (j + 0.5) * size, (k + 0.5) * size};
+        const Vec3d rel = c - apex;
+        const double a = core::dot(rel, axis);
+        const double r = core::norm(rel - axis * a);
+        if (level == 0) {
+            if (a < region.a_min) return false;
+            const double bound = region.distance_bound(a, r);
+            if (bound > margin || (margin > 0.0 && region.distance(a, r) > margin)) return false;
+            if (hit != nullptr) *hit = c;
+            return true;
+        }
+        const double ext = 0.5 * size * axial_half_extent;
+        if (a + ext < region.a_min || a - ext > region.a_max + margin) return false;
+        const double rho = 0.5 * size * std::numbers::sqrt3;
+        if (region.distance_bound(a, r) > margin + rho) return false;
+        for (int di = 0; di < 2; ++di) {
+            for (int dj = 0; dj < 2; ++dj) {
+                for (int dk = 0; dk < 2; ++dk) {
+                    if (cell(level - 1, 2 * i + di, 2 * j + dj, 2 * k + dk)) return true;
+                }
+            }
+        }
+        return false;
+    }
+};
+
+}  // namespace
+
+void Region::add(const std::array<AxialPoint, 4>& p) {
+    if (polygons.empty()) {
+        a_min = std::numeric_limits<double>::infinity();
+        a_max = -std::numeric_limits<double>::infinity();
+        r_max = 0.0;
+    }
+    polygons.push_back(p);
+    std::array<Edge, 4> e{};
+    for (std::size_t i = 0; i < 4; ++i) {
+        const AxialPoint& u = p[i];
+        const AxialPoint& w = p[(i + 1) % 4];
+        const double ea = w.a - u.a, er = w.r - u.r;
+        const double len = std::sqrt(ea * ea + er * er);
+        if (len == 0.0) {
+            e[i] = {0.0, 0.0, 0.0};  // never the largest for a point outside
+            continue;
+        }
+        e[i] = {er / len, -ea / len, (u.a * er - u.r * ea) / len};
+    }
+    edges.push_back(e);
+    for (const AxialPoint& q : p) {
+        a_min = std::min(a_min, q.a);
+        a_max = std::max(a_max, q.a);
+        r_max = std::max(r_max, std::abs(q.r));
+    }
+}
+
+double Region::distance_bound(double a, double r) const {
+    double d = std::numeric_limits<double>::infinity();
+    for (const auto& poly : edges) {
+        double m = -std::numeric_limits<double>::infinity();
+        for (const Edge& e : poly) m = std::max(m, a * e.na + r * e.nr - e.offset);
+        d = std::min(d, m);
+    }
+    return d;
+}
+
+double Region::distance(double a, double r) const {
+    double d = std::numeric_limits<double>::infinity();
+    for (const auto& p : polygons) d = std::min(d, polygon_distance(p, a, r));
+    return d;
+}
+
+bool find_occupied(const OccupancyPyramid& grid, const Vec3d& origin, double voxel,
+                   const Vec3d& apex, const Vec3d& axis, const Region& region, double margin,
+                   Vec3d* hit) {
+    if (region.polygons.empty()) return false;
+    // The region's bounding box: the axis segment widened by r_max across it.
+    std::array<double, 3> lo{}, hi{};
+    const double reach = region.r_max + margin;
+    for (int c = 0; c < 3; ++c) {
+        const double ac = axis[c];
+        const double p0 = apex[c] + ac * region.a_min, p1 = apex[c] + ac * region.a_max;
+        const double across = reach * std::sqrt(std::max(0.0, 1.0 - ac * ac));
+        lo[static_cast<std::size_t>(c)] = std::min(p0, p1) - across - margin;
+        hi[static_cast<std::size_t>(c)] = std::max(p0, p1) + across + margin;
+    }
+    const BitGrid& fine = grid.fine();
+    const std::array<int, 3> n{fine.nx(), fine.ny(), fine.nz()};
+    std::array<int, 3> i0{}, i1{};
+    int span = 1;
+    for (std::size_t c = 0; c < 3; ++c) {
+        const double o = origin[static_cast<int>(c)];
+        i0[c] = std::max(0, floor_index((lo[c] - o) / voxel));
+        i1[c] = std::min(n[c] - 1, floor_index((hi[c] - o) / voxel));
+        if (i0[c] > i1[c]) return false;
+        span = std::max(span, i1[c] - i0[c] + 1);
+    }
+    // Start at the level where the box spans about two cells along its longest side.
+    int level = 0;
+    while (level + 1 < grid.level_count() && (span >> level) > 2) ++level;
+    const Query q{grid,   origin, voxel,
+                  apex,   axis,   std::abs(axis.x) + std::abs(axis.y) + std::abs(axis.z),
+                  region, margin, hit};
+    for (int i = i0[0] >> level; i <= i1[0] >> level; ++i) {
+        for (int j = i0[1] >> level; j <= i1[1] >> level; ++j) {
+            for (int k = i0[2] >> level; k <= i1[2] >> level; ++k) {
+                if (q.cell(level, i, j, k)) return true;
+            }
+        }
+    }
+    return false;
+}
+
+void fill(OccupancyPyramid& grid, const Vec3d& origin, double voxel, const Slabs& solid) {
+    core::Box3d box;
+    for (const Vec3d& c : solid.corners) box.add(c);
+    if (box.empty()) return;
+    const BitGrid& fine = grid.fine();
+    const auto index = [&](double x, int axis, int n, bool upper) {
+        // Voxel centres origin + (i + 0.5) v inside [x_lo, x_hi].
+        const double f = (x - origin[axis]) / voxel - 0.5;
+        const int i = upper ? floor_index(f) : ceil_index(f);
+        return std::clamp(i, -1, n);
+    };
+    const int i0 = std::max(0, index(box.min.x, 0, fine.nx(), false));
+    const int i1 = std::min(fine.nx() - 1, index(box.max.x, 0, fine.nx(), true));
+    const int j0 = std::max(0, index(box.min.y, 1, fine.ny(), false));
+    const int j1 = std::min(fine.ny() - 1, index(box.max.y, 1, fine.ny(), true));
+    // Slabs parallel to z bound each row's y range; only the others are evaluated per column.
+    std::vector<const Slabs::Slab*> vertical;
+    struct Tilted {
+        double nx_over_nz, ny_over_nz, lo_over_nz, hi_over_nz;
+    };
+    std::vector<Tilted> tilted;
+    for (const auto& sl : solid.slabs) {
+        if (std::abs(sl.n.z) < 1e-12) {
+            vertical.push_back(&sl);
+        } else {
+            const double inv = 1.0 / sl.n.z;
+            double lo = sl.lo * inv, hi = sl.hi * inv;
+            if (lo > hi) std::swap(lo, hi);
+            tilted.push_back({sl.n.x * inv, sl.n.y * inv, lo, hi});
+        }
+    }
+    for (int i = i0; i <= i1; ++i) {
+        const double x = origin.x + (i + 0.5) * voxel;
+        double y_lo = box.min.y, y_hi = box.max.y;
+        bool empty = false;
+        for (const auto* sl : vertical) {
+            const double base = sl->n.x * x;
+            if (std::abs(sl->n.y) < 1e-12) {
+                if (base < sl->lo || base > sl->hi) empty = true;
+                continue;
+            }
+            double a = (sl->lo - base) / sl->n.y, b = (sl->hi - base) / sl->n.y;
+            if (a > b) std::swap(a, b);
+            y_lo = std::max(y_lo, a);
+            y_hi = std::min(y_hi, b);
+        }
+        if (empty || y_lo > y_hi) continue;
+        const int ja = std::max(j0, index(y_lo, 1, fine.ny(), false));
+        const int jb = std::min(j1, index(y_hi, 1, fine.ny(), true));
+        for (int j = ja; j <= jb; ++j) {
+            const double y = origin.y + (j + 0.5) * voxel;
+            // The column x, y, z = t: each remaining slab bounds t to an interval.
+            double t0 = box.min.z, t1 = box.max.z;
+            for (const Tilted& sl : tilted) {
+                const double base = sl.nx_over_nz * x + sl.ny_over_nz * y;
+                t0 = std::max(t0, sl.lo_over_nz - base);
+                t1 = std::min(t1, sl.hi_over_nz - base);
+            }
+            if (t0 > t1) continue;
+            const int k0 = std::max(0, index(t0, 2, fine.nz(), false));
+            const int k1 = std::min(fine.nz() - 1, index(t1, 2, fine.nz(), true));
+            if (k0 <= k1) grid.set_run(i, j, k0, k1);
+        }
+    }
+}
+
+}  // namespace maxslice::verify::detail

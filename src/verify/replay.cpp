@@ -1,0 +1,566 @@
+#include "maxslice/verify/replay.hpp"
+
+#include <fmt/format.h>
+
+#include <array>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <optional>
+#include <string>
+#include <utility>
+
+namespace maxslice::verify {
+namespace {
+
+using core::ErrorCode;
+using core::Vec3d;
+
+/// A power written with 2 decimals is "on" when it exceeds the off power by more than this.
+constexpr double kPowerOnMarginW = 1e-6;
+
+core::Error line_error(int line, ErrorCode code, std::string message) {
+    return core::Error{code, std::move(message), fmt::format("line {}", line)};
+}
+
+char upper(char c) {
+    return static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+}
+bool is_space(char c) {
+    return c == ' ' || c == '\t';
+}
+bool is_alpha(char c) {
+    return std::isalpha(static_cast<unsigned char>(c)) != 0;
+}
+
+// Upper case, runs of blanks as one space, no blanks at either end.
+std::string normalize(std::string_view s) {
+    std::string out;
+    out.reserve(s.size());
+    for (char c : s) {
+        if (is_space(c)) {
+            if (!out.empty() && out.back() != ' ') out += ' ';
+        } else {
+            out += upper(c);
+        }
+    }
+    while (!out.empty() && out.back() == ' ') out.pop_back();
+    return out;
+}
+
+// A number as RS-274 writes it: optional sign, digits, optional point and digits.
+std::optional<double> parse_number(std::string_view s, std::size_t& pos) {
+    std::size_t p = pos;
+    bool negative = false;
+    if (p < s.size() && (s[p] == '+' || s[p] == '-')) {
+        negative = s[p] == '-';
+        ++p;
+    }
+    const std::size_t start = p;
+    while (p < s.size() && (std::isdigit(static_cast<unsigned char>(s[p])) != 0 || s[p] == '.')) {
+        ++p;
+    }
+    if (p == start) return std::nullopt;
+    double value = 0.0;
+    const auto [end, ec] = std::from_chars(s.data() + start, s.data() + p, value);
+    if (ec != std::errc{} || end != s.data() + p || !std::isfinite(value)) return std::nullopt;
+    pos = p;
+    return negative ? -value : value;
+}
+
+enum class Role { kLaserOn, kLaserOff, kPowderOn, kPowderOff, kStart, kEnd };
+
+struct TemplateLine {
+    std::string text;  // normalized, placeholders kept in lower case
+    Role role = Role::kStart;
+    bool literal = true;
+};
+
+// Normalizes a template block, keeping `{power}`-style placeholders as written.
+std::string normalize_template(std::string_view s) {
+    std::string out;
+    bool in_placeholder = false;
+    for (char c : s) {
+        if (c == '{') in_placeholder = true;
+        if (in_placeholder) {
+            out += c;
+            if (c == '}') in_placeholder = false;
+        } else if (is_space(c)) {
+            if (!out.empty() && out.back() != ' ') out += ' ';
+        } else {
+            out += upper(c);
+        }
+    }
+    while (!out.empty() && out.back() == ' ') out.pop_back();
+    return out;
+}
+
+// Matches a normalized line against a template; `power_w` receives the laser power that a
+// {power} or {power_pct} placeholder stands for.
+bool match_template(const TemplateLine& t, std::string_view line, double power_max_w,
+                    std::optional<double>& power_w) {
+    std::size_t i = 0, j = 0;
+    const std::string_view tt = t.text;
+    while (i < tt.size()) {
+        if (tt[i] == '{') {
+            const std::size_t close = tt.find('}', i);
+            const std::string_view name = tt.substr(i + 1, close - i - 1);
+            const auto v = parse_number(line, j);
+            if (!v) return false;
+            if (name == "power") power_w = *v;
+            if (name == "power_pct") power_w = *v * power_max_w / 100.0;
+            i = close + 1;
+            continue;
+        }
+        if (j >= line.size() || line[j] != tt[i]) return false;
+        ++i;
+        ++j;
+    }
+    return j == line.size();
+}
+
+struct Words {
+    std::array<std::optional<double>, 26> value;  // by letter
+    std::vector<double> g;                        // G codes in the block
+    std::vector<int> m;                           // M codes
+    bool traori = false;
+    bool trafoof = false;
+
+    [[nodiscard]] const std::optional<double>& operator[](char letter) const {
+        return value[static_cast<std::size_t>(letter - 'A')];
+    }
+    [[nodiscard]] bool has_g(double code) const {
+        for (double c : g) {
+            if (std::abs(c - code) < 1e-9) return true;
+        }
+        return false;
+    }
+};
+
+class Replayer {
+public:
+    Replayer(const machine::Profiles& profiles, const machine::MachineKinematics& kin,
+             ProgramDialect dialect)
+        : profiles_(profiles), kin_(kin), dialect_(dialect) {
+        const auto& codes = profiles.machine.codes;
+        const std::pair<const machine::CodeTemplate*, Role> all[] = {
+            {&codes.laser_on, Role::kLaserOn},    {&codes.laser_off, Role::kLaserOff},
+            {&codes.powder_on, Role::kPowderOn},  {&codes.powder_off, Role::kPowderOff},
+            {&codes.program_start, Role::kStart}, {&codes.program_end, Role::kEnd}};
+        for (const auto& [tmpl, role] : all) {
+            for (const std::string& b : tmpl->blocks) {
+                TemplateLine t;
+                t.text = normalize_template(b);
+                t.role = role;
+                t.literal = t.text.find('{') == std::string::npos;
+                if (!t.text.empty()) templates_.push_back(std::move(t));
+            }
+        }
+        table_ = machine::is_table_tilt(profiles.machine.kinematics);
+        tilt_letter_ = profiles.machine.kinematics == machine::Kinematics::kTableBc ? 'B' : 'A';
+        if (profiles.machine.table) pivot_ = profiles.machine.table->pivot_mm;
+    }
+
+    core::Result<Replay> run(std::string_view text) {
+        Replay out;
+        out.dialect = dialect_;
+        int line_no = 0;
+        std::size_t pos = 0;
+        while (pos < text.size() && !ended_) {
+            std::size_t eol = text.find('\n', pos);
+            if (eol == std::string_view::npos) eol = text.size();
+            std::string_view line = text.substr(pos, eol - pos);
+            pos = eol + 1;
+            ++line_no;
+            if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+            if (auto ok = line_(line, line_no, out); !ok) return std::unexpected(ok.error());
+        }
+        int lines = line_no;
+        // Lines after the end code are counted but not read (the controller stops there).
+        while (pos < text.size()) {
+            std::size_t eol = text.find('\n', pos);
+            if (eol == std::string_view::npos) eol = text.size();
+            pos = eol + 1;
+            ++lines;
+        }
+        out.line_count = lines;
+        return out;
+    }
+
+private:
+    core::Result<void> line_(std::string_view raw, int line_no, Replay& out) {
+        std::string_view block = raw;
+        if (dialect_ == ProgramDialect::kGm) {
+            std::size_t p = 0;
+            while (p < block.size() && is_space(block[p])) ++p;
+            if (p == block.size()) return {};
+            const auto power = parse_number(block, p);
+            if (!power || p >= block.size() || !is_space(block[p])) {
+                return std::unexpected(line_error(line_no, ErrorCode::kInvalidInput,
+                                                  "gm line must start with the power and powder "
+                                                  "columns: '" +
+                                                      std::string(raw) + "'"));
+            }
+            while (p < block.size() && is_space(block[p])) ++p;
+            const auto powder = parse_number(block, p);
+            if (!powder || (p < block.size() && !is_space(block[p]))) {
+                return std::unexpected(line_error(line_no, ErrorCode::kInvalidInput,
+                                                  "gm line must start with the power and powder "
+                                                  "columns: '" +
+                                                      std::string(raw) + "'"));
+            }
+            set_laser(*power > profiles_.process.laser_power_off_w + kPowerOnMarginW, out);
+            block = block.substr(p);
+        }
+        auto stripped = strip_comments(block, line_no);
+        if (!stripped) return std::unexpected(stripped.error());
+        const std::string norm = normalize(*stripped);
+        if (norm.empty()) return {};
+        if (dialect_ == ProgramDialect::kFanuc && norm == "%") return {};
+        if (match_codes(norm, out)) return {};
+        auto words = parse_words(norm, line_no);
+        if (!words) return std::unexpected(words.error());
+        return apply(*words, line_no, raw, out);
+    }
+
+    core::Result<std::string> strip_comments(std::string_view s, int line_no) const {
+        const bool parens = dialect_ != ProgramDialect::kSiemens;
+        const bool semicolon =
+            dialect_ == ProgramDialect::kLinuxCnc || dialect_ == ProgramDialect::kSiemens;
+        std::string out;
+        out.reserve(s.size());
+        for (std::size_t i = 0; i < s.size(); ++i) {
+            if (semicolon && s[i] == ';') break;
+            if (parens && s[i] == '(') {
+                const std::size_t close = s.find(')', i);
+                if (close == std::string_view::npos) {
+                    return std::unexpected(
+                        line_error(line_no, ErrorCode::kInvalidInput, "unclosed comment '('"));
+                }
+                out += ' ';
+                i = close;
+                continue;
+            }
+            out += s[i];
+        }
+        return out;
+    }
+
+    void set_laser(bool on, Replay& out) {
+        if (on && !laser_on_) ++out.laser_on_count;
+        laser_on_ = on;
+    }
+
+    // A line that is one of the profile's code blocks: sets the laser state and returns true.
+    bool match_codes(const std::string& norm, Replay& out) {
+        for (const bool literal : {true, false}) {
+            bool matched = false;
+            for (const TemplateLine& t : templates_) {
+                if (t.literal != literal) continue;
+                std::optional<double> power;
+                if (!match_template(t, norm, profiles_.machine.laser_power_max_w, power)) continue;
+                matched = true;
+                if (dialect_ == ProgramDialect::kGm) continue;  // gm: the power column rules
+                if (t.role == Role::kLaserOn) {
+                    set_laser(
+                        !power || *power > profiles_.process.laser_power_off_w + kPowerOnMarginW,
+                        out);
+                } else if (t.role == Role::kLaserOff) {
+                    set_laser(false, out);
+                }
+            }
+            if (matched) return true;
+        }
+        return false;
+    }
+
+    core::Result<Words> parse_words(const std::string& s, int line_no) const {
+        Words w;
+        std::size_t p = 0;
+        while (p < s.size()) {
+            if (s[p] == ' ') {
+                ++p;
+                continue;
+            }
+            if (!is_alpha(s[p])) {
+                return std::unexpected(
+                    line_error(line_no, ErrorCode::kInvalidInput,
+                               fmt::format("unexpected '{}' in block '{}'", s[p], s)));
+            }
+            std::size_t q = p;
+            while (q < s.size() && is_alpha(s[q])) ++q;
+            if (q - p > 1) {
+                const std::string_view kw = std::string_view(s).substr(p, q - p);
+                if (dialect_ == ProgramDialect::kSiemens && kw == "TRAORI") {
+                    w.traori = true;
+                } else if (dialect_ == ProgramDialect::kSiemens && kw == "TRAFOOF") {
+                    w.trafoof = true;
+                } else {
+                    return std::unexpected(
+                        line_error(line_no, ErrorCode::kInvalidInput,
+                                   fmt::format("unknown word '{}' for dialect {} in block '{}'", kw,
+                                               dialect_name(dialect_), s)));
+                }
+                p = q;
+                continue;
+            }
+            const char letter = s[p];
+            ++p;
+            while (p < s.size() && s[p] == ' ') ++p;
+            const auto v = parse_number(s, p);
+            if (!v || (p < s.size() && !is_alpha(s[p]) && s[p] != ' ')) {
+                return std::unexpected(line_error(
+                    line_no, ErrorCode::kInvalidInput,
+                    fmt::format("malformed number after '{}' in block '{}'", letter, s)));
+            }
+            if (letter == 'G') {
+                w.g.push_back(*v);
+            } else if (letter == 'M') {
+                if (*v != std::floor(*v)) {
+                    return std::unexpected(line_error(line_no, ErrorCode::kInvalidInput,
+                                                      fmt::format("malformed M code in '{}'", s)));
+                }
+                w.m.push_back(static_cast<int>(*v));
+            } else {
+                auto& slot = w.value[static_cast<std::size_t>(letter - 'A')];
+                if (slot) {
+                    return std::unexpected(
+                        line_error(line_no, ErrorCode::kInvalidInput,
+                                   fmt::format("word {} twice in block '{}'", letter, s)));
+                }
+                slot = *v;
+            }
+        }
+        return w;
+    }
+
+    core::Result<void> apply(const Words& w, int line_no, std::string_view raw, Replay& out) {
+        const auto fail = [&](ErrorCode code, std::string msg) -> core::Result<void> {
+            return std::unexpected(
+                line_error(line_no, code, msg + " in '" + std::string(normalize(raw)) + "'"));
+        };
+        const bool fanuc = dialect_ == ProgramDialect::kFanuc;
+        const bool siemens = dialect_ == ProgramDialect::kSiemens;
+        bool dwell = false;
+        std::optional<bool> motion;  // rapid?
+        for (const double g : w.g) {
+            const auto is = [&](double c) { return std::abs(g - c) < 1e-9; };
+            if (is(0)) {
+                motion = true;
+            } else if (is(1)) {
+                motion = false;
+            } else if (is(4)) {
+                dwell = true;
+            } else if (is(17) || is(90) || is(94)) {
+                // plane XY, absolute, feed per minute: the only modes a program may use
+            } else if (is(21) && !siemens) {
+            } else if (is(71) && siemens) {
+            } else if ((is(20) && !siemens) || (is(70) && siemens)) {
+                return fail(ErrorCode::kUnsupported, "inch units are not supported");
+            } else if (is(91)) {
+                return fail(ErrorCode::kUnsupported,
+                            "incremental distances (G91) are not supported");
+            } else if (is(93) || is(95)) {
+                return fail(ErrorCode::kUnsupported, "only feed per minute (G94) is supported");
+            } else if (fanuc && is(43.4)) {
+                if (!w['H']) return fail(ErrorCode::kInvalidInput, "G43.4 without H");
+                tcp_ = true;
+            } else if (fanuc && is(49)) {
+                tcp_ = false;
+            } else {
+                return fail(ErrorCode::kInvalidInput,
+                            fmt::format("unsupported G code G{} for dialect {}", g,
+                                        dialect_name(dialect_)));
+            }
+        }
+        if (w.traori) tcp_ = true;
+        if (w.trafoof) tcp_ = false;
+        for (const int m : w.m) {
+            if (m == 2 || m == 30) {
+                ended_ = true;
+            } else {
+                return fail(ErrorCode::kInvalidInput,
+                            fmt::format("unknown code M{} (not one of the profile's "
+                                        "[machine.codes] blocks)",
+                                        m));
+            }
+        }
+        // Allowed letters.
+        for (char c = 'A'; c <= 'Z'; ++c) {
+            if (!w[c]) continue;
+            bool ok = false;
+            switch (c) {
+                case 'X':
+                case 'Y':
+                case 'Z':
+                case 'F':
+                case 'N': ok = true; break;
+                case 'A': ok = profiles_.machine.kinematics == machine::Kinematics::kTableAc; break;
+                case 'B': ok = profiles_.machine.kinematics == machine::Kinematics::kTableBc; break;
+                case 'C': ok = table_; break;
+                case 'P': ok = dwell && !fanuc && !siemens; break;
+                case 'H': ok = fanuc && w.has_g(43.4); break;
+                case 'O': ok = fanuc; break;
+                default: ok = false;
+            }
+            if (!ok) {
+                return fail(ErrorCode::kInvalidInput,
+                            fmt::format("word {} is not valid here (machine kinematics {}, "
+                                        "dialect {})",
+                                        c, machine::kinematics_name(profiles_.machine.kinematics),
+                                        dialect_name(dialect_)));
+            }
+        }
+        if (dwell) {
+            double seconds = 0.0;
+            std::optional<double> v;
+            switch (dialect_) {
+                case ProgramDialect::kGm: v = w['P'] ? std::optional(*w['P'] / 1000.0) : v; break;
+                case ProgramDialect::kLinuxCnc: v = w['P']; break;
+                case ProgramDialect::kFanuc: v = w['X']; break;
+                case ProgramDialect::kSiemens: v = w['F']; break;
+            }
+            if (!v || *v < 0.0) return fail(ErrorCode::kInvalidInput, "dwell without a valid time");
+            seconds = *v;
+            const bool others = (w['X'] && !fanuc) || w['Y'] || w['Z'] || w['A'] || w['B'] ||
+                                w['C'] || (w['F'] && !siemens) || motion;
+            if (others) return fail(ErrorCode::kInvalidInput, "a dwell block must not move");
+            ReplayBlock b;
+            b.kind = ReplayBlock::Kind::kDwell;
+            b.line = line_no;
+            b.from = b.pose = pose_;
+            const machine::ToolPose tp = kin_.forward(pose_);
+            b.tip_mm = tp.tip_mm;
+            b.direction = tp.direction;
+            b.laser_on = laser_on_;
+            b.dwell_s = seconds;
+            b.pose_known = pose_known();
+            b.tcp = tcp_;
+            out.blocks.push_back(b);
+            return {};
+        }
+        if (w['F']) {
+            if (*w['F'] <= 0.0) return fail(ErrorCode::kInvalidInput, "feed must be positive");
+            feed_ = *w['F'];
+        }
+        if (motion) motion_ = motion;
+        const bool axes = w['X'] || w['Y'] || w['Z'] || w[tilt_letter_] || (table_ && w['C']);
+        if (!axes) return {};
+        if (!motion_) return fail(ErrorCode::kInvalidInput, "axis words before any G0 / G1");
+        if (!*motion_ && feed_ <= 0.0) return fail(ErrorCode::kInvalidInput, "G1 without a feed");
+
+        ReplayBlock b;
+        b.line = line_no;
+        b.rapid = *motion_;
+        b.tcp = tcp_;
+        b.from = pose_;
+        machine::MachinePose next = pose_;
+        if (table_) {
+            if (w[tilt_letter_]) next.a_or_b_deg = *w[tilt_letter_];
+            if (w['C']) next.c_deg = *w['C'];
+        }
+        if (tcp_) {
+            // X Y Z are pivot + the part-frame tip; the machine's linear axes follow from the
+            // tip and the new rotary values.
+            Vec3d programmed = kin_.forward(pose_).tip_mm + pivot_;
+            if (w['X']) programmed.x = *w['X'];
+            if (w['Y']) programmed.y = *w['Y'];
+            if (w['Z']) programmed.z = *w['Z'];
+            const Vec3d m = machine_xyz(programmed - pivot_, next);
+            next.x = m.x;
+            next.y = m.y;
+            next.z = m.z;
+        } else {
+            if (w['X']) next.x = *w['X'];
+            if (w['Y']) next.y = *w['Y'];
+            if (w['Z']) next.z = *w['Z'];
+        }
+        known_[0] = known_[0] || w['X'].has_value() || tcp_;
+        known_[1] = known_[1] || w['Y'].has_value() || tcp_;
+        known_[2] = known_[2] || w['Z'].has_value() || tcp_;
+        known_[3] = known_[3] || !table_ || w[tilt_letter_].has_value();
+        known_[4] = known_[4] || !table_ || w['C'].has_value();
+        pose_ = next;
+        b.pose = next;
+        b.pose_known = pose_known();
+        const machine::ToolPose tp = kin_.forward(next);
+        b.tip_mm = tp.tip_mm;
+        b.direction = tp.direction;
+        b.feed_mm_min = b.rapid ? profiles_.machine.feed_max_mm_min : feed_;
+        b.laser_on = laser_on_;
+        out.blocks.push_back(b);
+        return {};
+    }
+
+    [[nodiscard]] bool pose_known() const {
+        return known_[0] && known_[1] && known_[2] && known_[3] && known_[4];
+    }
+
+    // The linear axes that put the part-frame `tip` under the tool with the rotary values of
+    // `pose`: forward is affine in X Y Z for fixed rotary values, tip = M p + t0 with M a
+    // rotation, so p = M^T (tip - t0).
+    [[nodiscard]] Vec3d machine_xyz(const Vec3d& tip, const machine::MachinePose& pose) const {
+        machine::MachinePose p = pose;
+        p.x = p.y = p.z = 0.0;
+        const Vec3d t0 = kin_.forward(p).tip_mm;
+        std::array<Vec3d, 3> col;
+        for (int i = 0; i < 3; ++i) {
+            machine::MachinePose e = p;
+            (i == 0 ? e.x : (i == 1 ? e.y : e.z)) = 1.0;
+            col[static_cast<std::size_t>(i)] = kin_.forward(e).tip_mm - t0;
+        }
+        const Vec3d d = tip - t0;
+        return {core::dot(col[0], d), core::dot(col[1], d), core::dot(col[2], d)};
+    }
+
+    const machine::Profiles& profiles_;
+    const machine::MachineKinematics& kin_;
+    ProgramDialect dialect_;
+    std::vector<TemplateLine> templates_;
+    bool table_ = false;
+    char tilt_letter_ = 'A';
+    Vec3d pivot_{};
+    machine::MachinePose pose_{};
+    std::array<bool, 5> known_{};
+    std::optional<bool> motion_;
+    double feed_ = 0.0;
+    bool laser_on_ = false;
+    bool tcp_ = false;
+    bool ended_ = false;
+};
+
+}  // namespace
+
+std::string_view dialect_name(ProgramDialect dialect) {
+    switch (dialect) {
+        case ProgramDialect::kGm: return "gm";
+        case ProgramDialect::kLinuxCnc: return "linuxcnc";
+        case ProgramDialect::kFanuc: return "fanuc";
+        case ProgramDialect::kSiemens: return "siemens";
+    }
+    return "unknown";
+}
+
+core::Result<ProgramDialect> parse_dialect(std::string_view name) {
+    for (const ProgramDialect d : {ProgramDialect::kGm, ProgramDialect::kLinuxCnc,
+                                   ProgramDialect::kFanuc, ProgramDialect::kSiemens}) {
+        if (dialect_name(d) == name) return d;
+    }
+    return core::fail(
+        ErrorCode::kInvalidInput,
+        fmt::format("unknown dialect '{}' (use gm, linuxcnc, fanuc or siemens)", name));
+}
+
+core::Result<ProgramDialect> dialect_of(const machine::MachineProfile& machine) {
+    return parse_dialect(machine::dialect_name(machine.dialect));
+}
+
+core::Result<Replay> replay_program(std::string_view program_text,
+                                    const machine::Profiles& profiles, ProgramDialect dialect) {
+    auto kin = machine::MachineKinematics::create(profiles.machine);
+    if (!kin) return std::unexpected(kin.error());
+    Replayer r(profiles, *kin, dialect);
+    return r.run(program_text);
+}
+
+}  // namespace maxslice::verify

@@ -1,0 +1,128 @@
+#include <fmt/format.h>
+
+#include <iterator>
+#include <string>
+
+#include "maxslice/verify/verify.hpp"
+
+namespace maxslice::verify {
+namespace {
+
+// JSON string escaping for the few free-text fields (details, names).
+std::string json_string(std::string_view s) {
+    std::string out = "\"";
+    for (const char c : s) {
+        switch (c) {
+            case '"': out += "\\\""; break;
+            case '\\': out += "\\\\"; break;
+            case '\n': out += "\\n"; break;
+            case '\t': out += "\\t"; break;
+            default:
+                if (static_cast<unsigned char>(c) < 0x20) {
+                    out += fmt::format("\\u{:04x}", static_cast<int>(c));
+                } else {
+                    out += c;
+                }
+        }
+    }
+    return out + "\"";
+}
+
+// Fixed decimals, never "-0.000".
+std::string num(double v, int decimals) {
+    std::string s = fmt::format("{:.{}f}", v, decimals);
+    if (s.front() == '-' && s.find_first_not_of("0.", 1) == std::string::npos) s.erase(0, 1);
+    return s;
+}
+
+std::string finding_json(const Finding& f) {
+    std::string out = fmt::format("{{\"count\": {}", f.count);
+    if (f.first) {
+        const auto& p = f.first->point_mm;
+        out += fmt::format(
+            ", \"first\": {{\"line\": {}, \"point_mm\": [{}, {}, {}], \"detail\": {}}}",
+            f.first->line, num(p.x, 3), num(p.y, 3), num(p.z, 3), json_string(f.first->detail));
+    }
+    return out + "}";
+}
+
+std::string finding_text(std::string_view name, const Finding& f) {
+    if (f.count == 0) return fmt::format("{:<16}none\n", name);
+    return fmt::format("{:<16}{} (first: line {}: {})\n", name, f.count, f.first->line,
+                       f.first->detail);
+}
+
+}  // namespace
+
+std::string report_json(const Report& r) {
+    std::string out = "{\n";
+    const auto field = [&](std::string_view key, const std::string& value, bool last = false) {
+        out += fmt::format("  \"{}\": {}{}\n", key, value, last ? "" : ",");
+    };
+    field("passed", r.passed() ? "true" : "false");
+    field("dialect", json_string(r.dialect));
+    field("kinematics", json_string(r.machine_kinematics));
+    field("lines", std::to_string(r.lines));
+    field("moves", std::to_string(r.moves));
+    field("deposit_moves", std::to_string(r.deposit_moves));
+    field("laser_on_count", std::to_string(r.laser_on_count));
+    field("voxel_mm", num(r.voxel_mm, 4));
+    field("sample_mm", num(r.sample_mm, 4));
+    field("poses_checked", std::to_string(r.poses_checked));
+    field("default_nozzle", r.default_nozzle ? "true" : "false");
+    field("clearance_mm", num(r.clearance_mm, 3));
+    field("collisions", finding_json(r.collisions));
+    field("unsupported", finding_json(r.unsupported));
+    field("unsupported_length_mm", num(r.unsupported_length_mm, 3));
+    field("limit_violations", finding_json(r.limit_violations));
+    field("model_volume_mm3", num(r.model_volume_mm3, 3));
+    field("deposited_volume_mm3", num(r.deposited_volume_mm3, 3));
+    field("covered_volume_mm3", num(r.covered_volume_mm3, 3));
+    field("excess_volume_mm3", num(r.excess_volume_mm3, 3));
+    field("coverage", num(r.coverage, 6));
+    field("excess", num(r.excess, 6));
+    field("deposition_length_mm", num(r.deposition_length_mm, 3));
+    field("idle_length_mm", num(r.idle_length_mm, 3));
+    field("rotary_travel_deg", num(r.rotary_travel_deg, 3));
+    field("deposit_time_s", num(r.deposit_time_s, 3));
+    field("idle_time_s", num(r.idle_time_s, 3));
+    field("dwell_time_s", num(r.dwell_time_s, 3));
+    field("build_time_s", num(r.build_time_s, 3));
+    field("bead_height_min_mm", num(r.bead_height_min_mm, 4));
+    field("bead_height_max_mm", num(r.bead_height_max_mm, 4), true);
+    return out + "}\n";
+}
+
+std::string report_text(const Report& r) {
+    std::string out;
+    auto it = std::back_inserter(out);
+    fmt::format_to(it, "verification    {}\n", r.passed() ? "PASSED" : "FAILED");
+    fmt::format_to(it,
+                   "program         {} lines, {} moves ({} depositing), {} laser-on, "
+                   "dialect {}, kinematics {}\n",
+                   r.lines, r.moves, r.deposit_moves, r.laser_on_count, r.dialect,
+                   r.machine_kinematics);
+    fmt::format_to(it, "grid            voxel {:.4f} mm, poses every {:.3f} mm, {} poses checked\n",
+                   r.voxel_mm, r.sample_mm, r.poses_checked);
+    if (r.default_nozzle) {
+        out += "nozzle          no [machine.nozzle] in the profile: default cone (30 deg, 40 mm)\n";
+    }
+    out += finding_text("collisions", r.collisions);
+    out += finding_text("unsupported", r.unsupported);
+    out += finding_text("axis limits", r.limit_violations);
+    fmt::format_to(it, "coverage        {:.2f}% of the model's {:.1f} mm3 inside beads\n",
+                   100.0 * r.coverage, r.model_volume_mm3);
+    fmt::format_to(it,
+                   "excess          {:.2f}% ({:.1f} mm3 of {:.1f} mm3 deposited lies outside)\n",
+                   100.0 * r.excess, r.excess_volume_mm3, r.deposited_volume_mm3);
+    fmt::format_to(it, "deposition      {:.1f} mm, bead height {:.3f} - {:.3f} mm\n",
+                   r.deposition_length_mm, r.bead_height_min_mm, r.bead_height_max_mm);
+    fmt::format_to(it, "idle travel     {:.1f} mm, rotary {:.1f} deg\n", r.idle_length_mm,
+                   r.rotary_travel_deg);
+    fmt::format_to(it, "build time      {:.1f} min (deposit {:.1f}, idle {:.1f}, dwell {:.1f})\n",
+                   r.build_time_s / 60.0, r.deposit_time_s / 60.0, r.idle_time_s / 60.0,
+                   r.dwell_time_s / 60.0);
+    return out;
+}
+
+}  // namespace maxslice::verify

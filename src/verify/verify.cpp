@@ -1,0 +1,590 @@
+// The independent verifier (METHOD.md section 12, docs/verifier.md): replays a program through
+// the forward kinematics, lays beads in a voxel grid as it goes and checks the head against
+// the material of earlier blocks. It shares nothing with the planner.
+#include "maxslice/verify/verify.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <numbers>
+#include <optional>
+#include <utility>
+
+#include "maxslice/machine/kinematics.hpp"
+#include "maxslice/machine/speed_law.hpp"
+#include "model_voxels.hpp"
+#include "region_query.hpp"
+#include "voxel_grid.hpp"
+
+namespace maxslice::verify {
+namespace {
+
+using core::ErrorCode;
+using core::Vec3d;
+using detail::OccupancyPyramid;
+using detail::Region;
+
+/// Nozzle points closer than this many voxels to the apex (along the axis) are not checked:
+/// the bead under the tip touches the apex by construction (voxel centres lie up to half a
+/// voxel off the bead's true top).
+constexpr double kApexToleranceVoxels = 1.0;
+/// Support: earlier material is looked for from this many voxels below the bead's bottom
+/// (so the neighbouring track of the same layer does not count) ...
+constexpr double kSupportGapVoxels = 0.25;
+/// ... down to this many voxels further (a layer below found within about two voxels).
+constexpr double kSupportDepthVoxels = 2.0;
+/// A bead bottom this many voxels above the plate (part z = 0) or lower rests on the plate.
+constexpr double kPlateToleranceVoxels = 1.0;
+/// Axis values within this of a limit pass (the program rounds to 3 decimals).
+constexpr double kLimitToleranceMmOrDeg = 1e-6;
+/// Most poses checked along one block (a 100 m move at 1 mm; a program sending the tool
+/// farther is caught by the axis limits).
+constexpr double kMaxSamples = 1.0e5;
+/// Subdivisions used to estimate the path of a move that turns the table.
+constexpr int kArcProbe = 16;
+
+double lerp(double a, double b, double t) {
+    return a + (b - a) * t;
+}
+
+machine::MachinePose lerp(const machine::MachinePose& a, const machine::MachinePose& b, double t) {
+    return {lerp(a.x, b.x, t), lerp(a.y, b.y, t), lerp(a.z, b.z, t),
+            lerp(a.a_or_b_deg, b.a_or_b_deg, t), lerp(a.c_deg, b.c_deg, t)};
+}
+
+Vec3d any_perpendicular(const Vec3d& d) {
+    const Vec3d other = std::abs(d.x) < 0.9 ? Vec3d{1, 0, 0} : Vec3d{0, 1, 0};
+    return core::normalized(core::cross(d, other));
+}
+
+struct Sample {
+    machine::MachinePose pose;
+    Vec3d tip;
+    Vec3d dir;
+};
+
+// The linear axes that put the part-frame `tip` under the tool with the rotary values of
+// `pose` (forward is affine in X Y Z for fixed rotary values).
+Vec3d machine_xyz(const machine::MachineKinematics& kin, const Vec3d& tip,
+                  machine::MachinePose pose) {
+    pose.x = pose.y = pose.z = 0.0;
+    const Vec3d t0 = kin.forward(pose).tip_mm;
+    std::array<Vec3d, 3> col;
+    for (int i = 0; i < 3; ++i) {
+        machine::MachinePose e = pose;
+        (i == 0 ? e.x : (i == 1 ? e.y : e.z)) = 1.0;
+        col[static_cast<std::size_t>(i)] = kin.forward(e).tip_mm - t0;
+    }
+    const Vec3d d = tip - t0;
+    return {core::dot(col[0], d), core::dot(col[1], d), core::dot(col[2], d)};
+}
+
+class Verifier {
+public:
+    Verifier(const machine::Profiles& profiles, const machine::MachineKinematics& kin,
+             const VerifySettings& settings, const machine::NozzleProfile& nozzle)
+        : profiles_(profiles),
+          process_(profiles.process),
+          kin_(kin),
+          settings_(settings),
+          nozzle_(nozzle),
+          law_(machine::SpeedLaw::of(profiles.process)) {}
+
+    core::Result<Report> run(const Replay& replay, const mesh::TriangleMesh& model) {
+        Report rep;
+        rep.dialect = std::string(dialect_name(replay.dialect));
+        rep.machine_kinematics =
+            std::string(machine::kinematics_name(profiles_.machine.kinematics));
+        rep.lines = replay.line_count;
+        rep.laser_on_count = replay.laser_on_count;
+        rep.clearance_mm = settings_.clearance_mm;
+        if (auto ok = setup_grid(replay, model, rep); !ok) return std::unexpected(ok.error());
+        model_ = detail::voxelize_model(model, origin_, voxel_, nx_, ny_, nz_);
+        build_regions();
+
+        double hmin = std::numeric_limits<double>::infinity(), hmax = 0.0;
+        bool prev_known = false;
+        bool prev_deposit = false;
+        Vec3d prev_end{};
+        for (const ReplayBlock& b : replay.blocks) {
+            if (b.kind == ReplayBlock::Kind::kDwell) {
+                rep.dwell_time_s += b.dwell_s;
+                continue;
+            }
+            ++rep.moves;
+            check_limits(b, b.pose, rep, true);
+            const bool deposit = b.laser_on;
+            if (!prev_known || !b.pose_known) {
+                prev_known = b.pose_known;
+                prev_deposit = false;
+                continue;
+            }
+            prev_known = true;
+            const double h = deposit ? law_.height_mm(b.feed_mm_min) : 0.0;
+            if (deposit) {
+                ++rep.deposit_moves;
+                hmin = std::min(hmin, h);
+                hmax = std::max(hmax, h);
+            }
+            const std::vector<Sample> samples = sample_block(b);
+            // Lengths and time.
+            const Vec3d programmed_from =
+                b.tcp ? kin_.forward(b.from).tip_mm : Vec3d{b.from.x, b.from.y, b.from.z};
+            const Vec3d programmed_to = b.tcp ? b.tip_mm : Vec3d{b.pose.x, b.pose.y, b.pose.z};
+            const double linear = core::norm(programmed_to - programmed_from);
+            const double rotary = std::abs(b.pose.a_or_b_deg - b.from.a_or_b_deg) +
+                                  std::abs(b.pose.c_deg - b.from.c_deg);
+            rep.rotary_travel_deg += rotary;
+            const double time_s = 60.0 * (linear > 0.0 ? linear : rotary) / b.feed_mm_min;
+            double tip_path = 0.0, machine_path = 0.0;
+            for (std::size_t i = 1; i < samples.size(); ++i) {
+                tip_path += core::norm(samples[i].tip - samples[i - 1].tip);
+                const auto& p = samples[i].pose;
+                const auto& q = samples[i - 1].pose;
+                machine_path += core::norm(Vec3d{p.x - q.x, p.y - q.y, p.z - q.z});
+            }
+            if (deposit) {
+                rep.deposition_length_mm += tip_path;
+                rep.deposit_time_s += time_s;
+            } else {
+                rep.idle_length_mm += machine_path;
+                rep.idle_time_s += time_s;
+            }
+            // Checks against the material of earlier blocks, then this block's bead.
+            if (b.tcp) {
+                for (std::size_t i = 1; i + 1 < samples.size(); ++i) {
+                    if (!check_limits(b, samples[i].pose, rep, false)) break;
+                }
+            }
+            check_collisions(b, samples, rep);
+            if (deposit) {
+                check_support(b, samples, h, rep);
+                const bool joined =
+                    prev_deposit && core::norm(prev_end - samples.front().tip) < 0.5 * voxel_;
+                const bool turns =
+                    b.pose.a_or_b_deg != b.from.a_or_b_deg || b.pose.c_deg != b.from.c_deg;
+                lay_bead(samples, h, joined, turns);
+            }
+            prev_deposit = deposit;
+            prev_end = samples.back().tip;
+        }
+        rep.poses_checked = poses_checked_;
+        rep.bead_height_min_mm = rep.deposit_moves > 0 ? hmin : 0.0;
+        rep.bead_height_max_mm = hmax;
+        rep.build_time_s = rep.deposit_time_s + rep.idle_time_s + rep.dwell_time_s;
+        rep.unsupported_length_mm = unsupported_length_;
+        measure_volumes(rep);
+        return rep;
+    }
+
+private:
+    core::Result<void> setup_grid(const Replay& replay, const mesh::TriangleMesh& model,
+                                  Report& rep) {
+        core::Box3d box = mesh::bounding_box(model);
+        double reach = 0.0;
+        for (const ReplayBlock& b : replay.blocks) {
+            if (b.kind != ReplayBlock::Kind::kMove || !b.laser_on || !b.pose_known) continue;
+            const double h = law_.height_mm(b.feed_mm_min);
+            reach = std::max(reach, std::max(h, 0.5 * process_.track_width_mm));
+            box.add(b.tip_mm);
+            box.add(kin_.forward(b.from).tip_mm);
+        }
+        if (box.empty()) {
+            return core::fail(ErrorCode::kInvalidInput,
+                              "nothing to verify: the model is empty and the program deposits "
+                              "nothing");
+        }
+        double v = settings_.voxel_mm;
+        const bool automatic = v <= 0.0;
+        if (automatic) v = std::min(process_.track_width_mm / 4.0, process_.h_min_mm / 2.0);
+        for (;;) {
+            const double margin = reach * 1.5 + 3.0 * v;
+            const Vec3d lo = box.min - Vec3d{margin, margin, margin};
+            const Vec3d size = box.size() + Vec3d{2 * margin, 2 * margin, 2 * margin};
+            const double n = std::ceil(size.x / v) * std::ceil(size.y / v) * std::ceil(size.z / v);
+            if (n <= settings_.max_voxels) {
+                // A fixed small shift of the origin keeps voxel centres off round coordinates,
+                // where axis-aligned model faces usually lie.
+                origin_ = lo - Vec3d{v * 0.01234567, v * 0.02345678, v * 0.01357913};
+                nx_ = static_cast<int>(std::ceil(size.x / v)) + 1;
+                ny_ = static_cast<int>(std::ceil(size.y / v)) + 1;
+                nz_ = static_cast<int>(std::ceil(size.z / v)) + 1;
+                break;
+            }
+            if (!automatic) {
+                return core::fail(ErrorCode::kInvalidInput,
+                                  fmt::format("a {:.4f} mm voxel grid over {:.1f} x {:.1f} x "
+                                              "{:.1f} mm needs {:.3g} voxels, more than {:.3g}",
+                                              v, size.x, size.y, size.z, n, settings_.max_voxels),
+                                  "--voxel");
+            }
+            v *= 1.25;
+        }
+        voxel_ = v;
+        rep.voxel_mm = v;
+        sample_ = settings_.sample_mm > 0.0
+                      ? settings_.sample_mm
+                      : std::max(v, std::min(1.0, 0.5 * process_.track_width_mm));
+        rep.sample_mm = sample_;
+        grid_ = OccupancyPyramid(nx_, ny_, nz_);
+        return {};
+    }
+
+    void build_regions() {
+        const double t = std::tan(nozzle_.half_angle_deg * std::numbers::pi / 180.0);
+        const double apex = kApexToleranceVoxels * voxel_;
+        const double len = nozzle_.cone_length_mm;
+        nozzle_region_ = Region{};
+        nozzle_region_.add(
+            {{{apex, -apex * t}, {len, -len * t}, {len, len * t}, {apex, apex * t}}});
+        if (nozzle_.body_radius_mm > 0.0 && nozzle_.body_length_mm > 0.0) {
+            const double r = nozzle_.body_radius_mm, top = len + nozzle_.body_length_mm;
+            nozzle_region_.add({{{len, -r}, {top, -r}, {top, r}, {len, r}}});
+        }
+    }
+
+    // Poses along a move: joint-space blocks interpolate every axis, tool-centre-point blocks
+    // move the tip linearly in the part frame (rotary axes linear). At most sample_ between
+    // neighbours, for the tip and for the far end of the head.
+    std::vector<Sample> sample_block(const ReplayBlock& b) const {
+        const Vec3d tip0 = kin_.forward(b.from).tip_mm;
+        const auto at = [&](double t) {
+            Sample s;
+            s.pose = lerp(b.from, b.pose, t);
+            if (b.tcp) {
+                const Vec3d tip = tip0 + (b.tip_mm - tip0) * t;
+                const Vec3d m = machine_xyz(kin_, tip, s.pose);
+                s.pose.x = m.x;
+                s.pose.y = m.y;
+                s.pose.z = m.z;
+            }
+            const machine::ToolPose tp = kin_.forward(s.pose);
+            s.tip = tp.tip_mm;
+            s.dir = tp.direction;
+            return s;
+        };
+        const bool turns = b.pose.a_or_b_deg != b.from.a_or_b_deg || b.pose.c_deg != b.from.c_deg;
+        double path = 0.0;
+        if (!turns) {
+            path = core::norm(b.tip_mm - tip0);
+        } else {
+            const double reach = nozzle_.cone_length_mm + nozzle_.body_length_mm;
+            Sample prev = at(0.0);
+            for (int i = 1; i <= kArcProbe; ++i) {
+                const Sample s = at(static_cast<double>(i) / kArcProbe);
+                const double dt = core::norm(s.tip - prev.tip);
+                const double dtop =
+                    core::norm((s.tip + s.dir * reach) - (prev.tip + prev.dir * reach));
+                path += std::max(dt, dtop);
+                prev = s;
+            }
+        }
+        const int n = static_cast<int>(std::clamp(std::ceil(path / sample_), 1.0, kMaxSamples));
+        std::vector<Sample> out;
+        out.reserve(static_cast<std::size_t>(n) + 1);
+        for (int i = 0; i <= n; ++i) out.push_back(at(static_cast<double>(i) / n));
+        return out;
+    }
+
+    // Returns false when a violation was recorded (one per block).
+    bool check_limits(const ReplayBlock& b, const machine::MachinePose& pose, Report& rep,
+                      bool endpoint) {
+        if (endpoint) limit_block_counted_ = false;
+        if (limit_block_counted_) return false;
+        const std::array<double, 5> values{pose.x, pose.y, pose.z, pose.a_or_b_deg, pose.c_deg};
+        const std::size_t axes = machine::is_table_tilt(profiles_.machine.kinematics) ? 5 : 3;
+        for (std::size_t i = 0; i < axes && i < profiles_.machine.axes.size(); ++i) {
+            const machine::AxisLimits& lim = profiles_.machine.axes[i];
+            const double v = values[i];
+            if (v >= lim.min - kLimitToleranceMmOrDeg && v <= lim.max + kLimitToleranceMmOrDeg) {
+                continue;
+            }
+            if (endpoint && !b.pose_known && !axis_programmed(b, i)) continue;
+            limit_block_counted_ = true;
+            ++rep.limit_violations.count;
+            if (!rep.limit_violations.first) {
+                rep.limit_violations.first =
+                    Location{b.line, kin_.forward(pose).tip_mm,
+                             fmt::format("{} = {:.3f} outside machine.axes.{} [{:.3f}, {:.3f}]",
+                                         lim.name, v, lim.name, lim.min, lim.max)};
+            }
+            return false;
+        }
+        return true;
+    }
+
+    // Before the whole pose is known only the axes the block changed are checked.
+    static bool axis_programmed(const ReplayBlock& b, std::size_t axis) {
+        const std::array<double, 5> from{b.from.x, b.from.y, b.from.z, b.from.a_or_b_deg,
+                                         b.from.c_deg};
+        const std::array<double, 5> to{b.pose.x, b.pose.y, b.pose.z, b.pose.a_or_b_deg,
+                                       b.pose.c_deg};
+        return from[axis] != to[axis];
+    }
+
+    void check_collisions(const ReplayBlock& b, const std::vector<Sample>& samples, Report& rep) {
+        for (const Sample& s : samples) {
+            ++poses_checked_;
+            Vec3d hit;
+            if (detail::find_occupied(grid_, origin_, voxel_, s.tip, s.dir, nozzle_region_,
+                                      settings_.clearance_mm, &hit)) {
+                ++rep.collisions.count;
+                if (!rep.collisions.first) {
+                    rep.collisions.first = Location{
+                        b.line, hit,
+                        fmt::format("{} with the tip at ({:.3f}, {:.3f}, {:.3f}): the head meets "
+                                    "material deposited earlier",
+                                    b.laser_on ? "deposit" : "travel", s.tip.x, s.tip.y, s.tip.z)};
+                }
+                return;  // one per block
+            }
+        }
+    }
+
+    void check_support(const ReplayBlock& b, const std::vector<Sample>& samples, double h,
+                       Report& rep) {
+        Region region;
+        const double top = -(h + kSupportGapVoxels * voxel_);
+        const double bottom = top - kSupportDepthVoxels * voxel_;
+        const double r = 0.5 * process_.track_width_mm;
+        region.add({{{bottom, -r}, {top, -r}, {top, r}, {bottom, r}}});
+        bool counted = false;
+        const double piece = samples.size() > 1
+                                 ? core::norm(samples.back().tip - samples.front().tip) /
+                                       static_cast<double>(samples.size() - 1)
+                                 : 0.0;
+        for (std::size_t i = 0; i < samples.size(); ++i) {
+            const Sample& s = samples[i];
+            const Vec3d base = s.tip - s.dir * h;
+            if (base.z <= kPlateToleranceVoxels * voxel_) continue;
+            Vec3d hit;
+            if (detail::find_occupied(grid_, origin_, voxel_, s.tip, s.dir, region, 0.0, &hit)) {
+                continue;
+            }
+            if (i > 0) unsupported_length_ += piece;
+            if (!counted) {
+                counted = true;
+                ++rep.unsupported.count;
+                if (!rep.unsupported.first) {
+                    rep.unsupported.first = Location{
+                        b.line, base,
+                        fmt::format("bead bottom at ({:.3f}, {:.3f}, {:.3f}) rests on nothing "
+                                    "(no earlier material within {:.3f} mm below, {:.3f} mm "
+                                    "across, and not on the plate)",
+                                    base.x, base.y, base.z,
+                                    (kSupportGapVoxels + kSupportDepthVoxels) * voxel_, r)};
+                }
+            }
+        }
+    }
+
+    // The bead of one block: between neighbouring samples a box track_width wide and h high
+    // under the tip (top edge centre at the tip); round joints (an octagonal prism) where the
+    // track turns and where it continues the previous block's bead.
+    // A block that keeps its direction is laid in straight pieces of up to four track widths
+    // (longer pieces waste time on their bounding boxes). Where the track turns by phi (within
+    // the block, or from the previous block's bead), the outer corner is closed: up to 90 deg
+    // by a mitre (both pieces extended by w/2 tan(phi/2) past the corner), beyond by a round
+    // joint.
+    void lay_bead(const std::vector<Sample>& samples, double h, bool joined_to_previous,
+                  bool turns) {
+        const double w = process_.track_width_mm;
+        const std::size_t stride =
+            turns ? 1 : std::max<std::size_t>(1, static_cast<std::size_t>(4.0 * w / sample_));
+        std::vector<std::size_t> at;
+        for (std::size_t i = 0; i + 1 < samples.size(); i += stride) at.push_back(i);
+        at.push_back(samples.size() - 1);
+        bool has_prev = joined_to_previous && last_piece_;
+        Vec3d prev_t = last_piece_ ? last_piece_->t : Vec3d{};
+        for (std::size_t n = 1; n < at.size(); ++n) {
+            const Sample& a = samples[at[n - 1]];
+            const Sample& b = samples[at[n]];
+            const Vec3d d = core::normalized(a.dir + b.dir);
+            Vec3d along = b.tip - a.tip;
+            along = along - d * core::dot(along, d);
+            const double len = core::norm(along);
+            if (len < 1e-9) continue;
+            const Vec3d t = along / len;
+            double back = 0.0;
+            if (has_prev) {
+                Vec3d p = prev_t - d * core::dot(prev_t, d);
+                p = core::normalized(p);
+                const double c = std::clamp(core::dot(p, t), -1.0, 1.0);
+                if (c < 1.0 - 1e-12) {
+                    const double phi = std::acos(c);
+                    if (phi <= 0.5 * std::numbers::pi) {
+                        back = 0.5 * w * std::tan(0.5 * phi);
+                        lay_box(a.tip, p, d, 0.0, back, h);  // the previous piece's mitre
+                    } else {
+                        lay_joint(a.tip, d, h);
+                    }
+                }
+            }
+            lay_box(a.tip, t, d, back, len, h);
+            prev_t = t;
+            has_prev = true;
+            last_piece_ = Piece{t};
+        }
+    }
+
+    // The box from `tip - back t` to `tip + len t`, track wide across t and d, h deep below
+    // the tip along d.
+    void lay_box(const Vec3d& tip, const Vec3d& t, const Vec3d& d, double back, double len,
+                 double h) {
+        const double hw = 0.5 * process_.track_width_mm;
+        const Vec3d s = core::cross(d, t);
+        const double at = core::dot(t, tip), as = core::dot(s, tip), ad = core::dot(d, tip);
+        detail::Slabs box;
+        box.add(t, at - back, at + len);
+        box.add(s, as - hw, as + hw);
+        box.add(d, ad - h, ad);
+        const Vec3d a = tip - t * back, b = tip + t * len;
+        for (const Vec3d& e : {a, b, a - d * h, b - d * h}) {
+            box.corners.push_back(e + s * hw);
+            box.corners.push_back(e - s * hw);
+        }
+        detail::fill(grid_, origin_, voxel_, box);
+    }
+
+    void lay_joint(const Vec3d& tip, const Vec3d& d, double h) {
+        const double r = 0.5 * process_.track_width_mm;
+        const Vec3d u = any_perpendicular(d);
+        const Vec3d v = core::cross(d, u);
+        detail::Slabs prism;
+        prism.add(d, core::dot(d, tip) - h, core::dot(d, tip));
+        const double k = std::numbers::sqrt2 / 2.0;
+        for (const Vec3d n : {u, v, (u + v) * k, (u - v) * k}) {
+            prism.add(n, core::dot(n, tip) - r, core::dot(n, tip) + r);
+        }
+        // A circumscribed octagon reaches r / cos(22.5 deg) from the axis.
+        const double rc = r / std::cos(std::numbers::pi / 8.0);
+        for (const double top : {0.0, -h}) {
+            for (int i = 0; i < 8; ++i) {
+                const double ang = (i + 0.5) * std::numbers::pi / 4.0;
+                prism.corners.push_back(tip + d * top + u * (rc * std::cos(ang)) +
+                                        v * (rc * std::sin(ang)));
+            }
+        }
+        detail::fill(grid_, origin_, voxel_, prism);
+    }
+
+    void measure_volumes(Report& rep) const {
+        const auto& dep = grid_.fine().words();
+        const auto& mod = model_.words();
+        std::size_t n_model = 0, n_dep = 0, n_both = 0;
+        for (std::size_t i = 0; i < dep.size(); ++i) {
+            n_model += static_cast<std::size_t>(std::popcount(mod[i]));
+            n_dep += static_cast<std::size_t>(std::popcount(dep[i]));
+            n_both += static_cast<std::size_t>(std::popcount(mod[i] & dep[i]));
+        }
+        const double v3 = voxel_ * voxel_ * voxel_;
+        rep.model_volume_mm3 = static_cast<double>(n_model) * v3;
+        rep.deposited_volume_mm3 = static_cast<double>(n_dep) * v3;
+        rep.covered_volume_mm3 = static_cast<double>(n_both) * v3;
+        rep.excess_volume_mm3 = static_cast<double>(n_dep - n_both) * v3;
+        rep.coverage =
+            n_model > 0 ? static_cast<double>(n_both) / static_cast<double>(n_model) : 0.0;
+        rep.excess =
+            n_model > 0 ? static_cast<double>(n_dep - n_both) / static_cast<double>(n_model) : 0.0;
+    }
+
+    const machine::Profiles& profiles_;
+    const machine::ProcessProfile& process_;
+    const machine::MachineKinematics& kin_;
+    const VerifySettings& settings_;
+    machine::NozzleProfile nozzle_;
+    machine::SpeedLaw law_;  // deposit feed -> bead height (docs/program-dialects.md)
+    Vec3d origin_{};
+    double voxel_ = 1.0;
+    double sample_ = 1.0;
+    int nx_ = 0, ny_ = 0, nz_ = 0;
+    OccupancyPyramid grid_;
+    detail::BitGrid model_;
+    Region nozzle_region_;
+    std::size_t poses_checked_ = 0;
+    double unsupported_length_ = 0.0;
+    bool limit_block_counted_ = false;
+    struct Piece {
+        Vec3d t;
+    };
+    std::optional<Piece> last_piece_;  // direction of the last bead piece laid
+};
+
+}  // namespace
+
+core::Result<mesh::TriangleMesh> place_model(mesh::TriangleMesh model,
+                                             const core::Vec3d& base_direction,
+                                             const machine::MachineProfile& machine) {
+    if (model.empty()) return core::fail(ErrorCode::kInvalidInput, "the model has no triangles");
+    if (!core::is_finite(base_direction) || core::norm(base_direction) == 0.0) {
+        return core::fail(ErrorCode::kInvalidInput,
+                          "the base direction must be a finite non-zero vector", "--direction");
+    }
+    // Rodrigues rotation taking d onto +Z (a half turn about X when d points down).
+    const Vec3d d = core::normalized(base_direction);
+    const Vec3d z{0.0, 0.0, 1.0};
+    const Vec3d axis = core::cross(d, z);
+    const double s = core::norm(axis), c = core::dot(d, z);
+    std::array<double, 12> m{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+    if (s > 1e-12) {
+        const Vec3d k = axis / s;
+        const double v = 1.0 - c;
+        m = {c + k.x * k.x * v,       k.x * k.y * v - k.z * s, k.x * k.z * v + k.y * s, 0.0,
+             k.y * k.x * v + k.z * s, c + k.y * k.y * v,       k.y * k.z * v - k.x * s, 0.0,
+             k.z * k.x * v - k.y * s, k.z * k.y * v + k.x * s, c + k.z * k.z * v,       0.0};
+    } else if (c < 0.0) {
+        m = {1, 0, 0, 0, 0, -1, 0, 0, 0, 0, -1, 0};
+    }
+    mesh::transform(model, m);
+    Vec3d centre{};
+    if (machine::is_table_tilt(machine.kinematics) && machine.table) {
+        centre = {machine.table->c_offset_x_mm, machine.table->c_offset_y_mm, 0.0};
+    } else {
+        if (const auto* x = machine.find_axis("X")) centre.x = 0.5 * (x->min + x->max);
+        if (const auto* y = machine.find_axis("Y")) centre.y = 0.5 * (y->min + y->max);
+    }
+    const core::Box3d box = mesh::bounding_box(model);
+    mesh::transform(model, {1, 0, 0, centre.x - box.center().x, 0, 1, 0, centre.y - box.center().y,
+                            0, 0, 1, -box.min.z});
+    return model;
+}
+
+core::Result<Report> verify_program(std::string_view program_text,
+                                    const mesh::TriangleMesh& placed_model,
+                                    const machine::Profiles& profiles,
+                                    const VerifySettings& settings) {
+    if (auto ok = machine::validate(profiles.machine); !ok) return std::unexpected(ok.error());
+    if (auto ok = machine::validate(profiles.process); !ok) return std::unexpected(ok.error());
+    if (!(settings.voxel_mm >= 0.0) || !(settings.sample_mm >= 0.0) ||
+        !(settings.clearance_mm >= 0.0) || !(settings.max_voxels >= 1.0) ||
+        !std::isfinite(settings.voxel_mm) || !std::isfinite(settings.sample_mm) ||
+        !std::isfinite(settings.clearance_mm)) {
+        return core::fail(ErrorCode::kInvalidInput,
+                          "verify settings: voxel, sample, clearance must be finite and >= 0",
+                          "verify settings");
+    }
+    ProgramDialect dialect = ProgramDialect::kGm;
+    if (settings.dialect) {
+        dialect = *settings.dialect;
+    } else {
+        auto d = dialect_of(profiles.machine);
+        if (!d) return std::unexpected(d.error());
+        dialect = *d;
+    }
+    auto kin = machine::MachineKinematics::create(profiles.machine);
+    if (!kin) return std::unexpected(kin.error());
+    auto replay = replay_program(program_text, profiles, dialect);
+    if (!replay) return std::unexpected(replay.error());
+    const machine::NozzleProfile nozzle =
+        profiles.machine.nozzle.value_or(machine::NozzleProfile{});
+    Verifier v(profiles, *kin, settings, nozzle);
+    auto report = v.run(*replay, placed_model);
+    if (report) report->default_nozzle = !profiles.machine.nozzle.has_value();
+    return report;
+}
+
+}  // namespace maxslice::verify

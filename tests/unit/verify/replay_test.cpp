@@ -1,0 +1,260 @@
+#include "maxslice/verify/replay.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "verify_programs.hpp"
+
+namespace maxslice::verify {
+namespace {
+
+namespace fs = std::filesystem;
+using core::Vec3d;
+using testing::load;
+
+machine::Profiles ac_table(machine::Dialect dialect) {
+    machine::Profiles p = load("reference_5axis_ac.toml");
+    p.machine.dialect = dialect;
+    p.machine.table->pivot_mm = {10.0, 20.0, -50.0};
+    p.machine.table->c_offset_x_mm = 3.0;
+    p.machine.table->c_offset_y_mm = -4.0;
+    p.machine.codes.laser_on.blocks = {"M68 E0 Q{power}", "M64 P0"};
+    p.machine.codes.laser_off.blocks = {"M65 P0", "M68 E0 Q0"};
+    p.machine.codes.powder_on.blocks = {"M64 P1"};
+    p.machine.codes.powder_off.blocks = {"M65 P1"};
+    return p;
+}
+
+TEST(Replay, GmColumnsSwitchTheLaserAndDwellIsInMilliseconds) {
+    const machine::Profiles p = load("reference_lmd.toml");
+    const std::string text =
+        "0.00 0.00 G21\n0.00 0.00 G90\n0.00 0.00 G1 X0.000 Y0.000 Z0.500 F2540.0\n"
+        "700.00 8.00 M8\n700.00 8.00 G4 P500\n700.00 8.00 G1 X10.000 Y0.000 Z0.500 F381.0\n"
+        "0.00 0.00 M9\n0.00 0.00 G1 X10.000 Y5.000 Z1.000 F2540.0\n";
+    auto r = replay_program(text, p, ProgramDialect::kGm);
+    ASSERT_TRUE(r) << r.error().describe();
+    ASSERT_EQ(r->blocks.size(), 4U);
+    EXPECT_FALSE(r->blocks[0].laser_on);
+    EXPECT_EQ(r->blocks[1].kind, ReplayBlock::Kind::kDwell);
+    EXPECT_NEAR(r->blocks[1].dwell_s, 0.5, 1e-12);
+    EXPECT_TRUE(r->blocks[2].laser_on);
+    EXPECT_EQ(r->blocks[2].line, 6);
+    EXPECT_NEAR(r->blocks[2].feed_mm_min, 381.0, 1e-12);
+    EXPECT_NEAR(r->blocks[2].tip_mm.x, 10.0, 1e-12);
+    EXPECT_FALSE(r->blocks[3].laser_on);
+    EXPECT_EQ(r->laser_on_count, 1);
+    EXPECT_EQ(r->line_count, 8);
+}
+
+TEST(Replay, TheBundledGmFileReplays) {
+    const machine::Profiles p = load("reference_lmd.toml");
+    std::ifstream in(fs::path(MAXSLICE_SOURCE_DIR) / "tests/data/machine/tiny.gm");
+    std::stringstream s;
+    s << in.rdbuf();
+    auto r = replay_program(s.str(), p, ProgramDialect::kGm);
+    ASSERT_TRUE(r) << r.error().describe();
+    int deposits = 0;
+    for (const auto& b : r->blocks) deposits += b.kind == ReplayBlock::Kind::kMove && b.laser_on;
+    EXPECT_EQ(deposits, 5);
+    EXPECT_EQ(r->laser_on_count, 2);
+}
+
+TEST(Replay, LinuxCncCodesFromTheProfileSwitchTheLaser) {
+    const machine::Profiles p = load("linuxcnc_generic.toml");
+    const std::string text =
+        "(comment) G21 G90 G94 G17\nG1 X1 Y1 Z1 F1000 ; trailing comment\n"
+        "M68 E1 Q8.00\nM64 P1\nM68 E0 Q700.00\nM64 P0\nG4 P0.5\nG1 X2 F381\n"
+        "M68 E0 Q650.00\nG1 X3\nM65 P0\nM68 E0 Q0\nM65 P1\nM68 E1 Q0\nG1 X4\nM2\n";
+    auto r = replay_program(text, p, ProgramDialect::kLinuxCnc);
+    ASSERT_TRUE(r) << r.error().describe();
+    ASSERT_EQ(r->blocks.size(), 5U);
+    EXPECT_FALSE(r->blocks[0].laser_on);
+    EXPECT_NEAR(r->blocks[1].dwell_s, 0.5, 1e-12);  // P in seconds
+    EXPECT_TRUE(r->blocks[2].laser_on);
+    EXPECT_TRUE(r->blocks[3].laser_on);   // a new power, still on
+    EXPECT_FALSE(r->blocks[4].laser_on);  // "M68 E0 Q0" is the laser_off block
+    EXPECT_NEAR(r->blocks[4].pose.x, 4.0, 1e-12);
+    EXPECT_NEAR(r->blocks[4].pose.y, 1.0, 1e-12);  // modal
+    EXPECT_EQ(r->laser_on_count, 1);
+}
+
+TEST(Replay, DwellWordsPerDialect) {
+    const machine::Profiles p = ac_table(machine::Dialect::kLinuxCnc);
+    auto fanuc = replay_program("%\nO1000 (T)\nG21 G90 G94 G17\nG4 X1.5\nM30\n%\n", p,
+                                ProgramDialect::kFanuc);
+    ASSERT_TRUE(fanuc) << fanuc.error().describe();
+    ASSERT_EQ(fanuc->blocks.size(), 1U);
+    EXPECT_NEAR(fanuc->blocks[0].dwell_s, 1.5, 1e-12);
+    auto siemens =
+        replay_program("; t\nG71 G90 G94 G17\nG1 X0 Y0 Z100 A0 C0 F500\nG4 F2.5\nG1 X1\nM30\n", p,
+                       ProgramDialect::kSiemens);
+    ASSERT_TRUE(siemens) << siemens.error().describe();
+    ASSERT_EQ(siemens->blocks.size(), 3U);
+    EXPECT_NEAR(siemens->blocks[1].dwell_s, 2.5, 1e-12);
+    EXPECT_NEAR(siemens->blocks[2].feed_mm_min, 500.0, 1e-12);  // G4 F did not change the feed
+}
+
+TEST(Replay, ToolCentrePointBlocksAreThePartFrameTipPlusThePivot) {
+    for (const ProgramDialect d : {ProgramDialect::kFanuc, ProgramDialect::kSiemens}) {
+        const machine::Profiles p = ac_table(machine::Dialect::kLinuxCnc);
+        const bool fanuc = d == ProgramDialect::kFanuc;
+        const std::string on = fanuc ? "G43.4 H1" : "TRAORI";
+        const std::string off = fanuc ? "G49" : "TRAFOOF";
+        const std::string text = std::string(fanuc ? "%\nO1000\nG21" : "G71") +
+                                 " G90 G94 G17\nG1 X0 Y0 Z300 A0 C0 F2000\n"
+                                 "G1 A30.000 C45.000\n" +
+                                 on +
+                                 "\nG1 X15.000 Y22.000 Z-40.000 A30.000 C45.000 F500\n"
+                                 "G1 X16.000\n" +
+                                 off + "\nG1 Z300\n";
+        auto r = replay_program(text, p, d);
+        ASSERT_TRUE(r) << dialect_name(d) << ": " << r.error().describe();
+        ASSERT_EQ(r->blocks.size(), 5U);
+        const ReplayBlock& b = r->blocks[2];
+        EXPECT_TRUE(b.tcp);
+        // tip = programmed X Y Z - pivot.
+        EXPECT_NEAR(b.tip_mm.x, 5.0, 1e-9);
+        EXPECT_NEAR(b.tip_mm.y, 2.0, 1e-9);
+        EXPECT_NEAR(b.tip_mm.z, 10.0, 1e-9);
+        // The joint pose is where the kinematics put that tip.
+        auto kin = machine::MachineKinematics::create(p.machine);
+        ASSERT_TRUE(kin);
+        const machine::ToolPose tp = kin->forward(b.pose);
+        EXPECT_NEAR(core::norm(tp.tip_mm - b.tip_mm), 0.0, 1e-9);
+        EXPECT_NEAR(b.pose.a_or_b_deg, 30.0, 1e-12);
+        // The modal X change moves the part-frame tip by 1 mm along X.
+        EXPECT_NEAR(r->blocks[3].tip_mm.x, 6.0, 1e-9);
+        EXPECT_NEAR(r->blocks[3].tip_mm.y, 2.0, 1e-9);
+        // After the control is off, Z is a machine coordinate again.
+        EXPECT_FALSE(r->blocks[4].tcp);
+        EXPECT_NEAR(r->blocks[4].pose.z, 300.0, 1e-12);
+    }
+}
+
+TEST(Replay, MalformedOrUnknownLinesNameTheLine) {
+    const machine::Profiles xyz = load("linuxcnc_generic.toml");
+    const machine::Profiles gm = load("reference_lmd.toml");
+    struct Case {
+        const machine::Profiles* p;
+        ProgramDialect d;
+        std::string text;
+        int line;
+        std::string says;
+    };
+    const std::vector<Case> cases = {
+        {&xyz, ProgramDialect::kLinuxCnc, "G21\nG1 X1.2.3 F10\n", 2, "malformed"},
+        {&xyz, ProgramDialect::kLinuxCnc, "G21\nG1 X1 F10\nG1 Q5\n", 3, "Q"},
+        {&xyz, ProgramDialect::kLinuxCnc, "G21\nM7\n", 2, "M7"},
+        {&xyz, ProgramDialect::kLinuxCnc, "G1 X1 A5 F10\n", 1, "A"},
+        {&xyz, ProgramDialect::kLinuxCnc, "G91\n", 1, "G91"},
+        {&xyz, ProgramDialect::kLinuxCnc, "G20\n", 1, "inch"},
+        {&xyz, ProgramDialect::kLinuxCnc, "G21\n(open comment\n", 2, "comment"},
+        {&xyz, ProgramDialect::kLinuxCnc, "X5 Y5\n", 1, "G0 / G1"},
+        {&xyz, ProgramDialect::kLinuxCnc, "G1 X5 Y5\n", 1, "feed"},
+        {&xyz, ProgramDialect::kLinuxCnc, "G1 X5 X6 F1\n", 1, "twice"},
+        {&xyz, ProgramDialect::kLinuxCnc, "G43.4 H1\n", 1, "G43.4"},
+        {&xyz, ProgramDialect::kLinuxCnc, "TRAORI\n", 1, "TRAORI"},
+        {&xyz, ProgramDialect::kLinuxCnc, "G1 X1 F10\nG4 P1 X2\n", 2, "dwell"},
+        {&gm, ProgramDialect::kGm, "0.00 0.00 G21\nG1 X1 Y1 Z1 F100\n", 2, "columns"},
+        {&gm, ProgramDialect::kGm, "0.00 0.00 G21\n0.00 G1 X1\n", 2, "columns"},
+        {&gm, ProgramDialect::kGm, "0.00 0.00 G21\n0.00 0.00 G1 X1 Y- F100\n", 2, "malformed"},
+        {&gm, ProgramDialect::kGm, "0.00 0.00 G21\n0.00 0.00 G5\n", 2, "G5"},
+    };
+    for (const Case& c : cases) {
+        auto r = replay_program(c.text, *c.p, c.d);
+        ASSERT_FALSE(r) << c.text;
+        const std::string msg = r.error().describe();
+        EXPECT_NE(msg.find("line " + std::to_string(c.line)), std::string::npos) << msg;
+        EXPECT_NE(msg.find(c.says), std::string::npos) << msg;
+    }
+}
+
+TEST(Replay, GarbageNeverCrashes) {
+    const machine::Profiles p = ac_table(machine::Dialect::kLinuxCnc);
+    std::string text;
+    unsigned seed = 12345;
+    const std::string alphabet = "GXYZACFPMH0123456789.-+ ()%;\n\r\tOTRAI";
+    for (int i = 0; i < 20000; ++i) {
+        seed = seed * 1103515245U + 12345U;
+        text += alphabet[(seed >> 16) % alphabet.size()];
+    }
+    for (const ProgramDialect d : {ProgramDialect::kGm, ProgramDialect::kLinuxCnc,
+                                   ProgramDialect::kFanuc, ProgramDialect::kSiemens}) {
+        for (std::size_t start = 0; start < text.size(); start += 997) {
+            auto r = replay_program(std::string_view(text).substr(start, 400), p, d);
+            if (!r) {
+                EXPECT_NE(r.error().context.find("line"), std::string::npos);
+            }
+        }
+    }
+}
+
+// LinuxCNC's standalone interpreter reads a hand-written 5-axis program; its canonical
+// STRAIGHT_FEED / STRAIGHT_TRAVERSE calls give the axis values, which the replay must match.
+TEST(Replay, MachinePosesMatchLinuxCncsInterpreter) {
+    if (!fs::exists("/usr/bin/rs274")) GTEST_SKIP() << "rs274 (linuxcnc-uspace) not installed";
+    const machine::Profiles p = ac_table(machine::Dialect::kLinuxCnc);
+    const std::string program =
+        "(maxslice verify test)\nG21 G90 G94 G17\nG1 Z200 F2540\nG1 A0 C0\n"
+        "G1 X10 Y20 F2540\nG1 X10 Y20 Z5.5 A0 C0 F2540\nM64 P1\nM68 E0 Q700.00\nM64 P0\n"
+        "G4 P0.5\nG1 X20.125 Y20 Z5.5 A0 C0 F381\nG1 Y30.5 F400.0\nM65 P0\nM68 E0 Q0\n"
+        "G1 Z60 F2540\nG1 A45.5 C-30.25\nG0 X-12.5 Y7.75\nG1 Z4.25\nG1 X-10 Y8 Z4.25 A45.5 "
+        "C-30.25 F381\nG0 Z100 A-60 C720\nG1 X1 Y2 Z3 A4 C5 F100\nM2\n";
+    const fs::path dir = fs::temp_directory_path() / "maxslice_verify_rs274";
+    fs::create_directories(dir);
+    const fs::path ngc = dir / "five_axis.ngc", canon = dir / "canon.txt";
+    std::ofstream(ngc) << program;
+    const std::string cmd =
+        "rs274 -g '" + ngc.string() + "' '" + canon.string() + "' </dev/null >/dev/null 2>&1";
+    ASSERT_EQ(std::system(cmd.c_str()), 0);
+    std::ifstream in(canon);
+    std::vector<std::array<double, 6>> moves;
+    for (std::string line; std::getline(in, line);) {
+        for (const char* call : {"STRAIGHT_FEED(", "STRAIGHT_TRAVERSE("}) {
+            const auto pos = line.find(call);
+            if (pos == std::string::npos) continue;
+            std::array<double, 6> v{};
+            std::string args = line.substr(pos + std::string(call).size());
+            for (char& ch : args) {
+                if (ch == ',' || ch == ')') ch = ' ';
+            }
+            std::istringstream s(args);
+            for (double& x : v) s >> x;
+            moves.push_back(v);
+        }
+    }
+    auto r = replay_program(program, p, ProgramDialect::kLinuxCnc);
+    ASSERT_TRUE(r) << r.error().describe();
+    std::vector<machine::MachinePose> poses;
+    for (const auto& b : r->blocks) {
+        if (b.kind == ReplayBlock::Kind::kMove) poses.push_back(b.pose);
+    }
+    ASSERT_EQ(moves.size(), poses.size());
+    ASSERT_GE(moves.size(), 10U);
+    for (std::size_t i = 0; i < moves.size(); ++i) {
+        const auto& m = moves[i];
+        const auto& q = poses[i];
+        EXPECT_NEAR(q.x, m[0], 1e-3) << i;
+        EXPECT_NEAR(q.y, m[1], 1e-3) << i;
+        EXPECT_NEAR(q.z, m[2], 1e-3) << i;
+        EXPECT_NEAR(q.a_or_b_deg, m[3], 1e-3) << i;
+        EXPECT_NEAR(q.c_deg, m[5], 1e-3) << i;
+    }
+    // Forward kinematics of the replay: the tip is where the part frame says.
+    auto kin = machine::MachineKinematics::create(p.machine);
+    ASSERT_TRUE(kin);
+    for (const auto& b : r->blocks) {
+        const machine::ToolPose tp = kin->forward(b.pose);
+        EXPECT_NEAR(core::norm(tp.tip_mm - b.tip_mm), 0.0, 1e-12);
+    }
+    fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace maxslice::verify

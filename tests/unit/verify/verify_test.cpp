@@ -1,0 +1,396 @@
+#include "maxslice/verify/verify.hpp"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <string>
+
+#include "maxslice/machine/program_builder.hpp"
+#include "maxslice/machine/summary.hpp"
+#include "maxslice/machine/writer.hpp"
+#include "support/fixtures.hpp"
+#include "verify_programs.hpp"
+
+namespace maxslice::verify {
+namespace {
+
+using core::Vec3d;
+using testing::load;
+using testing::ProgramText;
+using testing::zigzag_block;
+
+constexpr double kHalf = 15.0;  // the block is 30 x 30 mm
+constexpr int kLayers = 12;     // 6 mm high at 0.5 mm
+
+mesh::TriangleMesh placed_block(const machine::Profiles& p) {
+    auto placed = place_model(test::box({0, 0, 0}, {2 * kHalf, 2 * kHalf, kLayers * 0.5}),
+                              {0, 0, 1}, p.machine);
+    EXPECT_TRUE(placed.has_value());
+    return placed.value_or(mesh::TriangleMesh{});
+}
+
+Vec3d plate_centre(const machine::Profiles& p) {
+    const mesh::TriangleMesh m = placed_block(p);
+    return mesh::bounding_box(m).center();
+}
+
+Report verified(const std::string& text, const machine::Profiles& p, const VerifySettings& s = {}) {
+    auto r = verify_program(text, placed_block(p), p, s);
+    EXPECT_TRUE(r.has_value()) << r.error().describe();
+    return r.value_or(Report{});
+}
+
+TEST(Verify, CleanZigzagBlockPassesGm) {
+    const machine::Profiles p = load("reference_lmd.toml");
+    ProgramText prog(p, ProgramDialect::kGm, false);
+    const Vec3d c = plate_centre(p);
+    const double length = zigzag_block(prog, p, c.x, c.y, kHalf, kLayers);
+    const Report r = verified(prog.text(), p);
+    EXPECT_TRUE(r.passed()) << report_text(r);
+    EXPECT_GE(r.coverage, 0.97) << report_text(r);
+    EXPECT_LT(r.excess, 0.05) << report_text(r);
+    EXPECT_NEAR(r.deposition_length_mm, length, 1e-6 * length);
+    EXPECT_NEAR(r.bead_height_min_mm, 0.5, 1e-9);
+    EXPECT_NEAR(r.bead_height_max_mm, 0.5, 1e-9);
+    EXPECT_EQ(r.laser_on_count, kLayers);
+    // Deposit time: the length at the deposition feed.
+    EXPECT_NEAR(r.deposit_time_s, 60.0 * length / p.process.deposition_feed_mm_min, 1e-6);
+    EXPECT_GT(r.poses_checked, 1000U);
+}
+
+TEST(Verify, CleanZigzagBlockPassesLinuxCnc) {
+    const machine::Profiles p = load("linuxcnc_generic.toml");
+    ProgramText prog(p, ProgramDialect::kLinuxCnc, false);
+    const Vec3d c = plate_centre(p);
+    EXPECT_NEAR(c.x, 250.0, 1e-9);  // the middle of the X travel
+    zigzag_block(prog, p, c.x, c.y, kHalf, kLayers);
+    prog.raw("M2");
+    const Report r = verified(prog.text(), p);
+    EXPECT_TRUE(r.passed()) << report_text(r);
+    EXPECT_GE(r.coverage, 0.97) << report_text(r);
+    EXPECT_LT(r.excess, 0.05) << report_text(r);
+    EXPECT_EQ(r.laser_on_count, kLayers);
+}
+
+TEST(Verify, TravelThroughDepositedMaterialCollides) {
+    for (const auto& [file, dialect] :
+         {std::pair{"reference_lmd.toml", ProgramDialect::kGm},
+          std::pair{"linuxcnc_generic.toml", ProgramDialect::kLinuxCnc}}) {
+        SCOPED_TRACE(file);
+        const machine::Profiles p = load(file);
+        ProgramText prog(p, dialect, false);
+        const Vec3d c = plate_centre(p);
+        zigzag_block(prog, p, c.x, c.y, kHalf, kLayers);
+        prog.move(c.x - kHalf - 20.0, c.y, 30.0, p.process.travel_feed_mm_min);  // up and aside
+        prog.move(c.x - kHalf - 20.0, c.y, 3.0, p.process.travel_feed_mm_min);   // half-way down
+        const int through = prog.move(c.x + kHalf + 20.0, c.y, 3.0, p.process.travel_feed_mm_min);
+        const Report r = verified(prog.text(), p);
+        EXPECT_FALSE(r.passed());
+        EXPECT_EQ(r.collisions.count, 1U) << report_text(r);
+        ASSERT_TRUE(r.collisions.first);
+        EXPECT_EQ(r.collisions.first->line, through);
+        // The material met lies in the block.
+        EXPECT_LE(std::abs(r.collisions.first->point_mm.x - c.x), kHalf + r.voxel_mm);
+        EXPECT_EQ(r.unsupported.count, 0U);
+        EXPECT_EQ(r.limit_violations.count, 0U);
+    }
+}
+
+TEST(Verify, TravelDownOntoTheBlockSideCollides) {
+    // Approaching beside the block at the plate: the cone's side meets the block's wall.
+    const machine::Profiles p = load("reference_lmd.toml");
+    ProgramText prog(p, ProgramDialect::kGm, false);
+    const Vec3d c = plate_centre(p);
+    zigzag_block(prog, p, c.x, c.y, kHalf, kLayers);
+    prog.move(c.x + kHalf + 2.0, c.y, 30.0, p.process.travel_feed_mm_min);
+    const int down = prog.move(c.x + kHalf + 2.0, c.y, 1.0, p.process.travel_feed_mm_min);
+    const Report r = verified(prog.text(), p);
+    EXPECT_EQ(r.collisions.count, 1U) << report_text(r);
+    ASSERT_TRUE(r.collisions.first);
+    EXPECT_EQ(r.collisions.first->line, down);
+}
+
+TEST(Verify, BeadInMidAirIsUnsupported) {
+    const machine::Profiles p = load("reference_lmd.toml");
+    ProgramText prog(p, ProgramDialect::kGm, false);
+    const Vec3d c = plate_centre(p);
+    zigzag_block(prog, p, c.x, c.y, kHalf, kLayers);
+    // 10 mm above the block's top: a track that rests on nothing.
+    prog.move(c.x - 5.0, c.y, 16.0, p.process.travel_feed_mm_min);
+    prog.laser(true);
+    const int air = prog.move(c.x + 5.0, c.y, 16.0, p.process.deposition_feed_mm_min);
+    prog.laser(false);
+    const Report r = verified(prog.text(), p);
+    EXPECT_FALSE(r.passed());
+    EXPECT_EQ(r.unsupported.count, 1U) << report_text(r);
+    ASSERT_TRUE(r.unsupported.first);
+    EXPECT_EQ(r.unsupported.first->line, air);
+    EXPECT_NEAR(r.unsupported.first->point_mm.z, 15.5, 1e-6);  // bead bottom = tip - h
+    EXPECT_NEAR(r.unsupported_length_mm, 10.0, 1.0);
+    EXPECT_EQ(r.collisions.count, 0U) << report_text(r);
+    EXPECT_GT(r.excess, 0.0);
+}
+
+TEST(Verify, TrackOnTheTopLayerIsSupported) {
+    // The same track one layer above the top rests on the block: no finding.
+    const machine::Profiles p = load("reference_lmd.toml");
+    ProgramText prog(p, ProgramDialect::kGm, false);
+    const Vec3d c = plate_centre(p);
+    zigzag_block(prog, p, c.x, c.y, kHalf, kLayers);
+    prog.move(c.x - 5.0, c.y, kLayers * 0.5 + 0.5, p.process.travel_feed_mm_min);
+    prog.laser(true);
+    prog.move(c.x + 5.0, c.y, kLayers * 0.5 + 0.5, p.process.deposition_feed_mm_min);
+    prog.laser(false);
+    const Report r = verified(prog.text(), p);
+    EXPECT_TRUE(r.passed()) << report_text(r);
+}
+
+TEST(Verify, AxisOverItsLimitIsReported) {
+    const machine::Profiles p = load("reference_lmd.toml");
+    ProgramText prog(p, ProgramDialect::kGm, false);
+    const Vec3d c = plate_centre(p);
+    zigzag_block(prog, p, c.x, c.y, kHalf, 2);
+    prog.move(c.x, c.y, 50.0, p.process.travel_feed_mm_min);
+    const int over = prog.move(450.0, c.y, 50.0, p.process.travel_feed_mm_min);  // X max 400
+    prog.move(c.x, c.y, 50.0, p.process.travel_feed_mm_min);
+    const Report r = verified(prog.text(), p);
+    EXPECT_FALSE(r.passed());
+    EXPECT_EQ(r.limit_violations.count, 1U) << report_text(r);
+    ASSERT_TRUE(r.limit_violations.first);
+    EXPECT_EQ(r.limit_violations.first->line, over);
+    EXPECT_NE(r.limit_violations.first->detail.find("machine.axes.X"), std::string::npos);
+    EXPECT_EQ(r.collisions.count, 0U);
+}
+
+TEST(Verify, RotaryAxisOverItsLimitIsReported) {
+    const machine::Profiles p = load("reference_5axis_ac.toml");
+    ProgramText prog(p, ProgramDialect::kGm, true);
+    prog.move(0.0, 0.0, 100.0, p.process.travel_feed_mm_min);
+    const int over = prog.move(0.0, 0.0, 100.0, p.process.travel_feed_mm_min, 130.0, 0.0);
+    const Report r = verified(prog.text(), p);
+    EXPECT_EQ(r.limit_violations.count, 1U) << report_text(r);
+    ASSERT_TRUE(r.limit_violations.first);
+    EXPECT_EQ(r.limit_violations.first->line, over);
+    EXPECT_NE(r.limit_violations.first->detail.find("machine.axes.A"), std::string::npos);
+}
+
+TEST(Verify, FiveAxisBlockWithSafeReorientationPasses) {
+    const machine::Profiles p = load("reference_5axis_ac.toml");
+    ProgramText prog(p, ProgramDialect::kGm, true);
+    const Vec3d c = plate_centre(p);
+    EXPECT_NEAR(c.x, 0.0, 1e-9);  // the C axis
+    const double travel = p.process.travel_feed_mm_min;
+    zigzag_block(prog, p, c.x, c.y, kHalf, kLayers);
+    // Retract above the sphere that holds the part, turn, cross, come down beside it.
+    const double safe = 60.0;
+    prog.move(c.x - kHalf + 1.25, c.y + kHalf - 1.25, safe, travel);
+    prog.move(c.x - kHalf + 1.25, c.y + kHalf - 1.25, safe, travel, 90.0, 0.0);
+    prog.move(0.0, 0.0, safe, travel, 90.0, 0.0);
+    const Report r = verified(prog.text(), p);
+    EXPECT_TRUE(r.passed()) << report_text(r);
+    EXPECT_GE(r.coverage, 0.97);
+    EXPECT_NEAR(r.rotary_travel_deg, 90.0, 1e-9);
+}
+
+TEST(Verify, RotationWithTheNozzleDownCollides) {
+    const machine::Profiles p = load("reference_5axis_ac.toml");
+    ProgramText prog(p, ProgramDialect::kGm, true);
+    const Vec3d c = plate_centre(p);
+    zigzag_block(prog, p, c.x, c.y, kHalf, kLayers);
+    // Laser off at the last layer's end, the nozzle still on the block: turn A.
+    const double top = kLayers * 0.5;
+    prog.move(c.x, c.y, top, p.process.travel_feed_mm_min);
+    const int turn = prog.move(c.x, c.y, top, p.process.travel_feed_mm_min, 30.0, 0.0);
+    const Report r = verified(prog.text(), p);
+    EXPECT_FALSE(r.passed());
+    EXPECT_EQ(r.collisions.count, 1U) << report_text(r);
+    ASSERT_TRUE(r.collisions.first);
+    EXPECT_EQ(r.collisions.first->line, turn);
+    EXPECT_EQ(r.limit_violations.count, 0U);
+}
+
+// A fanuc program under tool centre point control builds the block with the table turned by
+// C = 45 and an offset pivot: X Y Z are pivot + the part-frame tip, so the beads land on the
+// model whatever C is; read as joint space the same text lays the block turned by 45 deg
+// about the C axis (the model's centre), which covers about 83% of it.
+TEST(Verify, ToolCentrePointProgramBuildsTheBlockAtAnyC) {
+    machine::Profiles p = load("reference_5axis_ac.toml");
+    p.machine.table->pivot_mm = {10.0, 20.0, -50.0};
+    p.machine.table->c_offset_x_mm = 3.0;
+    p.machine.table->c_offset_y_mm = -4.0;
+    const Vec3d c = plate_centre(p);
+    EXPECT_NEAR(c.x, 3.0, 1e-9);
+    EXPECT_NEAR(c.y, -4.0, 1e-9);
+    ProgramText prog(p, ProgramDialect::kFanuc, true);
+    prog.raw("G49");
+    prog.move(0.0, 0.0, 300.0, p.process.travel_feed_mm_min, 0.0, 0.0);
+    prog.move(0.0, 0.0, 300.0, p.process.travel_feed_mm_min, 0.0, 45.0);
+    prog.raw("G43.4 H1");
+    prog.set_frame(p.machine.table->pivot_mm, 0.0, 45.0);
+    zigzag_block(prog, p, c.x, c.y, kHalf, kLayers);
+    prog.raw("G49");
+    prog.raw("M30");
+    prog.raw("%");
+    VerifySettings s;
+    s.dialect = ProgramDialect::kFanuc;
+    const Report r = verified(prog.text(), p, s);
+    EXPECT_TRUE(r.passed()) << report_text(r);
+    EXPECT_GE(r.coverage, 0.97) << report_text(r);
+    EXPECT_LT(r.excess, 0.05) << report_text(r);
+    std::string joint = prog.text();
+    for (const std::string word : {"G43.4 H1\n", "G49\n"}) {
+        for (auto pos = joint.find(word); pos != std::string::npos; pos = joint.find(word)) {
+            joint.erase(pos, word.size());
+        }
+    }
+    const Report j = verified(joint, p, s);
+    EXPECT_LT(j.coverage, 0.9) << report_text(j);
+    EXPECT_GT(j.coverage, 0.75) << report_text(j);
+}
+
+TEST(Verify, ClearanceWidensTheHead) {
+    // A travel 4 mm beside the block's wall at half its height: the cone (30 deg) reaches the
+    // wall's radius 6.9 mm above the tip, above the block's top (3 mm up): clear for contact;
+    // the wall's top edge is 2 mm from the cone, so a 3 mm clearance meets it.
+    const machine::Profiles p = load("reference_lmd.toml");
+    ProgramText prog(p, ProgramDialect::kGm, false);
+    const Vec3d c = plate_centre(p);
+    zigzag_block(prog, p, c.x, c.y, kHalf, kLayers);
+    prog.move(c.x + kHalf + 4.0, c.y - 30.0, 30.0, p.process.travel_feed_mm_min);
+    prog.move(c.x + kHalf + 4.0, c.y - 30.0, 3.0, p.process.travel_feed_mm_min);
+    prog.move(c.x + kHalf + 4.0, c.y + 30.0, 3.0, p.process.travel_feed_mm_min);
+    EXPECT_EQ(verified(prog.text(), p).collisions.count, 0U);
+    VerifySettings s;
+    s.clearance_mm = 3.0;
+    EXPECT_GE(verified(prog.text(), p, s).collisions.count, 1U);
+}
+
+TEST(Verify, SameInputSameReportBytes) {
+    const machine::Profiles p = load("reference_5axis_ac.toml");
+    ProgramText prog(p, ProgramDialect::kGm, true);
+    const Vec3d c = plate_centre(p);
+    zigzag_block(prog, p, c.x, c.y, kHalf, 4);
+    prog.move(c.x, c.y, 2.0, p.process.travel_feed_mm_min, 20.0, 10.0);
+    const std::string a = report_json(verified(prog.text(), p));
+    const std::string b = report_json(verified(prog.text(), p));
+    EXPECT_EQ(a, b);
+    EXPECT_NE(a.find("\"passed\": false"), std::string::npos);
+}
+
+TEST(Verify, JsonReportParsesAndCarriesTheFindings) {
+    const machine::Profiles p = load("reference_lmd.toml");
+    ProgramText prog(p, ProgramDialect::kGm, false);
+    const Vec3d c = plate_centre(p);
+    zigzag_block(prog, p, c.x, c.y, kHalf, 4);
+    prog.move(c.x, c.y, 30.0, p.process.travel_feed_mm_min);
+    const int over = prog.move(c.x, 450.0, 30.0, p.process.travel_feed_mm_min);
+    const Report r = verified(prog.text(), p);
+    const auto j = nlohmann::json::parse(report_json(r));
+    EXPECT_FALSE(j.at("passed").get<bool>());
+    EXPECT_EQ(j.at("limit_violations").at("count").get<int>(), 1);
+    EXPECT_EQ(j.at("limit_violations").at("first").at("line").get<int>(), over);
+    EXPECT_EQ(j.at("collisions").at("count").get<int>(), 0);
+    EXPECT_FALSE(j.at("collisions").contains("first"));
+    EXPECT_NEAR(j.at("coverage").get<double>(), r.coverage, 1e-6);
+    EXPECT_NEAR(j.at("build_time_s").get<double>(), r.build_time_s, 1e-3);
+    EXPECT_EQ(j.at("dialect").get<std::string>(), "gm");
+    EXPECT_NE(report_text(r).find("FAILED"), std::string::npos);
+}
+
+// The writers' own output (3-axis gm and linuxcnc): the replay's lengths, times and laser
+// count agree with machine::summarize of the program written.
+TEST(Verify, AgreesWithTheWritersSummary) {
+    for (const char* file : {"reference_lmd.toml", "linuxcnc_generic.toml"}) {
+        SCOPED_TRACE(file);
+        const machine::Profiles p = load(file);
+        const Vec3d c = plate_centre(p);
+        machine::Program program;
+        for (int k = 1; k <= 8; ++k) {
+            const double z = 0.5 * k;
+            for (const double r : {13.75, 11.5, 9.25}) {
+                const std::vector<Vec3d> loop = {{c.x - r, c.y - r, z},
+                                                 {c.x + r, c.y - r, z},
+                                                 {c.x + r, c.y + r, z},
+                                                 {c.x - r, c.y + r, z},
+                                                 {c.x - r, c.y - r, z}};
+                machine::append_wire(program, loop, p.process, k);
+            }
+        }
+        auto text = machine::write_program(program, p.machine, p.process);
+        ASSERT_TRUE(text) << text.error().describe();
+        auto sum = machine::summarize(program, p.process);
+        ASSERT_TRUE(sum);
+        const Report r = verified(*text, p);
+        EXPECT_NEAR(r.deposition_length_mm, sum->deposit_length_mm, 1e-4 * sum->deposit_length_mm);
+        EXPECT_NEAR(r.idle_length_mm, sum->travel_length_mm, 1e-4 * sum->travel_length_mm);
+        EXPECT_NEAR(r.deposit_time_s, sum->deposit_time_s, 1e-4 * sum->deposit_time_s);
+        EXPECT_NEAR(r.idle_time_s, sum->travel_time_s, 1e-4 * sum->travel_time_s);
+        EXPECT_NEAR(r.dwell_time_s, sum->dwell_time_s, 1e-9);
+        EXPECT_NEAR(r.build_time_s, sum->build_time_s, 1e-4 * sum->build_time_s);
+        EXPECT_EQ(r.laser_on_count, sum->laser_on_count);
+        EXPECT_TRUE(r.passed()) << report_text(r);
+    }
+}
+
+TEST(Verify, CoverageFallsWhenLayersAreMissing) {
+    const machine::Profiles p = load("reference_lmd.toml");
+    ProgramText prog(p, ProgramDialect::kGm, false);
+    const Vec3d c = plate_centre(p);
+    zigzag_block(prog, p, c.x, c.y, kHalf, kLayers / 2);
+    const Report r = verified(prog.text(), p);
+    EXPECT_TRUE(r.passed());
+    EXPECT_NEAR(r.coverage, 0.5, 0.03) << report_text(r);
+}
+
+// One track on the plate at `feed`: its report (fine voxels: a 0.3 mm bead is two of the
+// automatic 0.15 mm voxels, 0.5 mm three or four).
+Report single_track(const machine::Profiles& p, double feed) {
+    VerifySettings s;
+    s.voxel_mm = 0.05;
+    ProgramText prog(p, ProgramDialect::kGm, false);
+    const Vec3d c = plate_centre(p);
+    prog.move(c.x - 10.0, c.y, 0.5, p.process.travel_feed_mm_min);
+    prog.laser(true);
+    prog.move(c.x + 10.0, c.y, 0.5, feed);
+    prog.laser(false);
+    return verified(prog.text(), p, s);
+}
+
+TEST(Verify, BeadHeightFollowsTheSpeedLaw) {
+    machine::Profiles p = load("reference_lmd.toml");
+    // Constant mass through the nominal point: 0.5 mm at 381 mm/min, 0.3 mm at 635 mm/min.
+    const Report nominal = single_track(p, 381.0);
+    const Report fast = single_track(p, 635.0);
+    EXPECT_NEAR(nominal.bead_height_max_mm, 0.5, 1e-9);
+    EXPECT_NEAR(fast.bead_height_max_mm, 0.3, 1e-9);
+    EXPECT_NEAR(fast.deposited_volume_mm3 / nominal.deposited_volume_mm3, 0.3 / 0.5, 0.06);
+    EXPECT_NEAR(nominal.deposited_volume_mm3, 20.0 * 2.5 * 0.5, 0.1 * 25.0);
+    // Measured pairs take over.
+    p.process.speed_height = {
+        {250.0, 0.72}, {300.0, 0.62}, {381.0, 0.5}, {500.0, 0.4}, {650.0, 0.3}};
+    EXPECT_NEAR(single_track(p, 300.0).bead_height_max_mm, 0.62, 1e-9);
+}
+
+TEST(Verify, PlaceModelPutsTheBaseDirectionUpOnThePlateCentre) {
+    const machine::Profiles p = load("linuxcnc_generic.toml");
+    // A 10 x 20 x 30 box built along +X: after placement it stands 10 mm high.
+    auto placed = place_model(test::box({5, 5, 5}, {15, 25, 35}), {1, 0, 0}, p.machine);
+    ASSERT_TRUE(placed);
+    const core::Box3d b = mesh::bounding_box(*placed);
+    EXPECT_NEAR(b.min.z, 0.0, 1e-9);
+    EXPECT_NEAR(b.max.z, 10.0, 1e-9);
+    EXPECT_NEAR(b.center().x, 250.0, 1e-9);
+    EXPECT_NEAR(b.center().y, 250.0, 1e-9);
+    EXPECT_NEAR(b.size().y * b.size().x, 600.0, 1e-6);
+    EXPECT_FALSE(place_model(test::box({0, 0, 0}, {1, 1, 1}), {0, 0, 0}, p.machine));
+}
+
+TEST(Verify, ProgramErrorsAreErrorsNotReports) {
+    const machine::Profiles p = load("reference_lmd.toml");
+    auto r = verify_program("0.00 0.00 G21\n0.00 0.00 G1 X1 Y2 Z3 Q4 F100\n", placed_block(p), p);
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.error().describe().find("line 2"), std::string::npos) << r.error().describe();
+}
+
+}  // namespace
+}  // namespace maxslice::verify
