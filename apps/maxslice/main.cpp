@@ -215,7 +215,7 @@ int run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
             {core::ErrorCode::kInvalidInput,
              fmt::format("no collision-free build order exists with this nozzle ({} "
                          "conflicts), so no program is written: {}. See the partial order: "
-                         "maxslice plan PART --profile ... --plan-out plan.json",
+                         "maxslice plan PART --profile FILE --plan plan.json",
                          planned->order->conflicts.size(), c.reason),
              opt.path});
     }
