@@ -197,6 +197,14 @@ private:
             reach = std::max(reach, std::max(h, 0.5 * process_.track_width_mm));
             box.add(b.tip_mm);
             box.add(kin_.forward(b.from).tip_mm);
+            // A joint-space deposit that turns the table (the contract has none) lays an arc.
+            if (!b.tcp &&
+                (b.pose.a_or_b_deg != b.from.a_or_b_deg || b.pose.c_deg != b.from.c_deg)) {
+                for (int i = 1; i < kArcProbe; ++i) {
+                    box.add(kin_.forward(lerp(b.from, b.pose, static_cast<double>(i) / kArcProbe))
+                                .tip_mm);
+                }
+            }
         }
         if (box.empty()) {
             return core::fail(ErrorCode::kInvalidInput,
