@@ -24,7 +24,9 @@
 #include "maxslice/pipeline/previews.hpp"
 #include "maxslice/pipeline/program_job.hpp"
 #include "maxslice/pipeline/slice_job.hpp"
+#include "maxslice/verify/verify.hpp"
 #include "reference_profile.hpp"
+#include "verify_command.hpp"
 
 namespace {
 
@@ -91,6 +93,7 @@ void print_timings(const pipeline::StageTimes& t, bool program = false) {
                  t.validate_s, t.slice_s);
     if (program)
         std::fprintf(stderr, "timing paths %.4f\ntiming write %.4f\n", t.paths_s, t.write_s);
+    if (t.verify_s > 0.0) std::fprintf(stderr, "timing verify %.4f\n", t.verify_s);
 }
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
@@ -182,6 +185,80 @@ int write_text_file(const std::string& file, const std::string& text) {
     return kExitOk;
 }
 
+// A program that deposits nothing is refused (every feature narrower than the track, or a
+// part in other units); one that leaves more than 5% of the section area without a track is
+// written with a loud warning: the program is not the part then.
+int check_tracks(const machine::ProgramSummary& sum, double uncovered_mm2, double area_mm2,
+                 int layers_with_uncovered, const machine::ProcessProfile& process,
+                 const std::string& part) {
+    if (sum.laser_on_count == 0) {
+        return report_error(
+            {core::ErrorCode::kInvalidInput,
+             fmt::format("no track fits in any layer: every feature of the part is narrower than "
+                         "the {:.2f} mm track (process.track_width_mm), or the part is in other "
+                         "units (see --units); no program is written",
+                         process.track_width_mm),
+             part});
+    }
+    if (area_mm2 > 0.0 && uncovered_mm2 > 0.05 * area_mm2) {
+        std::fprintf(stderr,
+                     "maxslice: warning: %.1f%% of the section area gets no track (features "
+                     "narrower than the %.2f mm track, process.track_width_mm); %d layers are "
+                     "affected\n",
+                     100.0 * uncovered_mm2 / area_mm2, process.track_width_mm,
+                     layers_with_uncovered);
+    }
+    return kExitOk;
+}
+
+// The independent verifier replays the program text before it is kept: a program that
+// collides, deposits on nothing (unless --allow-overhangs) or leaves an axis' travel is never
+// written. Skipped with --no-verify.
+int verify_program_text(const std::string& text, const mesh::TriangleMesh& placed,
+                        const machine::Profiles& profiles, const SliceOptions& so,
+                        pipeline::StageTimes& times, std::optional<verify::Report>& report) {
+    if (so.no_verify) return kExitOk;
+    const auto t0 = std::chrono::steady_clock::now();
+    auto r = verify::verify_program(text, placed, profiles);
+    if (!r) return report_error(core::with_context(r.error(), "verifying the program"));
+    report = std::move(*r);
+    times.verify_s = seconds_since(t0);
+    const bool tolerated =
+        so.allow_overhangs && report->collisions.count == 0 && report->limit_violations.count == 0;
+    if (report->passed() || tolerated) return kExitOk;
+    std::fputs(verify::report_text(*report).c_str(), stderr);
+    return report_error({core::ErrorCode::kInvalidInput,
+                         fmt::format("the verifier refused the program ({} collisions, {} "
+                                     "unsupported beads, {} axis-limit violations): nothing "
+                                     "written",
+                                     report->collisions.count, report->unsupported.count,
+                                     report->limit_violations.count),
+                         so.output});
+}
+
+void print_verification(const std::optional<verify::Report>& report) {
+    if (!report) {
+        std::printf("verified        no (--no-verify)\n");
+        return;
+    }
+    std::printf(
+        "verified        %zu collisions, %zu unsupported beads, %zu limit violations "
+        "(%zu poses, %.3f mm voxels)\n",
+        report->collisions.count, report->unsupported.count, report->limit_violations.count,
+        report->poses_checked, report->voxel_mm);
+    std::printf("coverage        %.2f%% of the part, excess %.2f%%\n", 100.0 * report->coverage,
+                100.0 * report->excess);
+    if (report->coverage < 0.97) {
+        std::fprintf(stderr,
+                     "maxslice: warning: the beads cover %.1f%% of the part's volume (features "
+                     "narrower than the track get no material)\n",
+                     100.0 * report->coverage);
+    }
+    std::printf("build time      %.1f min (deposit %.1f, idle %.1f, dwell %.1f; verifier)\n",
+                report->build_time_s / 60.0, report->deposit_time_s / 60.0,
+                report->idle_time_s / 60.0, report->dwell_time_s / 60.0);
+}
+
 // A table-tilt machine: plan the placed part (regions, tilts, splits), order its layers with
 // the nozzle check, turn them into moves and write the 5-axis program.
 int run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
@@ -225,13 +302,22 @@ int run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
                                               name, progress.get());
     if (!p) return report_error(p.error());
     times.paths_s = seconds_since(t0);
+    if (const int rc = check_tracks(p->summary, p->uncovered_mm2, p->region_area_mm2,
+                                    p->layers_with_uncovered, profiles.process, opt.path);
+        rc != kExitOk) {
+        return rc;
+    }
     t0 = std::chrono::steady_clock::now();
     machine::WriteOptions wo;
     wo.clear_z_mm = machine::clear_height_mm(profiles.machine, part.imported.mesh.vertices);
     auto text = machine::write_program(p->program, profiles.machine, profiles.process, wo);
     if (!text) return report_error(text.error());
     times.write_s = seconds_since(t0);
-    (void)so.no_verify;
+    std::optional<verify::Report> report;
+    if (const int rc = verify_program_text(*text, part.imported.mesh, profiles, so, times, report);
+        rc != kExitOk) {
+        return rc;
+    }
     if (const int rc = write_text_file(so.output, *text); rc != kExitOk) return rc;
 
     const auto& sum = p->summary;
@@ -256,6 +342,7 @@ int run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
     std::printf("\n");
     std::printf("uncovered       %.2f mm2 of %.1f mm2 (%d layers over 1%%)\n", p->uncovered_mm2,
                 p->region_area_mm2, p->layers_with_uncovered);
+    print_verification(report);
     if (opt.timings) print_timings(times, true);
     return kExitOk;
 }
@@ -305,6 +392,7 @@ int run_slice(const PartOptions& opt, const SliceOptions& so) {
     if (!stack) return report_error(stack.error());
 
     std::optional<pipeline::PlannedProgram> planned;
+    std::optional<verify::Report> report;
     if (program_mode && profiles->machine.kinematics == machine::Kinematics::kXyz) {
         // A 3-axis machine builds every layer along one direction: refuse a part whose
         // overhangs need a split (the multi-axis planner's analysis), never deposit on air.
@@ -345,21 +433,21 @@ int run_slice(const PartOptions& opt, const SliceOptions& so) {
         auto p = pipeline::plan_program(*stack, *profiles, name, progress.get());
         if (!p) return report_error(p.error());
         times.paths_s = seconds_since(t0);
+        if (const int rc = check_tracks(p->summary, p->uncovered_mm2, p->region_area_mm2,
+                                        p->layers_with_uncovered, profiles->process, opt.path);
+            rc != kExitOk) {
+            return rc;
+        }
         t0 = std::chrono::steady_clock::now();
         auto text = machine::write_program(p->program, profiles->machine, profiles->process);
         if (!text) return report_error(text.error());
-        if (const int rc = write_text_file(so.output, *text); rc != kExitOk) return rc;
         times.write_s = seconds_since(t0);
-        // Features narrower than the bead get no material: say so loudly, the program is
-        // not the part then.
-        if (p->region_area_mm2 > 0.0 && p->uncovered_mm2 > 0.05 * p->region_area_mm2) {
-            std::fprintf(stderr,
-                         "maxslice: warning: %.1f%% of the section area gets no track (features "
-                         "narrower than the %.2f mm track, process.track_width_mm); %d layers "
-                         "are affected\n",
-                         100.0 * p->uncovered_mm2 / p->region_area_mm2,
-                         profiles->process.track_width_mm, p->layers_with_uncovered);
+        if (const int rc =
+                verify_program_text(*text, part->imported.mesh, *profiles, so, times, report);
+            rc != kExitOk) {
+            return rc;
         }
+        if (const int rc = write_text_file(so.output, *text); rc != kExitOk) return rc;
         planned = std::move(*p);
     }
 
@@ -421,6 +509,7 @@ int run_slice(const PartOptions& opt, const SliceOptions& so) {
         std::printf("uncovered       %.2f mm2 of %.1f mm2 (%d layers over 1%%)\n",
                     planned->uncovered_mm2, planned->region_area_mm2,
                     planned->layers_with_uncovered);
+        print_verification(report);
     }
     if (opt.timings) print_timings(times, program_mode);
     return kExitOk;
@@ -612,6 +701,9 @@ int run(int argc, char** argv) {
     plan_cmd->add_option("--sections-out", po.sections_out,
                          "Write the layers' walls coloured by section of the build order as PLY");
 
+    app::VerifyCommandOptions verify_opt;
+    CLI::App* verify_cmd = app::add_verify_command(app, verify_opt);
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -619,6 +711,7 @@ int run(int argc, char** argv) {
         return code == 0 ? kExitOk : kExitBadInput;
     }
 
+    if (verify_cmd->parsed()) return app::run_verify(verify_opt);
     so.layer_given = layer_opt->count() > 0;
     const PartOptions& active =
         info->parsed() ? info_opt : (plan_cmd->parsed() ? plan_opt : slice_opt);

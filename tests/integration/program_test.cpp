@@ -116,8 +116,9 @@ TEST(Program, LinuxCncProgramsOfEverySharedMeshPassRs274) {
         const CliRun r = run_cli({"slice", e.path().string(), "--profile", kLinuxCnc.string(),
                                   "--repair", "-o", ngc.string()},
                                  300);
-        // Parts bigger than the gantry, or too small for a 2.5 mm bead, are refused with a
-        // reason; everything written must be accepted by the controller's interpreter.
+        // Parts bigger than the gantry, too small for a 2.5 mm bead (no track fits), or whose
+        // program the verifier refuses are refused with a reason; everything written must be
+        // accepted by the controller's interpreter.
         ASSERT_TRUE(r.exit_code == 0 || r.exit_code == 2) << e.path() << "\n" << r.err;
         if (r.exit_code != 0) {
             EXPECT_FALSE(fs::exists(ngc)) << "no program is written when the job fails";
@@ -132,7 +133,7 @@ TEST(Program, LinuxCncProgramsOfEverySharedMeshPassRs274) {
         EXPECT_NE(slurp(dir / "canon.txt").find("PROGRAM_END"), std::string::npos);
         fs::remove(ngc);
     }
-    EXPECT_GE(written, 10);
+    EXPECT_GE(written, 6);
 }
 
 TEST(Program, BadProfilesExitTwoNamingTheKey) {

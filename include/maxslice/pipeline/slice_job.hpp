@@ -22,6 +22,7 @@ struct StageTimes {
     double slice_s = 0.0;     ///< layer heights, cutting and wire trees
     double paths_s = 0.0;     ///< toolpaths and the move list (program jobs only)
     double write_s = 0.0;     ///< program text and its file (program jobs only)
+    double verify_s = 0.0;    ///< the verifier's replay of the program (when run)
 };
 
 /// A part read, checked and (with repair) mended: the input of every later stage.

@@ -1,0 +1,62 @@
+#!/usr/bin/env bash
+# Runs the whole 5-axis job (`maxslice slice` with a table-tilt profile: place, plan, order,
+# toolpaths, program, and the independent verifier on the written text) on the planner's
+# fixtures and on every part under the shared test data's meshes/ (and the large lattice
+# cone), and prints a Markdown table of the verifier's figures and the job's wall time.
+# Parts are read with --repair (the shared set has open scans).
+#
+#   bench/verify_all.sh [-b MAXSLICE] [-p PROFILE] [-d TESTDATA_DIR]
+set -euo pipefail
+repo=$(cd "$(dirname "$0")/.." && pwd)
+maxslice=$repo/build/release/apps/maxslice/maxslice
+export_fixtures=$repo/build/release/bench/maxslice_export_fixtures
+profile=$repo/examples/profiles/reference_5axis_ac.toml
+data=${MAXSLICE_TESTDATA_DIR:-$repo/../shared/testdata}
+while [ $# -gt 0 ]; do
+    case $1 in
+        -b) maxslice=${2:?}; shift 2 ;;
+        -p) profile=${2:?}; shift 2 ;;
+        -d) data=${2:?}; shift 2 ;;
+        -h|--help) sed -n '2,8p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+        *) echo "verify_all.sh: unknown option '$1'" >&2; exit 2 ;;
+    esac
+done
+for exe in "$maxslice" "$export_fixtures"; do
+    [ -x "$exe" ] || { echo "verify_all.sh: no $exe (bash scripts/build.sh release)" >&2; exit 2; }
+done
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+"$export_fixtures" "$work/fixtures" > /dev/null
+
+echo "# maxslice 5-axis job with the verifier  ($(date -u '+%Y-%m-%d %H:%M UTC'), commit $(git -C "$repo" rev-parse --short HEAD 2>/dev/null || echo unknown))"
+echo
+echo "machine: $(nproc) cores, load $(cut -d' ' -f1-3 /proc/loadavg); profile: ${profile#"$repo/"}; parts read with --repair"
+echo
+echo "| part | exit | regions | layers (tilted) | collisions | unsupported | limit violations | coverage % | excess % | bead height mm | build time min | verify s | job wall s | note |"
+echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"
+{ ls "$work"/fixtures/*.stl; find "$data/meshes" -type f | sort; echo "$data/large/Spiral_lattice_cone_2_occt.stl"; } | while read -r f; do
+    [ -f "$f" ] || continue
+    case $f in "$work"/*) rel="fixture ${f##*/}"; rel=${rel%.stl} ;; *) rel=${f#"$data/"} ;; esac
+    t0=$EPOCHREALTIME
+    rc=0
+    "$maxslice" slice "$f" --repair --profile "$profile" -o "$work/p.gm" --timings \
+        > "$work/out" 2> "$work/err" || rc=$?
+    t1=$EPOCHREALTIME
+    wall=$(awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.2f", b - a }')
+    note=""
+    if [ "$rc" != 0 ]; then
+        note=$(grep -m1 "error" "$work/err" | sed 's/^maxslice: error: //; s/|/\\|/g' | cut -c1-140)
+    fi
+    vs=$(awk '/^timing verify/ { print $3 }' "$work/err")
+    # The verifier's own report when it refused the program (printed on stderr).
+    awk -v rel="$rel" -v rc="$rc" -v wall="$wall" -v note="$note" -v vs="${vs:--}" '
+        /^regions/ { regions = $2; layers = $5; tilted = $7; sub(/\(/, "", tilted) }
+        /^verified/ { col = $2; uns = $4; lim = $7; sub(/,/, "", col); sub(/,/, "", uns) }
+        /^coverage/ { cov = $2; exc = $NF; sub(/%/, "", cov); sub(/%/, "", exc) }
+        /^build time/ { bt = $3 }
+        END {
+            printf "| %s | %s | %s | %s | %s | %s | %s | %s | %s | - | %s | %s | %s | %s |\n", rel, rc,
+                regions ? regions : "-", layers ? layers " (" tilted ")" : "-", col != "" ? col : "-",
+                uns != "" ? uns : "-", lim != "" ? lim : "-", cov != "" ? cov : "-", exc != "" ? exc : "-",
+                bt ? bt : "-", vs, wall, note }' "$work/out"
+done
