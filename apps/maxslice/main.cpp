@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "cli_common.hpp"
 #include "maxslice/core/units.hpp"
 #include "maxslice/machine/machine_moves.hpp"
 #include "maxslice/machine/profile.hpp"
@@ -32,14 +33,10 @@ namespace {
 
 using namespace maxslice;
 
-constexpr int kExitOk = 0;
-constexpr int kExitInternal = 1;
-constexpr int kExitBadInput = 2;
-
-int report_error(const core::Error& e) {
-    std::fprintf(stderr, "maxslice: error: %s\n", e.describe().c_str());
-    return e.code == core::ErrorCode::kInternal ? kExitInternal : kExitBadInput;
-}
+using app::kExitBadInput;
+using app::kExitInternal;
+using app::kExitOk;
+using app::report_error;
 
 // Options shared by every command that reads a part.
 struct PartOptions {

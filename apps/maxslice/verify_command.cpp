@@ -1,5 +1,7 @@
 #include "verify_command.hpp"
 
+#include "cli_common.hpp"
+
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
@@ -15,16 +17,6 @@
 
 namespace maxslice::app {
 namespace {
-
-constexpr int kExitOk = 0;
-constexpr int kExitInternal = 1;
-constexpr int kExitBadInput = 2;
-
-// As main.cpp's report_error (to be folded into one helper).
-int report_error(const core::Error& e) {
-    std::fprintf(stderr, "maxslice: error: %s\n", e.describe().c_str());
-    return e.code == core::ErrorCode::kInternal ? kExitInternal : kExitBadInput;
-}
 
 core::Result<std::string> read_text(const std::string& file) {
     std::ifstream in(file, std::ios::binary);

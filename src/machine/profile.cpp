@@ -846,6 +846,16 @@ std::string format_value(double v) {
 
 }  // namespace
 
+core::Vec3d plate_center(const MachineProfile& machine) {
+    if (is_table_tilt(machine.kinematics) && machine.table) {
+        return {machine.table->c_offset_x_mm, machine.table->c_offset_y_mm, 0.0};
+    }
+    core::Vec3d c{};
+    if (const auto* x = machine.find_axis("X")) c.x = 0.5 * (x->min + x->max);
+    if (const auto* y = machine.find_axis("Y")) c.y = 0.5 * (y->min + y->max);
+    return c;
+}
+
 const AxisLimits* MachineProfile::find_axis(std::string_view axis_name) const {
     for (const auto& a : axes) {
         if (a.name == axis_name) return &a;

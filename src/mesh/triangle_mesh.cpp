@@ -277,4 +277,30 @@ TriangleMesh weld_exact(std::span<const double> xyz) {
     return weld_impl(xyz);
 }
 
+TriangleMesh placed_on_plate(TriangleMesh part, const core::Vec3d& direction,
+                             const core::Vec3d& plate_center) {
+    // Rodrigues rotation taking d onto +Z (a half turn about X when d points down).
+    const core::Vec3d d = core::normalized(direction);
+    const core::Vec3d z{0.0, 0.0, 1.0};
+    const core::Vec3d axis = core::cross(d, z);
+    const double s = core::norm(axis), c = core::dot(d, z);
+    std::array<double, 12> m{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+    if (s > 1e-12) {
+        const core::Vec3d k = axis / s;
+        const double v = 1.0 - c;
+        m = {c + k.x * k.x * v,       k.x * k.y * v - k.z * s, k.x * k.z * v + k.y * s, 0.0,
+             k.y * k.x * v + k.z * s, c + k.y * k.y * v,       k.y * k.z * v - k.x * s, 0.0,
+             k.z * k.x * v - k.y * s, k.z * k.y * v + k.x * s, c + k.z * k.z * v,       0.0};
+    } else if (c < 0.0) {
+        m = {1, 0, 0, 0, 0, -1, 0, 0, 0, 0, -1, 0};
+    }
+    transform(part, m);
+    const core::Box3d box = bounding_box(part);
+    if (!box.empty()) {
+        transform(part, {1, 0, 0, plate_center.x - box.center().x, 0, 1, 0,
+                         plate_center.y - box.center().y, 0, 0, 1, -box.min.z});
+    }
+    return part;
+}
+
 }  // namespace maxslice::mesh

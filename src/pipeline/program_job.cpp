@@ -13,38 +13,12 @@ namespace maxslice::pipeline {
 using core::Vec3d;
 
 Vec3d plate_center(const machine::MachineProfile& machine) {
-    if (machine.table) return {machine.table->c_offset_x_mm, machine.table->c_offset_y_mm, 0.0};
-    Vec3d c{};
-    if (const auto* x = machine.find_axis("X")) c.x = 0.5 * (x->min + x->max);
-    if (const auto* y = machine.find_axis("Y")) c.y = 0.5 * (y->min + y->max);
-    return c;
+    return machine::plate_center(machine);
 }
 
 mesh::TriangleMesh place_on_plate(mesh::TriangleMesh part, const Vec3d& direction,
                                   const Vec3d& plate_center) {
-    // Rodrigues rotation taking d onto +Z (a half turn about X when d points down).
-    const Vec3d d = core::normalized(direction);
-    const Vec3d z{0.0, 0.0, 1.0};
-    const Vec3d axis = core::cross(d, z);
-    const double s = core::norm(axis), c = core::dot(d, z);
-    std::array<double, 12> m{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
-    if (s > 1e-12) {
-        const Vec3d k = axis / s;
-        const double v = 1.0 - c;
-        m = {c + k.x * k.x * v,       k.x * k.y * v - k.z * s, k.x * k.z * v + k.y * s, 0.0,
-             k.y * k.x * v + k.z * s, c + k.y * k.y * v,       k.y * k.z * v - k.x * s, 0.0,
-             k.z * k.x * v - k.y * s, k.z * k.y * v + k.x * s, c + k.z * k.z * v,       0.0};
-    } else if (c < 0.0) {
-        m = {1, 0, 0, 0, 0, -1, 0, 0, 0, 0, -1, 0};
-    }
-    mesh::transform(part, m);
-    const core::Box3d box = mesh::bounding_box(part);
-    if (!box.empty()) {
-        const Vec3d shift{plate_center.x - box.center().x, plate_center.y - box.center().y,
-                          -box.min.z};
-        mesh::transform(part, {1, 0, 0, shift.x, 0, 1, 0, shift.y, 0, 0, 1, shift.z});
-    }
-    return part;
+    return mesh::placed_on_plate(std::move(part), direction, plate_center);
 }
 
 path::PathSettings path_settings(const machine::ProcessProfile& process) {

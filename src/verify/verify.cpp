@@ -555,33 +555,7 @@ core::Result<mesh::TriangleMesh> place_model(mesh::TriangleMesh model,
         return core::fail(ErrorCode::kInvalidInput,
                           "the base direction must be a finite non-zero vector", "--direction");
     }
-    // Rodrigues rotation taking d onto +Z (a half turn about X when d points down).
-    const Vec3d d = core::normalized(base_direction);
-    const Vec3d z{0.0, 0.0, 1.0};
-    const Vec3d axis = core::cross(d, z);
-    const double s = core::norm(axis), c = core::dot(d, z);
-    std::array<double, 12> m{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
-    if (s > 1e-12) {
-        const Vec3d k = axis / s;
-        const double v = 1.0 - c;
-        m = {c + k.x * k.x * v,       k.x * k.y * v - k.z * s, k.x * k.z * v + k.y * s, 0.0,
-             k.y * k.x * v + k.z * s, c + k.y * k.y * v,       k.y * k.z * v - k.x * s, 0.0,
-             k.z * k.x * v - k.y * s, k.z * k.y * v + k.x * s, c + k.z * k.z * v,       0.0};
-    } else if (c < 0.0) {
-        m = {1, 0, 0, 0, 0, -1, 0, 0, 0, 0, -1, 0};
-    }
-    mesh::transform(model, m);
-    Vec3d centre{};
-    if (machine::is_table_tilt(machine.kinematics) && machine.table) {
-        centre = {machine.table->c_offset_x_mm, machine.table->c_offset_y_mm, 0.0};
-    } else {
-        if (const auto* x = machine.find_axis("X")) centre.x = 0.5 * (x->min + x->max);
-        if (const auto* y = machine.find_axis("Y")) centre.y = 0.5 * (y->min + y->max);
-    }
-    const core::Box3d box = mesh::bounding_box(model);
-    mesh::transform(model, {1, 0, 0, centre.x - box.center().x, 0, 1, 0, centre.y - box.center().y,
-                            0, 0, 1, -box.min.z});
-    return model;
+    return mesh::placed_on_plate(std::move(model), base_direction, machine::plate_center(machine));
 }
 
 core::Result<Report> verify_program(std::string_view program_text,

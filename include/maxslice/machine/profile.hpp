@@ -193,6 +193,11 @@ struct Profiles {
 /// "xyz" / "xyzac-trt" / "xyzbc-trt", as in the profile.
 [[nodiscard]] std::string_view kinematics_name(Kinematics kinematics);
 
+/// Where a part stands on the plate, part coordinates (Z = 0): the middle of the X and Y
+/// travel of an "xyz" machine, the C axis (table c_offset) of a table-tilt machine
+/// (docs/program-dialects.md).
+[[nodiscard]] core::Vec3d plate_center(const MachineProfile& machine);
+
 /// True for the tilting-rotary table kinematics (kTableAc, kTableBc).
 [[nodiscard]] bool is_table_tilt(Kinematics kinematics);
 

@@ -38,6 +38,12 @@ void scale(TriangleMesh& mesh, double s);
 /// Applies a 3x4 row-major affine transform [R | t] to every vertex in place; a transform
 /// with a negative determinant also flips every triangle to keep normals outward.
 void transform(TriangleMesh& mesh, const std::array<double, 12>& affine);
+/// Puts a part on a build plate (docs/program-dialects.md, "Frames and placement"): rotates
+/// it so that `direction` (non-zero) points to +Z (Rodrigues about d x Z, a half turn about X
+/// when d points down), then moves it so that its lowest point lies on Z = 0 and the centre of
+/// its XY bounding box on (plate_center.x, plate_center.y).
+[[nodiscard]] TriangleMesh placed_on_plate(TriangleMesh mesh, const core::Vec3d& direction,
+                                           const core::Vec3d& plate_center);
 /// Appends b's triangles to a (vertices are not shared).
 void append(TriangleMesh& a, const TriangleMesh& b);
 

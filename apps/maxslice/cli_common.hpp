@@ -1,0 +1,21 @@
+// What the command-line front end's commands share: exit codes and error reporting.
+#pragma once
+
+#include <cstdio>
+
+#include "maxslice/core/result.hpp"
+
+namespace maxslice::app {
+
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitInternal = 1;
+inline constexpr int kExitBadInput = 2;
+
+/// Prints "maxslice: error: ..." on stderr; the exit code: 1 for an internal error, 2 for
+/// everything the user can fix (bad input, refused programs).
+inline int report_error(const core::Error& e) {
+    std::fprintf(stderr, "maxslice: error: %s\n", e.describe().c_str());
+    return e.code == core::ErrorCode::kInternal ? kExitInternal : kExitBadInput;
+}
+
+}  // namespace maxslice::app
