@@ -16,6 +16,7 @@
 #include "cell.hpp"
 #include "maxslice/core/units.hpp"
 #include "maxslice/slice/slicer.hpp"
+#include "section_index.hpp"
 
 namespace maxslice::plan {
 namespace {
@@ -227,13 +228,15 @@ private:
         return false;
     }
 
-    // One section of the mesh by an arbitrary plane, clipped to region rid's cell.
+    // One section of the mesh by an arbitrary plane, clipped to region rid's cell. Marches
+    // cut one plane at a time: only the triangles near the plane are sliced (the index is
+    // built at the first march).
     core::Result<Paths2> section(int rid, const slice::PlaneFrame& plane, double thickness) {
-        const slice::LayerSpan span{-thickness / 2, thickness / 2, 0.0};
-        auto slices = slice::slice_mesh(mesh_, plane, std::span(&span, 1));
-        if (!slices) return std::unexpected(slices.error());
+        if (!sections_) sections_.emplace(mesh_);
+        auto cut = sections_->section(plane, thickness);
+        if (!cut) return std::unexpected(cut.error());
         const Region& r = plan_.regions[static_cast<std::size_t>(rid)];
-        return detail::clip_to_cell(slices->front().wires.paths(), r.cell, slices->front().plane);
+        return detail::clip_to_cell(*cut, r.cell, plane);
     }
 
     // Splits for U above `lower` (and above the look-back layer): nullopt when U may be
@@ -737,6 +740,7 @@ private:
     int look_back_ = 1;  // layers in a track's height: the look-back distance
     Plan plan_;
     std::deque<RegionJob> jobs_;
+    std::optional<detail::SectionIndex> sections_;
 };
 
 }  // namespace
