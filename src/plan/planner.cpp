@@ -89,6 +89,9 @@ constexpr double kMinSidewaysNorm = 1e-6;
 // A first layer rests on a layer of another region when their footprints on its base plane
 // overlap by at least this share of a track width squared.
 constexpr double kContactAreaShare = 0.05;
+// A layer whose wires lie this far (mm) outside the strip behind a base plane has nothing in
+// it: far beyond the rounding of the strip's trace to micrometres.
+constexpr double kStripSlackMm = 0.01;
 
 std::unexpected<core::Error> invalid(const std::string& message, const std::string& context) {
     return core::fail(core::ErrorCode::kInvalidInput, message, context);
@@ -103,6 +106,45 @@ struct Seed {
 struct RegionJob {
     int region = 0;
     Seed seed;
+};
+
+// A region's uniform slices, cut in batches as the walk asks for them: a walk that stops
+// at a split (most do, in parts that split) does not pay for the slices above it. Each
+// plane's section depends only on its own height (slice::slice_mesh cuts planes
+// independently), so batches give the slices one call for all of them would.
+class SliceStack {
+public:
+    SliceStack(const mesh::TriangleMesh& mesh, const slice::PlaneFrame& base,
+               std::vector<slice::LayerSpan> spans)
+        : mesh_(mesh), base_(base), spans_(std::move(spans)) {}
+
+    [[nodiscard]] std::size_t size() const { return spans_.size(); }
+
+    // Slice i (index within the whole stack); valid until the next call.
+    core::Result<const slice::Slice*> at(std::size_t i) {
+        while (i >= slices_.size()) {
+            const std::size_t begin = slices_.size();
+            const std::size_t end = std::min(spans_.size(), begin + batch_);
+            batch_ = std::min(kMaxBatch, 2 * batch_);
+            auto batch =
+                slice::slice_mesh(mesh_, base_, std::span(spans_).subspan(begin, end - begin));
+            if (!batch) return std::unexpected(batch.error());
+            for (slice::Slice& sl : *batch) {
+                sl.index = static_cast<int>(slices_.size());
+                slices_.push_back(std::move(sl));
+            }
+        }
+        return &slices_[i];
+    }
+
+private:
+    // The first batch is small (many walks stop within it); batches double up to this.
+    static constexpr std::size_t kMaxBatch = 128;
+    const mesh::TriangleMesh& mesh_;
+    slice::PlaneFrame base_;
+    std::vector<slice::LayerSpan> spans_;
+    std::vector<slice::Slice> slices_;
+    std::size_t batch_ = 8;
 };
 
 class Planner {
@@ -150,27 +192,29 @@ private:
     // Slices one region and walks up its layers; stops at the first split (the rest goes to
     // the new regions).
     core::Result<void> plan_region(RegionJob job) {
+        const Region& r = plan_.regions[static_cast<std::size_t>(job.region)];
+        const auto [lo, hi] = slice::extent_along(mesh_, r.base);
+        (void)lo;
+        if (!(hi > 0.0)) return {};
+        SliceStack slices(mesh_, r.base, slice::uniform_layers(0.0, hi, s_.layer_mm));
         for (;;) {
-            Region& r = plan_.regions[static_cast<std::size_t>(job.region)];
-            const auto [lo, hi] = slice::extent_along(mesh_, r.base);
-            (void)lo;
-            if (!(hi > 0.0)) return {};
-            const std::vector<slice::LayerSpan> spans = slice::uniform_layers(0.0, hi, s_.layer_mm);
-            auto slices = slice::slice_mesh(mesh_, r.base, spans);
-            if (!slices) return std::unexpected(slices.error());
-            auto outcome = walk(job, *slices);
+            auto outcome = walk(job, slices);
             if (!outcome) return std::unexpected(outcome.error());
             if (!*outcome) return {};  // walked to the top, or split after some layers
-            // Split at the region's first layer: its cell changed, walk it again.
+            // Split at the region's first layer: its cell changed (not its slices), walk it
+            // again.
         }
     }
 
     // Walks a region's slices. Returns true when the region must be walked again (its cell
     // changed before it had any layer), false when done.
-    core::Result<bool> walk(const RegionJob& job, std::vector<slice::Slice>& slices) {
+    core::Result<bool> walk(const RegionJob& job, SliceStack& slices) {
         const int rid = job.region;
         int lower = job.seed.layer;  // L: a layer id, or -1
-        for (slice::Slice& s : slices) {
+        for (std::size_t i = 0; i < slices.size(); ++i) {
+            auto next = slices.at(i);
+            if (!next) return std::unexpected(next.error());
+            const slice::Slice& s = **next;
             Region& r = plan_.regions[static_cast<std::size_t>(rid)];
             const Paths2 clipped = detail::clip_to_cell(s.wires.paths(), r.cell, s.plane);
             if (geom2d::signed_area_mm2(clipped) <= 0.0) continue;
@@ -408,10 +452,9 @@ private:
         const auto [lo, hi] = slice::extent_along(mesh_, base);
         (void)lo;
         if (!(hi > s_.layer_mm / 2)) return false;
-        auto slices = slice::slice_mesh(mesh_, base, slice::uniform_layers(0.0, hi, s_.layer_mm));
-        if (!slices) return std::unexpected(slices.error());
+        SliceStack slices(mesh_, base, slice::uniform_layers(0.0, hi, s_.layer_mm));
         // The first of them is the empty one the march met.
-        return walk({rid, {lower}}, *slices);
+        return walk({rid, {lower}}, slices);
     }
 
     // Removes region rid's layers above layer `keep` (the last ones made), and the tilt
@@ -587,6 +630,9 @@ private:
     // The hierarchy graph (METHOD.md section 6).
     core::Result<void> build_graph() {
         std::vector<Layer>& layers = plan_.layers;
+        boxes_.resize(layers.size());
+        tbb::parallel_for(std::size_t{0}, layers.size(),
+                          [&](std::size_t i) { boxes_[i] = box_of(layers[i]); });
         const double min_area = kContactAreaShare * s_.track_width_mm * s_.track_width_mm;
         const auto link = [&](int from, int to) {
             layers[static_cast<std::size_t>(from)].children.push_back(to);
@@ -678,8 +724,8 @@ private:
     // Whether upper's footprint can reach lower's grown region (boxes of their wires in
     // 3D, grown by the growth overlap_mm2 allows and the distance between the layers).
     bool may_overlap(const Layer& lower, const Layer& upper) const {
-        const Box3 a = box_of(lower);
-        const Box3 b = box_of(upper);
+        const Box3& a = boxes_[static_cast<std::size_t>(lower.id)];
+        const Box3& b = boxes_[static_cast<std::size_t>(upper.id)];
         const double gap = 2.0 * s_.track_width_mm + 2.0 * s_.h_max_mm +
                            core::norm(upper.plane.origin - lower.plane.origin) *
                                std::tan(s_.self_supporting_deg * std::numbers::pi / 180.0);
@@ -712,6 +758,15 @@ private:
         const core::Vec3d ns = r.direction;
         const core::Vec3d s = r.base.origin;
         const double depth = std::max(s_.layer_mm, q.span.thickness());
+        // Most layers lie wholly in front of the base plane or far behind it: their box
+        // tells, without clipping.
+        const Box3& box = boxes_[static_cast<std::size_t>(q.id)];
+        double centre = 0.0, radius = 0.0;
+        for (int k = 0; k < 3; ++k) {
+            centre += 0.5 * (box.lo[k] + box.hi[k] - 2.0 * s[k]) * ns[k];
+            radius += 0.5 * (box.hi[k] - box.lo[k]) * std::abs(ns[k]);
+        }
+        if (centre - radius > kStripSlackMm || centre + radius < -depth - kStripSlackMm) return 0.0;
         const HalfSpace strip[] = {{s, -ns}, {s - ns * depth, ns}};
         const Paths2 near = detail::clip_to_cell(q.wires.paths(), strip, q.plane);
         if (near.empty()) return 0.0;
@@ -741,6 +796,7 @@ private:
     Plan plan_;
     std::deque<RegionJob> jobs_;
     std::optional<detail::SectionIndex> sections_;
+    std::vector<Box3> boxes_;  // per layer id, while the graph is built
 };
 
 }  // namespace
