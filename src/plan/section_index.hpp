@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "box_tree.hpp"
 #include "maxslice/core/result.hpp"
 #include "maxslice/core/vec3.hpp"
 #include "maxslice/geom2d/polygon.hpp"
@@ -31,17 +32,10 @@ public:
                                                        double thickness);
 
 private:
-    struct Node {
-        core::Vec3d lo;
-        core::Vec3d hi;
-        std::uint32_t first = 0;  // leaves: triangles order_[first, first + count)
-        std::uint32_t count = 0;  // 0: an inner node with children `first` and `first + 1`
-    };
     void collect(const slice::PlaneFrame& plane);
 
     const mesh::TriangleMesh& mesh_;
-    std::vector<Node> nodes_;
-    std::vector<std::uint32_t> order_;  // triangle ids grouped by leaf
+    BoxTree tree_;  // over the triangles' boxes
     // Scratch of a query.
     std::vector<std::uint32_t> hits_;
     std::vector<std::uint32_t> vertex_map_;  // mesh vertex -> sub-mesh vertex + 1 (0: none)
