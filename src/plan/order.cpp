@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <tuple>
 
 #include <tbb/parallel_for.h>
@@ -17,6 +18,7 @@
 #include "maxslice/core/units.hpp"
 #include "maxslice/geom2d/polygon.hpp"
 #include "maxslice/geom2d/wire_tree.hpp"
+#include "region_distance.hpp"
 
 // Collision control and build order (METHOD.md sections 7 and 8). The names follow the
 // method: S1 is the layer in place, S2 the one being deposited; "hit(S2, S1)" means S2's
@@ -43,6 +45,10 @@ constexpr double kMarginCap = 10.0;
 // the rounding of coordinates of parts of metres, so a bound never skips a sample whose
 // clearance, computed on its own, is smaller.
 constexpr double kBoxSlackMm = 1e-9;
+// A footprint distance is looked for up to the radius that could lower a margin, grown by
+// this share and this many micrometres: rounding never hides a closer point.
+constexpr double kLimitPadShare = 1e-9;
+constexpr double kLimitPadUm = 1e-3;
 
 // The clearance of a point t above the apex's plane (within the nozzle's length) and r from
 // its axis: to the cone's side (r cos - t sin of the half-angle) up to the cone's length, to
@@ -77,6 +83,7 @@ struct LayerShape {
     core::Vec3d d;          // build direction = nozzle axis (unit)
     slice::PlaneFrame top;  // apexes lie on this plane
     geom2d::Paths2 print;   // apexes' region on the top plane (um, top's u, v)
+    detail::RegionDistance print_index;
     Vec2 print_lo{kInf, kInf};
     Vec2 print_hi{-kInf, -kInf};
     std::vector<core::Vec3d> samples;  // material points: bottom and top faces, by chunk
@@ -178,6 +185,7 @@ LayerShape shape_of(const Layer& l, const Nozzle& nozzle, double spacing, double
             s.print_hi = {std::max(s.print_hi.x, p.x), std::max(s.print_hi.y, p.y)};
         }
     }
+    s.print_index = detail::RegionDistance(s.print);
     const double half = std::max(l.thickness_max_mm, l.span.thickness()) / 2.0;
     for (const Vec2& q : sample_region(own, spacing)) {
         const geom2d::Point2 p{core::mm_to_um(q.x), core::mm_to_um(q.y)};
@@ -320,9 +328,15 @@ Meeting meet(const LayerShape& s2, const LayerShape& s1, const Nozzle& nozzle) {
             const double by = std::max({s2.print_lo.y - q.y, 0.0, q.y - s2.print_hi.y});
             const double box = std::sqrt(bx * bx + by * by);
             if (clearance_at(nozzle, t, box, ca, sa) >= m.margin) continue;
-            // The distance to the footprint (0 inside) and its closest point.
-            const geom2d::ClosestPoint cp = geom2d::closest_region_point(
-                s2.print, {q.x * core::kMicronsPerMm, q.y * core::kMicronsPerMm});
+            // The distance to the footprint (0 inside) and its closest point, when it can be
+            // short enough to lower the margin: below r_max (mm), padded for rounding.
+            const double r_max =
+                t <= cone ? (m.margin + t * sa) / ca : m.margin + nozzle.body_radius_mm;
+            const std::optional<geom2d::ClosestPoint> found = s2.print_index.closest(
+                {q.x * core::kMicronsPerMm, q.y * core::kMicronsPerMm},
+                r_max * core::kMicronsPerMm * (1.0 + kLimitPadShare) + kLimitPadUm);
+            if (!found) continue;
+            const geom2d::ClosestPoint& cp = *found;
             const double r = cp.distance_um / core::kMicronsPerMm;
             const double here = clearance_at(nozzle, t, r, ca, sa);
             if (here < m.margin) {
