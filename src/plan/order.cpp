@@ -31,8 +31,11 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kDegToRad = std::numbers::pi / 180.0;
 // Material this little above the apex's plane is the layer's own level (mm).
 constexpr double kLevelTolerance = 1e-6;
-// Plans with more layers are refused: the descendant rows take n^2 / 8 bytes (600 MB here).
-constexpr std::size_t kMaxLayers = 70'000;
+// Plans with more layers are refused (the planner's own limit): the graph's ancestor rows
+// cost n^2 / 64 word operations in all.
+constexpr std::size_t kMaxLayers = 1'000'000;
+// Words (8 bytes) the ancestor rows of one block of layers may take: 64 MB.
+constexpr std::size_t kReachBudgetWords = std::size_t{8} << 20;
 // Samples are checked in chunks of about this many sample spacings across.
 constexpr double kChunkSamples = 6.0;
 // Apexes stand this share of half a track inside the section (a margin for the offset's
@@ -353,32 +356,56 @@ Meeting meet(const LayerShape& s2, const LayerShape& s1, const Nozzle& nozzle) {
     return m;
 }
 
-// Descendants of every layer as bit rows.
-class Reach {
+// Which of the layers [first, first + count) lie below each layer in the graph (the layer is
+// deposited on them, directly or not), as a bit row per layer: n x count bits, so the order
+// walks the layers in blocks and the memory stays within kReachBudgetWords whatever n is.
+class Ancestors {
 public:
-    explicit Reach(const Plan& plan, const std::vector<int>& topo)
-        : words_((plan.layers.size() + 63) / 64), bits_(plan.layers.size() * words_, 0) {
-        for (auto it = topo.rbegin(); it != topo.rend(); ++it) {
-            const Layer& l = plan.layers[static_cast<std::size_t>(*it)];
-            std::uint64_t* row = bits_.data() + static_cast<std::size_t>(l.id) * words_;
-            for (const int c : l.children) {
-                row[static_cast<std::size_t>(c) / 64] |= std::uint64_t{1} << (c % 64);
-                const std::uint64_t* crow = bits_.data() + static_cast<std::size_t>(c) * words_;
-                for (std::size_t w = 0; w < words_; ++w) row[w] |= crow[w];
+    Ancestors(const Plan& plan, const std::vector<int>& topo, int first, int count)
+        : first_(first),
+          words_((static_cast<std::size_t>(count) + 63) / 64),
+          bits_(plan.layers.size() * words_, 0) {
+        for (const int id : topo) {
+            std::uint64_t* row = bits_.data() + static_cast<std::size_t>(id) * words_;
+            for (const int p : plan.layers[static_cast<std::size_t>(id)].parents) {
+                const std::uint64_t* prow = bits_.data() + static_cast<std::size_t>(p) * words_;
+                for (std::size_t w = 0; w < words_; ++w) row[w] |= prow[w];
+                if (p >= first && p - first < count) {
+                    row[static_cast<std::size_t>(p - first) / 64] |= std::uint64_t{1}
+                                                                     << ((p - first) % 64);
+                }
             }
         }
     }
-    // Whether b lies above a in the graph (b is deposited on a, directly or not).
+    // Whether b lies above a in the graph; a in [first, first + count).
     [[nodiscard]] bool descends(int b, int a) const {
-        return ((bits_[static_cast<std::size_t>(a) * words_ + static_cast<std::size_t>(b) / 64] >>
-                 (b % 64)) &
-                1U) != 0;
+        const auto k = static_cast<std::size_t>(a - first_);
+        return ((bits_[static_cast<std::size_t>(b) * words_ + k / 64] >> (k % 64)) & 1U) != 0;
     }
 
 private:
+    int first_;
     std::size_t words_;
     std::vector<std::uint64_t> bits_;
 };
+
+// Whether b lies above a in the graph (a search from a; for the few pairs a report names).
+bool descends(const Plan& plan, int b, int a) {
+    std::vector<char> seen(plan.layers.size(), 0);
+    std::vector<int> stack{a};
+    while (!stack.empty()) {
+        const int id = stack.back();
+        stack.pop_back();
+        for (const int c : plan.layers[static_cast<std::size_t>(id)].children) {
+            if (c == b) return true;
+            if (seen[static_cast<std::size_t>(c)] == 0) {
+                seen[static_cast<std::size_t>(c)] = 1;
+                stack.push_back(c);
+            }
+        }
+    }
+    return false;
+}
 
 // A pair the nozzle orders: `first` must be deposited before `second`, whose material its
 // nozzle would meet.
@@ -492,7 +519,6 @@ core::Result<BuildOrder> order_layers(const Plan& plan, const OrderSettings& set
         }
     });
     if (cancelled()) return core::fail(core::ErrorCode::kCancelled, "cancelled", "build order");
-    const Reach reach(plan, topo);
     // The layers with samples, by their boxes: the candidates of each nozzle.
     const detail::BoxTree tree = [&] {
         std::vector<core::Vec3d> lo(n), hi(n);
@@ -507,32 +533,39 @@ core::Result<BuildOrder> order_layers(const Plan& plan, const OrderSettings& set
     // in the graph) and S2's nozzle can reach S1's box: the exact check.
     std::vector<std::vector<std::pair<int, Meeting>>> meets(n);
     std::atomic<std::size_t> done{0};
-    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
-        if (cancelled()) return;
-        const int s2 = static_cast<int>(i);
-        const LayerShape& a = shapes[i];
-        std::vector<int> candidates;
-        tree.visit(
-            [&](const core::Vec3d& lo, const core::Vec3d& hi) {
-                return boxes_meet(a.reach_lo, a.reach_hi, lo, hi);
-            },
-            [&](std::uint32_t s1) {
-                if (static_cast<int>(s1) != s2 &&
-                    boxes_meet(a.reach_lo, a.reach_hi, shapes[s1].lo, shapes[s1].hi)) {
-                    candidates.push_back(static_cast<int>(s1));
-                }
-            });
-        std::sort(candidates.begin(), candidates.end());
-        for (const int s1 : candidates) {
-            if (reach.descends(s1, s2)) continue;  // S1 comes after S2 in any order
-            const Meeting m = meet(a, shapes[static_cast<std::size_t>(s1)], nozzle);
-            if (m.margin < kInf) meets[i].emplace_back(s1, m);
-        }
-        if (progress != nullptr) {
-            progress->report("build order",
-                             0.9 * static_cast<double>(++done) / static_cast<double>(n));
-        }
-    });
+    // In blocks of S2 whose ancestor rows fit the budget.
+    const std::size_t block = std::clamp<std::size_t>(
+        kReachBudgetWords / std::max<std::size_t>(n, 1) * 64, 64, std::max<std::size_t>(n, 64));
+    for (std::size_t b0 = 0; b0 < n; b0 += block) {
+        const std::size_t b1 = std::min(n, b0 + block);
+        const Ancestors below(plan, topo, static_cast<int>(b0), static_cast<int>(b1 - b0));
+        tbb::parallel_for(b0, b1, [&](std::size_t i) {
+            if (cancelled()) return;
+            const int s2 = static_cast<int>(i);
+            const LayerShape& a = shapes[i];
+            std::vector<int> candidates;
+            tree.visit(
+                [&](const core::Vec3d& lo, const core::Vec3d& hi) {
+                    return boxes_meet(a.reach_lo, a.reach_hi, lo, hi);
+                },
+                [&](std::uint32_t s1) {
+                    if (static_cast<int>(s1) != s2 &&
+                        boxes_meet(a.reach_lo, a.reach_hi, shapes[s1].lo, shapes[s1].hi)) {
+                        candidates.push_back(static_cast<int>(s1));
+                    }
+                });
+            std::sort(candidates.begin(), candidates.end());
+            for (const int s1 : candidates) {
+                if (below.descends(s1, s2)) continue;  // S1 comes after S2 in any order
+                const Meeting m = meet(a, shapes[static_cast<std::size_t>(s1)], nozzle);
+                if (m.margin < kInf) meets[i].emplace_back(s1, m);
+            }
+            if (progress != nullptr) {
+                progress->report("build order",
+                                 0.9 * static_cast<double>(++done) / static_cast<double>(n));
+            }
+        });
+    }
     if (cancelled()) return core::fail(core::ErrorCode::kCancelled, "cancelled", "build order");
 
     // Precedence: the graph's edges and, for every S2 whose nozzle would meet S1 closer than
@@ -639,7 +672,7 @@ core::Result<BuildOrder> order_layers(const Plan& plan, const OrderSettings& set
                 describe(plan, c.layer), c.apex.x, c.apex.y, c.apex.z, describe(plan, c.other),
                 c.hit.x, c.hit.y, c.hit.z, c.margin_mm, nozzle.clearance_mm,
                 describe(plan, c.layer), describe(plan, c.other),
-                reach.descends(c.layer, c.other) ? "it is deposited on it"
+                descends(plan, c.layer, c.other) ? "it is deposited on it"
                                                  : "through the other conflicts listed");
             out.conflicts.push_back(std::move(c));
         }
