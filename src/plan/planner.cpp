@@ -731,16 +731,18 @@ private:
         return {};
     }
 
-    // Whether `to` can be reached from `from` along the edges made so far.
-    bool reaches(int from, int to) const {
-        std::vector<char> seen(plan_.layers.size(), 0);
+    // Whether `to` can be reached from `from` along the edges made so far: a search over
+    // from's descendants only (the marks of earlier searches are told apart by a stamp).
+    bool reaches(int from, int to) {
+        seen_.resize(plan_.layers.size(), 0);
+        ++stamp_;
         std::vector<int> stack{from};
         while (!stack.empty()) {
             const int id = stack.back();
             stack.pop_back();
             if (id == to) return true;
-            if (seen[static_cast<std::size_t>(id)] != 0) continue;
-            seen[static_cast<std::size_t>(id)] = 1;
+            if (seen_[static_cast<std::size_t>(id)] == stamp_) continue;
+            seen_[static_cast<std::size_t>(id)] = stamp_;
             for (const int c : plan_.layers[static_cast<std::size_t>(id)].children)
                 stack.push_back(c);
         }
@@ -897,6 +899,8 @@ private:
     std::deque<RegionJob> jobs_;
     std::optional<detail::SectionIndex> sections_;
     std::vector<Box3> boxes_;  // per layer id, while the graph is built
+    std::vector<int> seen_;    // marks of reaches(), per layer id
+    int stamp_ = 0;
 };
 
 }  // namespace
