@@ -9,14 +9,16 @@
 #include <cstdint>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <tuple>
 
-#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
+#include "box_tree.hpp"
 #include "maxslice/core/units.hpp"
 #include "maxslice/geom2d/polygon.hpp"
 #include "maxslice/geom2d/wire_tree.hpp"
+#include "region_distance.hpp"
 
 // Collision control and build order (METHOD.md sections 7 and 8). The names follow the
 // method: S1 is the layer in place, S2 the one being deposited; "hit(S2, S1)" means S2's
@@ -29,10 +31,11 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kDegToRad = std::numbers::pi / 180.0;
 // Material this little above the apex's plane is the layer's own level (mm).
 constexpr double kLevelTolerance = 1e-6;
-// Grid cells per axis of the spatial index, at most.
-constexpr int kMaxGridCells = 48;
-// Plans with more layers are refused: the descendant rows take n^2 / 8 bytes (600 MB here).
-constexpr std::size_t kMaxLayers = 70'000;
+// Plans with more layers are refused (the planner's own limit): the graph's ancestor rows
+// cost n^2 / 64 word operations in all.
+constexpr std::size_t kMaxLayers = 1'000'000;
+// Words (8 bytes) the ancestor rows of one block of layers may take: 64 MB.
+constexpr std::size_t kReachBudgetWords = std::size_t{8} << 20;
 // Samples are checked in chunks of about this many sample spacings across.
 constexpr double kChunkSamples = 6.0;
 // Apexes stand this share of half a track inside the section (a margin for the offset's
@@ -41,6 +44,14 @@ constexpr double kApexInsetShare = 0.95;
 // Clearances beyond this (mm, or twice the nozzle's clearance) are not measured: a pair that
 // cannot come closer is skipped.
 constexpr double kMarginCap = 10.0;
+// Boxes are grown, and the bounds drawn from them lowered, by this much (mm): far more than
+// the rounding of coordinates of parts of metres, so a bound never skips a sample whose
+// clearance, computed on its own, is smaller.
+constexpr double kBoxSlackMm = 1e-9;
+// A footprint distance is looked for up to the radius that could lower a margin, grown by
+// this share and this many micrometres: rounding never hides a closer point.
+constexpr double kLimitPadShare = 1e-9;
+constexpr double kLimitPadUm = 1e-3;
 
 // The clearance of a point t above the apex's plane (within the nozzle's length) and r from
 // its axis: to the cone's side (r cos - t sin of the half-angle) up to the cone's length, to
@@ -54,12 +65,20 @@ struct Vec2 {
     double y = 0.0;
 };
 
+// A box aligned with a layer's own plane frame (u, v, normal): its centre (mm, part frame)
+// and half its extent along each axis. A layer's samples lie on two faces parallel to its
+// plane, so this box is as thin as the layer even where the layer stands sideways, where a
+// box aligned with the part's axes would span the whole section in height.
+struct FrameBox {
+    core::Vec3d centre;
+    double half[3] = {0.0, 0.0, 0.0};
+};
+
 // Samples [begin, end) of a layer that lie close together, with their box.
 struct SampleChunk {
     std::size_t begin = 0;
     std::size_t end = 0;
-    core::Vec3d lo;
-    core::Vec3d hi;
+    FrameBox box;
 };
 
 // A layer as the nozzle check sees it.
@@ -67,11 +86,14 @@ struct LayerShape {
     core::Vec3d d;          // build direction = nozzle axis (unit)
     slice::PlaneFrame top;  // apexes lie on this plane
     geom2d::Paths2 print;   // apexes' region on the top plane (um, top's u, v)
+    detail::RegionDistance print_index;
     Vec2 print_lo{kInf, kInf};
     Vec2 print_hi{-kInf, -kInf};
     std::vector<core::Vec3d> samples;  // material points: bottom and top faces, by chunk
     std::vector<SampleChunk> chunks;
-    core::Vec3d lo{kInf, kInf, kInf};  // box of the samples
+    core::Vec3d axes[3];               // the layer plane's u, v and normal
+    FrameBox box;                      // box of the samples in that frame
+    core::Vec3d lo{kInf, kInf, kInf};  // box of the samples (part frame)
     core::Vec3d hi{-kInf, -kInf, -kInf};
     core::Vec3d reach_lo;  // box of everything its nozzle can reach
     core::Vec3d reach_hi;
@@ -166,6 +188,7 @@ LayerShape shape_of(const Layer& l, const Nozzle& nozzle, double spacing, double
             s.print_hi = {std::max(s.print_hi.x, p.x), std::max(s.print_hi.y, p.y)};
         }
     }
+    s.print_index = detail::RegionDistance(s.print);
     const double half = std::max(l.thickness_max_mm, l.span.thickness()) / 2.0;
     for (const Vec2& q : sample_region(own, spacing)) {
         const geom2d::Point2 p{core::mm_to_um(q.x), core::mm_to_um(q.y)};
@@ -190,14 +213,34 @@ LayerShape shape_of(const Layer& l, const Nozzle& nozzle, double spacing, double
                          [](const auto& p, const auto& q) { return p.first < q.first; });
         for (std::size_t k = 0; k < keyed.size(); ++k) {
             s.samples[k] = keyed[k].second;
-            if (k == 0 || keyed[k].first != keyed[k - 1].first) {
-                s.chunks.push_back({k, k, {kInf, kInf, kInf}, {-kInf, -kInf, -kInf}});
-            }
-            SampleChunk& c = s.chunks.back();
-            c.end = k + 1;
-            grow(c.lo, c.hi, s.samples[k]);
+            if (k == 0 || keyed[k].first != keyed[k - 1].first) s.chunks.push_back({k, k, {}});
+            s.chunks.back().end = k + 1;
         }
     }
+    // Boxes in the layer's own frame, of each chunk and of the whole layer.
+    s.axes[0] = l.plane.u;
+    s.axes[1] = l.plane.v;
+    s.axes[2] = l.plane.normal;
+    const auto frame_box = [&](std::size_t begin, std::size_t end) {
+        double lo[3] = {kInf, kInf, kInf}, hi[3] = {-kInf, -kInf, -kInf};
+        for (std::size_t k = begin; k < end; ++k) {
+            const core::Vec3d rel = s.samples[k] - l.plane.origin;
+            for (int j = 0; j < 3; ++j) {
+                const double c = core::dot(rel, s.axes[j]);
+                lo[j] = std::min(lo[j], c);
+                hi[j] = std::max(hi[j], c);
+            }
+        }
+        FrameBox b;
+        b.centre = l.plane.origin;
+        for (int j = 0; j < 3; ++j) {
+            b.centre += s.axes[j] * (0.5 * (lo[j] + hi[j]));
+            b.half[j] = 0.5 * (hi[j] - lo[j]) + kBoxSlackMm;
+        }
+        return b;
+    };
+    for (SampleChunk& c : s.chunks) c.box = frame_box(c.begin, c.end);
+    s.box = frame_box(0, s.samples.size());
     // Reach: the footprint's box on the top plane swept along d by the nozzle's length,
     // grown by its widest radius and the clearance.
     const double a = nozzle.half_angle_deg * kDegToRad;
@@ -225,34 +268,43 @@ struct Meeting {
     core::Vec3d hit;
 };
 
-// The smallest clearance any point of the box [lo, hi] can have from S2's nozzle (a lower
-// bound), or +inf when the whole box lies on or under S2's top plane or beyond the nozzle.
-double box_bound(const LayerShape& s2, const core::Vec3d& lo, const core::Vec3d& hi,
-                 const Nozzle& nozzle, double ca, double sa, double length) {
-    double t_lo = kInf, t_hi = -kInf, u_lo = kInf, u_hi = -kInf, v_lo = kInf, v_hi = -kInf;
-    for (const double x : {lo.x, hi.x}) {
-        for (const double y : {lo.y, hi.y}) {
-            for (const double z : {lo.z, hi.z}) {
-                const core::Vec3d rel = core::Vec3d{x, y, z} - s2.top.origin;
-                const double t = core::dot(rel, s2.d);
-                const double u = core::dot(rel, s2.top.u), v = core::dot(rel, s2.top.v);
-                t_lo = std::min(t_lo, t);
-                t_hi = std::max(t_hi, t);
-                u_lo = std::min(u_lo, u);
-                u_hi = std::max(u_hi, u);
-                v_lo = std::min(v_lo, v);
-                v_hi = std::max(v_hi, v);
-            }
-        }
+// How S1's frame axes project on S2's axes (d, top.u, top.v): p[k][j] = |S2 axis k . S1
+// axis j|, the extent along S2's axis k of a unit step along S1's axis j.
+struct Projection {
+    double p[3][3];
+};
+
+Projection projection(const LayerShape& s2, const LayerShape& s1) {
+    const core::Vec3d to[3] = {s2.d, s2.top.u, s2.top.v};
+    Projection out{};
+    for (int k = 0; k < 3; ++k) {
+        for (int j = 0; j < 3; ++j) out.p[k][j] = std::abs(core::dot(to[k], s1.axes[j]));
     }
+    return out;
+}
+
+// The smallest clearance any point of the box can have from S2's nozzle (a lower bound), or
+// +inf when the whole box lies on or under S2's top plane or beyond the nozzle.
+double box_bound(const LayerShape& s2, const Projection& pr, const FrameBox& b,
+                 const Nozzle& nozzle, double ca, double sa, double length) {
+    const core::Vec3d rel = b.centre - s2.top.origin;
+    const double t = core::dot(rel, s2.d), u = core::dot(rel, s2.top.u),
+                 v = core::dot(rel, s2.top.v);
+    double r[3];
+    for (int k = 0; k < 3; ++k) {
+        r[k] =
+            pr.p[k][0] * b.half[0] + pr.p[k][1] * b.half[1] + pr.p[k][2] * b.half[2] + kBoxSlackMm;
+    }
+    const double t_lo = t - r[0], t_hi = t + r[0];
     // METHOD.md condition 2: all of it on or under S2's top plane; or beyond the nozzle.
     if (t_hi <= kLevelTolerance || t_lo > length) return kInf;
-    const double gu = std::max({s2.print_lo.x - u_hi, 0.0, u_lo - s2.print_hi.x});
-    const double gv = std::max({s2.print_lo.y - v_hi, 0.0, v_lo - s2.print_hi.y});
+    const double gu = std::max({s2.print_lo.x - (u + r[1]), 0.0, (u - r[1]) - s2.print_hi.x});
+    const double gv = std::max({s2.print_lo.y - (v + r[2]), 0.0, (v - r[2]) - s2.print_hi.y});
     const double gap = std::sqrt(gu * gu + gv * gv);
     const double cone = nozzle.cone_length_mm;
     return std::min(gap * ca - std::min(t_hi, cone) * sa,
-                    t_hi > cone ? gap - nozzle.body_radius_mm : kInf);
+                    t_hi > cone ? gap - nozzle.body_radius_mm : kInf) -
+           kBoxSlackMm;
 }
 
 Meeting meet(const LayerShape& s2, const LayerShape& s1, const Nozzle& nozzle) {
@@ -263,10 +315,11 @@ Meeting meet(const LayerShape& s2, const LayerShape& s1, const Nozzle& nozzle) {
     const double length = cone + (nozzle.body_radius_mm > 0.0 ? nozzle.body_length_mm : 0.0);
     const double cap = std::max(kMarginCap, 2.0 * nozzle.clearance_mm);
     // Nothing of S1 comes within the cap: skip the pair; then chunk by chunk.
-    if (box_bound(s2, s1.lo, s1.hi, nozzle, ca, sa, length) >= cap) return m;
+    const Projection pr = projection(s2, s1);
+    if (box_bound(s2, pr, s1.box, nozzle, ca, sa, length) >= cap) return m;
     m.margin = cap;  // below this the samples are measured
     for (const SampleChunk& chunk : s1.chunks) {
-        if (box_bound(s2, chunk.lo, chunk.hi, nozzle, ca, sa, length) >= m.margin) continue;
+        if (box_bound(s2, pr, chunk.box, nozzle, ca, sa, length) >= m.margin) continue;
         for (std::size_t k = chunk.begin; k < chunk.end; ++k) {
             const core::Vec3d& x = s1.samples[k];
             const core::Vec3d rel = x - s2.top.origin;
@@ -278,9 +331,15 @@ Meeting meet(const LayerShape& s2, const LayerShape& s1, const Nozzle& nozzle) {
             const double by = std::max({s2.print_lo.y - q.y, 0.0, q.y - s2.print_hi.y});
             const double box = std::sqrt(bx * bx + by * by);
             if (clearance_at(nozzle, t, box, ca, sa) >= m.margin) continue;
-            // The distance to the footprint (0 inside) and its closest point.
-            const geom2d::ClosestPoint cp = geom2d::closest_region_point(
-                s2.print, {q.x * core::kMicronsPerMm, q.y * core::kMicronsPerMm});
+            // The distance to the footprint (0 inside) and its closest point, when it can be
+            // short enough to lower the margin: below r_max (mm), padded for rounding.
+            const double r_max =
+                t <= cone ? (m.margin + t * sa) / ca : m.margin + nozzle.body_radius_mm;
+            const std::optional<geom2d::ClosestPoint> found = s2.print_index.closest(
+                {q.x * core::kMicronsPerMm, q.y * core::kMicronsPerMm},
+                r_max * core::kMicronsPerMm * (1.0 + kLimitPadShare) + kLimitPadUm);
+            if (!found) continue;
+            const geom2d::ClosestPoint& cp = *found;
             const double r = cp.distance_um / core::kMicronsPerMm;
             const double here = clearance_at(nozzle, t, r, ca, sa);
             if (here < m.margin) {
@@ -297,96 +356,56 @@ Meeting meet(const LayerShape& s2, const LayerShape& s1, const Nozzle& nozzle) {
     return m;
 }
 
-// Descendants of every layer as bit rows.
-class Reach {
+// Which of the layers [first, first + count) lie below each layer in the graph (the layer is
+// deposited on them, directly or not), as a bit row per layer: n x count bits, so the order
+// walks the layers in blocks and the memory stays within kReachBudgetWords whatever n is.
+class Ancestors {
 public:
-    explicit Reach(const Plan& plan, const std::vector<int>& topo)
-        : words_((plan.layers.size() + 63) / 64), bits_(plan.layers.size() * words_, 0) {
-        for (auto it = topo.rbegin(); it != topo.rend(); ++it) {
-            const Layer& l = plan.layers[static_cast<std::size_t>(*it)];
-            std::uint64_t* row = bits_.data() + static_cast<std::size_t>(l.id) * words_;
-            for (const int c : l.children) {
-                row[static_cast<std::size_t>(c) / 64] |= std::uint64_t{1} << (c % 64);
-                const std::uint64_t* crow = bits_.data() + static_cast<std::size_t>(c) * words_;
-                for (std::size_t w = 0; w < words_; ++w) row[w] |= crow[w];
+    Ancestors(const Plan& plan, const std::vector<int>& topo, int first, int count)
+        : first_(first),
+          words_((static_cast<std::size_t>(count) + 63) / 64),
+          bits_(plan.layers.size() * words_, 0) {
+        for (const int id : topo) {
+            std::uint64_t* row = bits_.data() + static_cast<std::size_t>(id) * words_;
+            for (const int p : plan.layers[static_cast<std::size_t>(id)].parents) {
+                const std::uint64_t* prow = bits_.data() + static_cast<std::size_t>(p) * words_;
+                for (std::size_t w = 0; w < words_; ++w) row[w] |= prow[w];
+                if (p >= first && p - first < count) {
+                    row[static_cast<std::size_t>(p - first) / 64] |= std::uint64_t{1}
+                                                                     << ((p - first) % 64);
+                }
             }
         }
     }
-    // Whether b lies above a in the graph (b is deposited on a, directly or not).
+    // Whether b lies above a in the graph; a in [first, first + count).
     [[nodiscard]] bool descends(int b, int a) const {
-        return ((bits_[static_cast<std::size_t>(a) * words_ + static_cast<std::size_t>(b) / 64] >>
-                 (b % 64)) &
-                1U) != 0;
+        const auto k = static_cast<std::size_t>(a - first_);
+        return ((bits_[static_cast<std::size_t>(b) * words_ + k / 64] >> (k % 64)) & 1U) != 0;
     }
 
 private:
+    int first_;
     std::size_t words_;
     std::vector<std::uint64_t> bits_;
 };
 
-// A uniform grid over the layers' sample boxes.
-class Grid {
-public:
-    explicit Grid(const std::vector<LayerShape>& shapes) {
-        for (const LayerShape& s : shapes) {
-            if (s.samples.empty()) continue;
-            grow(lo_, hi_, s.lo);
-            grow(lo_, hi_, s.hi);
-        }
-        if (!(lo_.x <= hi_.x)) return;  // no samples at all: an empty grid
-        const core::Vec3d ext = hi_ - lo_;
-        cell_ = std::max({ext.x, ext.y, ext.z, 1e-3}) / kMaxGridCells;
-        for (int k = 0; k < 3; ++k) {
-            n_[k] =
-                std::clamp(static_cast<int>(std::ceil(coord(ext, k) / cell_)), 1, kMaxGridCells);
-        }
-        cells_.resize(static_cast<std::size_t>(n_[0]) * static_cast<std::size_t>(n_[1]) *
-                      static_cast<std::size_t>(n_[2]));
-        for (std::size_t i = 0; i < shapes.size(); ++i) {
-            if (shapes[i].samples.empty()) continue;
-            visit(shapes[i].lo, shapes[i].hi,
-                  [&](std::vector<int>& cell) { cell.push_back(static_cast<int>(i)); });
+// Whether b lies above a in the graph (a search from a; for the few pairs a report names).
+bool descends(const Plan& plan, int b, int a) {
+    std::vector<char> seen(plan.layers.size(), 0);
+    std::vector<int> stack{a};
+    while (!stack.empty()) {
+        const int id = stack.back();
+        stack.pop_back();
+        for (const int c : plan.layers[static_cast<std::size_t>(id)].children) {
+            if (c == b) return true;
+            if (seen[static_cast<std::size_t>(c)] == 0) {
+                seen[static_cast<std::size_t>(c)] = 1;
+                stack.push_back(c);
+            }
         }
     }
-
-    template <class F>
-    void visit(const core::Vec3d& lo, const core::Vec3d& hi, F&& f) const {
-        visit_impl(lo, hi, [&](std::size_t c) { f(cells_[c]); });
-    }
-    template <class F>
-    void visit(const core::Vec3d& lo, const core::Vec3d& hi, F&& f) {
-        visit_impl(lo, hi, [&](std::size_t c) { f(cells_[c]); });
-    }
-
-private:
-    static double coord(const core::Vec3d& p, int k) { return k == 0 ? p.x : k == 1 ? p.y : p.z; }
-
-    template <class F>
-    void visit_impl(const core::Vec3d& lo, const core::Vec3d& hi, F&& f) const {
-        if (cells_.empty()) return;
-        int a[3], b[3];
-        for (int k = 0; k < 3; ++k) {
-            const double l = (coord(lo, k) - coord(lo_, k)) / cell_;
-            const double h = (coord(hi, k) - coord(lo_, k)) / cell_;
-            if (h < 0.0 || l > n_[k]) return;
-            a[k] = std::clamp(static_cast<int>(std::floor(l)), 0, n_[k] - 1);
-            b[k] = std::clamp(static_cast<int>(std::floor(h)), 0, n_[k] - 1);
-        }
-        for (int z = a[2]; z <= b[2]; ++z)
-            for (int y = a[1]; y <= b[1]; ++y)
-                for (int x = a[0]; x <= b[0]; ++x)
-                    f((static_cast<std::size_t>(z) * static_cast<std::size_t>(n_[1]) +
-                       static_cast<std::size_t>(y)) *
-                          static_cast<std::size_t>(n_[0]) +
-                      static_cast<std::size_t>(x));
-    }
-
-    core::Vec3d lo_{kInf, kInf, kInf};
-    core::Vec3d hi_{-kInf, -kInf, -kInf};
-    double cell_ = 1.0;
-    int n_[3] = {1, 1, 1};
-    std::vector<std::vector<int>> cells_;
-};
+    return false;
+}
 
 // A pair the nozzle orders: `first` must be deposited before `second`, whose material its
 // nozzle would meet.
@@ -500,39 +519,53 @@ core::Result<BuildOrder> order_layers(const Plan& plan, const OrderSettings& set
         }
     });
     if (cancelled()) return core::fail(core::ErrorCode::kCancelled, "cancelled", "build order");
-    const Reach reach(plan, topo);
-    const Grid grid(shapes);
+    // The layers with samples, by their boxes: the candidates of each nozzle.
+    const detail::BoxTree tree = [&] {
+        std::vector<core::Vec3d> lo(n), hi(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            lo[i] = shapes[i].samples.empty() ? core::Vec3d{kInf, kInf, kInf} : shapes[i].lo;
+            hi[i] = shapes[i].samples.empty() ? core::Vec3d{-kInf, -kInf, -kInf} : shapes[i].hi;
+        }
+        return detail::BoxTree(lo, hi);
+    }();
 
     // Every pair (S2, S1) where S1 may be in place when S2 is deposited (S1 is not above S2
     // in the graph) and S2's nozzle can reach S1's box: the exact check.
     std::vector<std::vector<std::pair<int, Meeting>>> meets(n);
-    tbb::enumerable_thread_specific<std::vector<int>> stamps(std::vector<int>(n, -1));
     std::atomic<std::size_t> done{0};
-    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
-        if (cancelled()) return;
-        const int s2 = static_cast<int>(i);
-        std::vector<int>& stamp = stamps.local();
-        std::vector<int> candidates;
-        grid.visit(shapes[i].reach_lo, shapes[i].reach_hi, [&](const std::vector<int>& cell) {
-            for (const int s1 : cell) {
-                if (s1 == s2 || stamp[static_cast<std::size_t>(s1)] == s2) continue;
-                stamp[static_cast<std::size_t>(s1)] = s2;
-                candidates.push_back(s1);
+    // In blocks of S2 whose ancestor rows fit the budget.
+    const std::size_t block = std::clamp<std::size_t>(
+        kReachBudgetWords / std::max<std::size_t>(n, 1) * 64, 64, std::max<std::size_t>(n, 64));
+    for (std::size_t b0 = 0; b0 < n; b0 += block) {
+        const std::size_t b1 = std::min(n, b0 + block);
+        const Ancestors below(plan, topo, static_cast<int>(b0), static_cast<int>(b1 - b0));
+        tbb::parallel_for(b0, b1, [&](std::size_t i) {
+            if (cancelled()) return;
+            const int s2 = static_cast<int>(i);
+            const LayerShape& a = shapes[i];
+            std::vector<int> candidates;
+            tree.visit(
+                [&](const core::Vec3d& lo, const core::Vec3d& hi) {
+                    return boxes_meet(a.reach_lo, a.reach_hi, lo, hi);
+                },
+                [&](std::uint32_t s1) {
+                    if (static_cast<int>(s1) != s2 &&
+                        boxes_meet(a.reach_lo, a.reach_hi, shapes[s1].lo, shapes[s1].hi)) {
+                        candidates.push_back(static_cast<int>(s1));
+                    }
+                });
+            std::sort(candidates.begin(), candidates.end());
+            for (const int s1 : candidates) {
+                if (below.descends(s1, s2)) continue;  // S1 comes after S2 in any order
+                const Meeting m = meet(a, shapes[static_cast<std::size_t>(s1)], nozzle);
+                if (m.margin < kInf) meets[i].emplace_back(s1, m);
+            }
+            if (progress != nullptr) {
+                progress->report("build order",
+                                 0.9 * static_cast<double>(++done) / static_cast<double>(n));
             }
         });
-        std::sort(candidates.begin(), candidates.end());
-        for (const int s1 : candidates) {
-            if (reach.descends(s1, s2)) continue;  // S1 comes after S2 in any order
-            const LayerShape& b = shapes[static_cast<std::size_t>(s1)];
-            if (!boxes_meet(shapes[i].reach_lo, shapes[i].reach_hi, b.lo, b.hi)) continue;
-            const Meeting m = meet(shapes[i], b, nozzle);
-            if (m.margin < kInf) meets[i].emplace_back(s1, m);
-        }
-        if (progress != nullptr) {
-            progress->report("build order",
-                             0.9 * static_cast<double>(++done) / static_cast<double>(n));
-        }
-    });
+    }
     if (cancelled()) return core::fail(core::ErrorCode::kCancelled, "cancelled", "build order");
 
     // Precedence: the graph's edges and, for every S2 whose nozzle would meet S1 closer than
@@ -639,7 +672,7 @@ core::Result<BuildOrder> order_layers(const Plan& plan, const OrderSettings& set
                 describe(plan, c.layer), c.apex.x, c.apex.y, c.apex.z, describe(plan, c.other),
                 c.hit.x, c.hit.y, c.hit.z, c.margin_mm, nozzle.clearance_mm,
                 describe(plan, c.layer), describe(plan, c.other),
-                reach.descends(c.layer, c.other) ? "it is deposited on it"
+                descends(plan, c.layer, c.other) ? "it is deposited on it"
                                                  : "through the other conflicts listed");
             out.conflicts.push_back(std::move(c));
         }

@@ -6,6 +6,7 @@
 #include <cctype>
 #include <cmath>
 #include <deque>
+#include <limits>
 #include <numbers>
 #include <optional>
 #include <queue>
@@ -16,6 +17,7 @@
 #include "cell.hpp"
 #include "maxslice/core/units.hpp"
 #include "maxslice/slice/slicer.hpp"
+#include "section_index.hpp"
 
 namespace maxslice::plan {
 namespace {
@@ -62,6 +64,25 @@ Box3 box_of(const Layer& l) {
     return b;
 }
 
+// An axis-aligned box in a plane frame (um).
+struct Box2 {
+    geom2d::Point2 lo{std::numeric_limits<std::int64_t>::max(),
+                      std::numeric_limits<std::int64_t>::max()};
+    geom2d::Point2 hi{std::numeric_limits<std::int64_t>::min(),
+                      std::numeric_limits<std::int64_t>::min()};
+};
+
+Box2 box2_of(const geom2d::Paths2& paths) {
+    Box2 b;
+    for (const geom2d::Path2& path : paths) {
+        for (const geom2d::Point2& p : path) {
+            b.lo = {std::min(b.lo.x, p.x), std::min(b.lo.y, p.y)};
+            b.hi = {std::max(b.hi.x, p.x), std::max(b.hi.y, p.y)};
+        }
+    }
+    return b;
+}
+
 // Rewrites the layer names "L<id>" in a reason with new ids.
 template <class Renumber>
 std::string renumber_layer_names(const std::string& text, const Renumber& renumber) {
@@ -88,6 +109,11 @@ constexpr double kMinSidewaysNorm = 1e-6;
 // A first layer rests on a layer of another region when their footprints on its base plane
 // overlap by at least this share of a track width squared.
 constexpr double kContactAreaShare = 0.05;
+// A layer whose wires lie this far (mm) outside the strip behind a base plane has nothing in
+// it: far beyond the rounding of the strip's trace to micrometres.
+constexpr double kStripSlackMm = 0.01;
+// Slack (um) of the box test before an overlap is measured: beyond the rounding of offsets.
+constexpr std::int64_t kNearSlackUm = 10;
 
 std::unexpected<core::Error> invalid(const std::string& message, const std::string& context) {
     return core::fail(core::ErrorCode::kInvalidInput, message, context);
@@ -102,6 +128,45 @@ struct Seed {
 struct RegionJob {
     int region = 0;
     Seed seed;
+};
+
+// A region's uniform slices, cut in batches as the walk asks for them: a walk that stops
+// at a split (most do, in parts that split) does not pay for the slices above it. Each
+// plane's section depends only on its own height (slice::slice_mesh cuts planes
+// independently), so batches give the slices one call for all of them would.
+class SliceStack {
+public:
+    SliceStack(const mesh::TriangleMesh& mesh, const slice::PlaneFrame& base,
+               std::vector<slice::LayerSpan> spans)
+        : mesh_(mesh), base_(base), spans_(std::move(spans)) {}
+
+    [[nodiscard]] std::size_t size() const { return spans_.size(); }
+
+    // Slice i (index within the whole stack); valid until the next call.
+    core::Result<const slice::Slice*> at(std::size_t i) {
+        while (i >= slices_.size()) {
+            const std::size_t begin = slices_.size();
+            const std::size_t end = std::min(spans_.size(), begin + batch_);
+            batch_ = std::min(kMaxBatch, 2 * batch_);
+            auto batch =
+                slice::slice_mesh(mesh_, base_, std::span(spans_).subspan(begin, end - begin));
+            if (!batch) return std::unexpected(batch.error());
+            for (slice::Slice& sl : *batch) {
+                sl.index = static_cast<int>(slices_.size());
+                slices_.push_back(std::move(sl));
+            }
+        }
+        return &slices_[i];
+    }
+
+private:
+    // The first batch is small (many walks stop within it); batches double up to this.
+    static constexpr std::size_t kMaxBatch = 128;
+    const mesh::TriangleMesh& mesh_;
+    slice::PlaneFrame base_;
+    std::vector<slice::LayerSpan> spans_;
+    std::vector<slice::Slice> slices_;
+    std::size_t batch_ = 8;
 };
 
 class Planner {
@@ -149,27 +214,29 @@ private:
     // Slices one region and walks up its layers; stops at the first split (the rest goes to
     // the new regions).
     core::Result<void> plan_region(RegionJob job) {
+        const Region& r = plan_.regions[static_cast<std::size_t>(job.region)];
+        const auto [lo, hi] = slice::extent_along(mesh_, r.base);
+        (void)lo;
+        if (!(hi > 0.0)) return {};
+        SliceStack slices(mesh_, r.base, slice::uniform_layers(0.0, hi, s_.layer_mm));
         for (;;) {
-            Region& r = plan_.regions[static_cast<std::size_t>(job.region)];
-            const auto [lo, hi] = slice::extent_along(mesh_, r.base);
-            (void)lo;
-            if (!(hi > 0.0)) return {};
-            const std::vector<slice::LayerSpan> spans = slice::uniform_layers(0.0, hi, s_.layer_mm);
-            auto slices = slice::slice_mesh(mesh_, r.base, spans);
-            if (!slices) return std::unexpected(slices.error());
-            auto outcome = walk(job, *slices);
+            auto outcome = walk(job, slices);
             if (!outcome) return std::unexpected(outcome.error());
             if (!*outcome) return {};  // walked to the top, or split after some layers
-            // Split at the region's first layer: its cell changed, walk it again.
+            // Split at the region's first layer: its cell changed (not its slices), walk it
+            // again.
         }
     }
 
     // Walks a region's slices. Returns true when the region must be walked again (its cell
     // changed before it had any layer), false when done.
-    core::Result<bool> walk(const RegionJob& job, std::vector<slice::Slice>& slices) {
+    core::Result<bool> walk(const RegionJob& job, SliceStack& slices) {
         const int rid = job.region;
         int lower = job.seed.layer;  // L: a layer id, or -1
-        for (slice::Slice& s : slices) {
+        for (std::size_t i = 0; i < slices.size(); ++i) {
+            auto next = slices.at(i);
+            if (!next) return std::unexpected(next.error());
+            const slice::Slice& s = **next;
             Region& r = plan_.regions[static_cast<std::size_t>(rid)];
             const Paths2 clipped = detail::clip_to_cell(s.wires.paths(), r.cell, s.plane);
             if (geom2d::signed_area_mm2(clipped) <= 0.0) continue;
@@ -227,13 +294,15 @@ private:
         return false;
     }
 
-    // One section of the mesh by an arbitrary plane, clipped to region rid's cell.
+    // One section of the mesh by an arbitrary plane, clipped to region rid's cell. Marches
+    // cut one plane at a time: only the triangles near the plane are sliced (the index is
+    // built at the first march).
     core::Result<Paths2> section(int rid, const slice::PlaneFrame& plane, double thickness) {
-        const slice::LayerSpan span{-thickness / 2, thickness / 2, 0.0};
-        auto slices = slice::slice_mesh(mesh_, plane, std::span(&span, 1));
-        if (!slices) return std::unexpected(slices.error());
+        if (!sections_) sections_.emplace(mesh_);
+        auto cut = sections_->section(plane, thickness);
+        if (!cut) return std::unexpected(cut.error());
         const Region& r = plan_.regions[static_cast<std::size_t>(rid)];
-        return detail::clip_to_cell(slices->front().wires.paths(), r.cell, slices->front().plane);
+        return detail::clip_to_cell(*cut, r.cell, plane);
     }
 
     // Splits for U above `lower` (and above the look-back layer): nullopt when U may be
@@ -405,10 +474,9 @@ private:
         const auto [lo, hi] = slice::extent_along(mesh_, base);
         (void)lo;
         if (!(hi > s_.layer_mm / 2)) return false;
-        auto slices = slice::slice_mesh(mesh_, base, slice::uniform_layers(0.0, hi, s_.layer_mm));
-        if (!slices) return std::unexpected(slices.error());
+        SliceStack slices(mesh_, base, slice::uniform_layers(0.0, hi, s_.layer_mm));
         // The first of them is the empty one the march met.
-        return walk({rid, {lower}}, *slices);
+        return walk({rid, {lower}}, slices);
     }
 
     // Removes region rid's layers above layer `keep` (the last ones made), and the tilt
@@ -584,15 +652,21 @@ private:
     // The hierarchy graph (METHOD.md section 6).
     core::Result<void> build_graph() {
         std::vector<Layer>& layers = plan_.layers;
+        boxes_.resize(layers.size());
+        tbb::parallel_for(std::size_t{0}, layers.size(),
+                          [&](std::size_t i) { boxes_[i] = box_of(layers[i]); });
         const double min_area = kContactAreaShare * s_.track_width_mm * s_.track_width_mm;
         const auto link = [&](int from, int to) {
             layers[static_cast<std::size_t>(from)].children.push_back(to);
             layers[static_cast<std::size_t>(to)].parents.push_back(from);
         };
+        // Within each region (and from a continuation's seed): each piece on the pieces of
+        // the slice below whose projection it overlaps. Pure geometry, so the pairs are
+        // tested in parallel; the edges are made region by region below, in the order the
+        // sideways links' cycle check relies on.
+        std::vector<LinkTask> tasks;
         for (const Region& r : plan_.regions) {
             if (r.layers.empty()) continue;
-            // Within the region (and from a continuation's seed): each piece on the pieces
-            // of the slice below whose projection it overlaps.
             std::vector<int> below;
             for (const Decision& d : plan_.decisions) {
                 if (d.continuation == r.id && d.continuation != d.region) below = step_of(d.layer);
@@ -606,35 +680,43 @@ private:
                 }
                 const std::vector<int> here(r.layers.begin() + static_cast<std::ptrdiff_t>(i),
                                             r.layers.begin() + static_cast<std::ptrdiff_t>(j));
-                for (const int id : here) {
-                    const Layer& upper = layers[static_cast<std::size_t>(id)];
-                    for (const int b : below) {
-                        const Layer& lower = layers[static_cast<std::size_t>(b)];
-                        if (may_overlap(lower, upper) && overlap_mm2(lower, upper) > 0.0) {
-                            link(b, id);
-                        }
-                    }
-                }
+                for (const int b : below) tasks.push_back({r.id, b, here, {}});
                 below = here;
                 i = j;
             }
+        }
+        tbb::parallel_for(std::size_t{0}, tasks.size(), [&](std::size_t k) { rests_on(tasks[k]); });
+        std::size_t next_task = 0;
+        for (const Region& r : plan_.regions) {
+            for (; next_task < tasks.size() && tasks[next_task].region == r.id; ++next_task) {
+                const LinkTask& t = tasks[next_task];
+                for (std::size_t k = 0; k < t.uppers.size(); ++k) {
+                    if (t.rests[k] != 0) link(t.lower, t.uppers[k]);
+                }
+            }
+            if (r.layers.empty()) continue;
             // A sideways region's first layer: on the layers of other regions across its base.
             if (r.parent < 0 ||
                 r.direction == plan_.regions[static_cast<std::size_t>(r.parent)].direction) {
                 continue;
             }
             const Layer& first = layers[static_cast<std::size_t>(r.layers.front())];
+            std::vector<int> others;
             for (const Region& other : plan_.regions) {
                 if (other.id == r.id || descends_from(other.id, r.id)) continue;
-                for (const int q : other.layers) {
-                    // Two first layers may touch each other across both base planes (sideways
-                    // regions meeting at a corner): the edge that would close a cycle is left
-                    // out, so the earlier-made one goes first and the graph stays acyclic.
-                    if (contact_mm2(layers[static_cast<std::size_t>(q)], first, r) >= min_area &&
-                        !reaches(first.id, q)) {
-                        link(q, first.id);
-                    }
-                }
+                others.insert(others.end(), other.layers.begin(), other.layers.end());
+            }
+            const Box2 first_box = box2_of(first.wires.paths());
+            std::vector<char> touches(others.size(), 0);
+            tbb::parallel_for(std::size_t{0}, others.size(), [&](std::size_t k) {
+                const Layer& q = layers[static_cast<std::size_t>(others[k])];
+                touches[k] = contact_mm2(q, first, first_box, r) >= min_area ? 1 : 0;
+            });
+            for (std::size_t k = 0; k < others.size(); ++k) {
+                // Two first layers may touch each other across both base planes (sideways
+                // regions meeting at a corner): the edge that would close a cycle is left
+                // out, so the earlier-made one goes first and the graph stays acyclic.
+                if (touches[k] != 0 && !reaches(first.id, others[k])) link(others[k], first.id);
             }
         }
         for (Layer& l : layers) {
@@ -649,16 +731,18 @@ private:
         return {};
     }
 
-    // Whether `to` can be reached from `from` along the edges made so far.
-    bool reaches(int from, int to) const {
-        std::vector<char> seen(plan_.layers.size(), 0);
+    // Whether `to` can be reached from `from` along the edges made so far: a search over
+    // from's descendants only (the marks of earlier searches are told apart by a stamp).
+    bool reaches(int from, int to) {
+        seen_.resize(plan_.layers.size(), 0);
+        ++stamp_;
         std::vector<int> stack{from};
         while (!stack.empty()) {
             const int id = stack.back();
             stack.pop_back();
             if (id == to) return true;
-            if (seen[static_cast<std::size_t>(id)] != 0) continue;
-            seen[static_cast<std::size_t>(id)] = 1;
+            if (seen_[static_cast<std::size_t>(id)] == stamp_) continue;
+            seen_[static_cast<std::size_t>(id)] = stamp_;
             for (const int c : plan_.layers[static_cast<std::size_t>(id)].children)
                 stack.push_back(c);
         }
@@ -672,11 +756,43 @@ private:
         return false;
     }
 
+    // The uppers of one slice that rest on one lower layer (overlap_mm2 > 0).
+    struct LinkTask {
+        int region = 0;
+        int lower = -1;
+        std::vector<int> uppers;
+        std::vector<char> rests;  // per upper
+    };
+
+    void rests_on(LinkTask& t) const {
+        const Layer& lower = plan_.layers[static_cast<std::size_t>(t.lower)];
+        t.rests.assign(t.uppers.size(), 0);
+        const Box2 lower_box = box2_of(lower.wires.paths());
+        Paths2 grown;  // lower grown by `grown_by`, made when first needed
+        std::int64_t grown_by = -1;
+        for (std::size_t k = 0; k < t.uppers.size(); ++k) {
+            const Layer& upper = plan_.layers[static_cast<std::size_t>(t.uppers[k])];
+            if (!may_overlap(lower, upper)) continue;
+            const Paths2 u = projected(upper, lower);
+            const std::int64_t grow = growth_um(lower, upper);
+            // The grown region lies within twice the growth of lower (mitred corners): a
+            // piece whose box stays clear of that has no overlap.
+            if (!boxes_near(box2_of(u), lower_box, 2 * grow + kNearSlackUm)) {
+                continue;
+            }
+            if (grow != grown_by) {
+                grown = geom2d::offset_of(lower.wires.paths(), grow);
+                grown_by = grow;
+            }
+            t.rests[k] = geom2d::signed_area_mm2(geom2d::intersection_of(u, grown)) > 0.0 ? 1 : 0;
+        }
+    }
+
     // Whether upper's footprint can reach lower's grown region (boxes of their wires in
     // 3D, grown by the growth overlap_mm2 allows and the distance between the layers).
     bool may_overlap(const Layer& lower, const Layer& upper) const {
-        const Box3 a = box_of(lower);
-        const Box3 b = box_of(upper);
+        const Box3& a = boxes_[static_cast<std::size_t>(lower.id)];
+        const Box3& b = boxes_[static_cast<std::size_t>(upper.id)];
         const double gap = 2.0 * s_.track_width_mm + 2.0 * s_.h_max_mm +
                            core::norm(upper.plane.origin - lower.plane.origin) *
                                std::tan(s_.self_supporting_deg * std::numbers::pi / 180.0);
@@ -689,26 +805,70 @@ private:
     // Area (mm2) where upper, projected onto lower's plane, overlaps lower grown by the
     // self-supporting allowance and a track: what the analysis calls carried (slivers
     // narrower than a track included) rests on lower.
-    double overlap_mm2(const Layer& lower, const Layer& upper) const {
+    // Upper's section projected onto lower's plane (um, lower's frame).
+    static Paths2 projected(const Layer& upper, const Layer& lower) {
         Paths2 u;
         for (const geom2d::Path2& path : upper.wires.paths()) {
             geom2d::Path2& q = u.emplace_back();
             for (const geom2d::Point2& p : path)
                 q.push_back(lower.plane.to_2d(upper.plane.to_3d(p)));
         }
+        return u;
+    }
+
+    // How far lower is grown before the overlap is measured: the self-supporting allowance
+    // over the height between them, and a track, so that what the analysis calls carried
+    // (slivers narrower than a track included) rests on lower.
+    std::int64_t growth_um(const Layer& lower, const Layer& upper) const {
         const double h = std::max(0.0, lower.plane.height(upper.plane.origin));
-        const auto grow = core::mm_to_um(
-            h * std::tan(s_.self_supporting_deg * std::numbers::pi / 180.0) + s_.track_width_mm);
-        return geom2d::signed_area_mm2(
-            geom2d::intersection_of(u, geom2d::offset_of(lower.wires.paths(), grow)));
+        return core::mm_to_um(h * std::tan(s_.self_supporting_deg * std::numbers::pi / 180.0) +
+                              s_.track_width_mm);
+    }
+
+    static bool boxes_near(const Box2& a, const Box2& b, std::int64_t gap) {
+        return a.lo.x <= b.hi.x + gap && b.lo.x <= a.hi.x + gap && a.lo.y <= b.hi.y + gap &&
+               b.lo.y <= a.hi.y + gap;
     }
 
     // Area (mm2) where layer q's material just behind the base plane of region r meets the
     // footprint of r's first layer.
-    double contact_mm2(const Layer& q, const Layer& first, const Region& r) const {
+    double contact_mm2(const Layer& q, const Layer& first, const Box2& first_box,
+                       const Region& r) const {
         const core::Vec3d ns = r.direction;
         const core::Vec3d s = r.base.origin;
         const double depth = std::max(s_.layer_mm, q.span.thickness());
+        // Most layers lie wholly in front of the base plane or far behind it: their box
+        // tells, without clipping.
+        const Box3& box = boxes_[static_cast<std::size_t>(q.id)];
+        double centre = 0.0, radius = 0.0;
+        for (int k = 0; k < 3; ++k) {
+            centre += 0.5 * (box.lo[k] + box.hi[k] - 2.0 * s[k]) * ns[k];
+            radius += 0.5 * (box.hi[k] - box.lo[k]) * std::abs(ns[k]);
+        }
+        if (centre - radius > kStripSlackMm || centre + radius < -depth - kStripSlackMm) return 0.0;
+        // Nor can q's slab meet the first layer where its box, grown by the slab's half
+        // thickness and seen on the first layer's plane, misses the first layer's box.
+        const double ext =
+            std::max(std::abs(q.span.bottom - q.span.cut), std::abs(q.span.top - q.span.cut));
+        double u_lo = INFINITY, u_hi = -INFINITY, v_lo = INFINITY, v_hi = -INFINITY;
+        for (int corner = 0; corner < 8; ++corner) {
+            const core::Vec3d x{(corner & 1) != 0 ? box.hi[0] + ext : box.lo[0] - ext,
+                                (corner & 2) != 0 ? box.hi[1] + ext : box.lo[1] - ext,
+                                (corner & 4) != 0 ? box.hi[2] + ext : box.lo[2] - ext};
+            const double u = core::dot(x - first.plane.origin, first.plane.u);
+            const double v = core::dot(x - first.plane.origin, first.plane.v);
+            u_lo = std::min(u_lo, u);
+            u_hi = std::max(u_hi, u);
+            v_lo = std::min(v_lo, v);
+            v_hi = std::max(v_hi, v);
+        }
+        const double slack_um = core::kMicronsPerMm * kStripSlackMm;
+        if (u_hi * core::kMicronsPerMm < static_cast<double>(first_box.lo.x) - slack_um ||
+            u_lo * core::kMicronsPerMm > static_cast<double>(first_box.hi.x) + slack_um ||
+            v_hi * core::kMicronsPerMm < static_cast<double>(first_box.lo.y) - slack_um ||
+            v_lo * core::kMicronsPerMm > static_cast<double>(first_box.hi.y) + slack_um) {
+            return 0.0;
+        }
         const HalfSpace strip[] = {{s, -ns}, {s - ns * depth, ns}};
         const Paths2 near = detail::clip_to_cell(q.wires.paths(), strip, q.plane);
         if (near.empty()) return 0.0;
@@ -737,6 +897,10 @@ private:
     int look_back_ = 1;  // layers in a track's height: the look-back distance
     Plan plan_;
     std::deque<RegionJob> jobs_;
+    std::optional<detail::SectionIndex> sections_;
+    std::vector<Box3> boxes_;  // per layer id, while the graph is built
+    std::vector<int> seen_;    // marks of reaches(), per layer id
+    int stamp_ = 0;
 };
 
 }  // namespace
