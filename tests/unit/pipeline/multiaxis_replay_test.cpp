@@ -13,6 +13,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <limits>
+#include <map>
 #include <optional>
 #include <set>
 #include <string>
@@ -42,7 +43,8 @@ constexpr double kArithmeticMm = 1e-9;
 // Failures listed one by one before a test only counts them.
 constexpr std::size_t kShown = 5;
 
-// The whole job, run once for the suite (planning the column takes a moment).
+// The whole job for one bundled profile, run once per test process (planning the column takes
+// a moment).
 struct Job {
     machine::Profiles profiles;
     mesh::TriangleMesh placed;
@@ -53,11 +55,11 @@ struct Job {
     std::optional<verify::Report> report;  ///< verify::verify_program of the text
 };
 
-const Job& job() {
-    static const Job j = [] {
+Job run_job(const std::string& profile) {
+    {
         Job out;
-        const std::filesystem::path file = std::filesystem::path(MAXSLICE_SOURCE_DIR) /
-                                           "examples/profiles/reference_5axis_ac.toml";
+        const std::filesystem::path file =
+            std::filesystem::path(MAXSLICE_SOURCE_DIR) / "examples/profiles" / profile;
         const std::array<std::filesystem::path, 1> files{file};
         auto profiles = machine::load_profiles(files);
         EXPECT_TRUE(profiles.has_value()) << (profiles ? "" : profiles.error().describe());
@@ -101,8 +103,14 @@ const Job& job() {
         EXPECT_TRUE(report.has_value()) << (report ? "" : report.error().describe());
         if (report) out.report = std::move(*report);
         return out;
-    }();
-    return j;
+    }
+}
+
+const Job& job(const std::string& profile = "reference_5axis_ac.toml") {
+    static std::map<std::string, Job> jobs;
+    auto it = jobs.find(profile);
+    if (it == jobs.end()) it = jobs.emplace(profile, run_job(profile)).first;
+    return it->second;
 }
 
 // A replayed deposit block and the part-frame move it was written from.
@@ -169,8 +177,7 @@ TEST(MultiAxisReplay, TheJobPlansATiltedColumn) {
 // part-frame move's position within the documented allowance: 0.0005 mm per linear word plus
 // 8.7e-6 r mm per rotary axis for a point r mm from it; the direction within the rotary
 // rounding.
-TEST(MultiAxisReplay, ReplayedTipsAreTheProgramsPositions) {
-    const Job& j = job();
+void expect_tips_on_moves(const Job& j) {
     ASSERT_FALSE(j.text.empty());
     const std::vector<Pair> pairs = deposit_pairs(j);
     ASSERT_GT(pairs.size(), 1000u);
@@ -200,13 +207,12 @@ TEST(MultiAxisReplay, ReplayedTipsAreTheProgramsPositions) {
     EXPECT_EQ(off, 0u) << "deposit blocks off their moves (the first " << kShown << " above)";
     // The table turns for the wedge layers: the allowance's rotary part is exercised.
     EXPECT_GT(tilted_blocks, 100u);
-    RecordProperty("worst_error_over_allowance", std::to_string(worst_ratio));
+    ::testing::Test::RecordProperty("worst_error_over_allowance", std::to_string(worst_ratio));
 }
 
 // The verifier's bead height (the speed law applied to the written feed) is the plan's local
 // thickness at the segment's middle within 5%, wherever the law's window can lay it.
-TEST(MultiAxisReplay, BeadHeightsAreThePlannedThickness) {
-    const Job& j = job();
+void expect_planned_bead_heights(const Job& j) {
     ASSERT_FALSE(j.text.empty());
     const plan::Plan& plan = j.planned.plan;
     const machine::SpeedLaw law = machine::SpeedLaw::of(j.profiles.process);
@@ -253,8 +259,33 @@ TEST(MultiAxisReplay, BeadHeightsAreThePlannedThickness) {
     ASSERT_TRUE(report.has_value());
     EXPECT_NEAR(report->bead_height_min_mm, bead_min, 1e-9);
     EXPECT_NEAR(report->bead_height_max_mm, bead_max, 1e-9);
-    RecordProperty("compared", static_cast<int>(compared));
-    RecordProperty("outside_window", static_cast<int>(outside_window));
+    ::testing::Test::RecordProperty("compared", static_cast<int>(compared));
+    ::testing::Test::RecordProperty("outside_window", static_cast<int>(outside_window));
+}
+
+TEST(MultiAxisReplay, ReplayedTipsAreTheProgramsPositions) {
+    expect_tips_on_moves(job());
+}
+
+TEST(MultiAxisReplay, BeadHeightsAreThePlannedThickness) {
+    expect_planned_bead_heights(job());
+}
+
+// The other bundled table profiles: joint space (linuxcnc, pivot below the table) and tool
+// centre point control (fanuc A/C, siemens B/C) put the tips and feeds where the moves are too.
+TEST(MultiAxisReplay, EveryTableDialectReplaysToTheProgramsMovesAndHeights) {
+    for (const std::string profile :
+         {"linuxcnc_5axis_ac.toml", "fanuc_5axis_ac.toml", "siemens_5axis_bc.toml"}) {
+        SCOPED_TRACE(profile);
+        const Job& j = job(profile);
+        ASSERT_FALSE(j.text.empty());
+        expect_tips_on_moves(j);
+        expect_planned_bead_heights(j);
+        ASSERT_TRUE(j.report.has_value());
+        EXPECT_TRUE(j.report->passed()) << verify::report_text(*j.report);
+        EXPECT_GE(j.report->coverage, 0.97);
+        EXPECT_LT(j.report->excess, 0.05);
+    }
 }
 
 TEST(MultiAxisReplay, TheVerifierPassesTheProgram) {
