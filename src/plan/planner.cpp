@@ -987,11 +987,14 @@ core::Result<PlanarCheck> check_planar(std::span<const slice::Slice> slices,
     const auto k = static_cast<std::size_t>(
         std::max(1, static_cast<int>(std::ceil(s.track_width_mm / s.layer_mm - 1e-9))));
     // Per layer: 0 carried, 1 tilt wanted, 2 overhang; and its first overhang piece. Each
-    // layer is compared with the one a track's height below (or the first layer): a shelf
-    // or a floating piece shows there as well as against the layer right below, and so do
-    // overhangs that grow in slivers. Layers go in chunks, in parallel inside a chunk, and
-    // the check stops after the chunk with the first overhang: a refused part costs only
-    // up to there, and the result does not depend on the thread count.
+    // layer is compared, as the planner's walk does, with the layer right below and with the
+    // one a track's height below (or the first layer): overhangs that grow in slivers show
+    // only over that height, but the allowance grows with it (h tan(phi_self) on each side,
+    // 0.9 mm at 2.5 mm), so the flat ceiling of a 3 mm channel, a 2.6 mm piece over the
+    // layer right below, is a 1.2 mm sliver over the look-back layer. Layers go in chunks, in
+    // parallel inside a chunk, and the check stops after the chunk with the first overhang:
+    // a refused part costs only up to there, and the result does not depend on the thread
+    // count.
     std::vector<int> kind(slices.size(), 0);
     std::vector<OverhangPiece> first(slices.size());
     std::vector<std::optional<core::Error>> errors(slices.size());
@@ -1000,19 +1003,23 @@ core::Result<PlanarCheck> check_planar(std::span<const slice::Slice> slices,
     for (std::size_t c0 = 1; c0 < slices.size(); c0 += kChunk) {
         const std::size_t c1 = std::min(slices.size(), c0 + kChunk);
         tbb::parallel_for(c0, c1, [&](std::size_t i) {
-            const slice::Slice& l = slices[i >= k ? i - k : 0];
-            auto r = analyse_neighbours(l.wires.paths(), l.plane, slices[i].wires.paths(),
-                                        slices[i].plane, a);
-            if (!r) {
-                errors[i] = r.error();
-                return;
-            }
-            for (const OverhangPiece& p : r->pieces) {
-                if (p.ang_deg > s.beta_deg || !p.touches_lower) {
-                    if (kind[i] < 2) first[i] = p;
-                    kind[i] = 2;
-                } else if (p.ang_deg > s.alpha_deg && kind[i] == 0) {
-                    kind[i] = 1;
+            const std::size_t back = i >= k ? i - k : 0;
+            const std::size_t refs[] = {i - 1, back};
+            for (std::size_t n = 0; n < (back == i - 1 ? 1U : 2U) && kind[i] < 2; ++n) {
+                const slice::Slice& l = slices[refs[n]];
+                auto r = analyse_neighbours(l.wires.paths(), l.plane, slices[i].wires.paths(),
+                                            slices[i].plane, a);
+                if (!r) {
+                    errors[i] = r.error();
+                    return;
+                }
+                for (const OverhangPiece& p : r->pieces) {
+                    if (p.ang_deg > s.beta_deg || !p.touches_lower) {
+                        if (kind[i] < 2) first[i] = p;
+                        kind[i] = 2;
+                    } else if (p.ang_deg > s.alpha_deg && kind[i] == 0) {
+                        kind[i] = 1;
+                    }
                 }
             }
         });

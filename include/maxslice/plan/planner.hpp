@@ -150,9 +150,9 @@ struct PlanarCheck {
 
 /// Checks a planar stack (consecutive slices of one direction, as slice_mesh makes them)
 /// with the planner's neighbour analysis and look-back, without planning regions: what a
-/// 3-axis program of it would deposit on nothing. Each layer is compared with the layer a
-/// track's height below. Parallel over layers; stops after the block of 64 layers that
-/// holds the first overhang; deterministic.
+/// 3-axis program of it would deposit on nothing. Each layer is compared with the layer right
+/// below and with the layer a track's height below, as the planner's walk does. Parallel over
+/// layers; stops after the block of 64 layers that holds the first overhang; deterministic.
 [[nodiscard]] core::Result<PlanarCheck> check_planar(std::span<const slice::Slice> slices,
                                                      const PlanSettings& settings);
 
