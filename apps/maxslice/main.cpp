@@ -378,7 +378,7 @@ int run_slice(const PartOptions& opt, const SliceOptions& so) {
     print_warnings(*part);
     if (program_mode) {
         part->imported.mesh = pipeline::place_on_plate(std::move(part->imported.mesh), ss.direction,
-                                                       pipeline::plate_center(profiles->machine));
+                                                       machine::plate_center(profiles->machine));
         ss.direction = {0.0, 0.0, 1.0};
         if (machine::is_table_tilt(profiles->machine.kinematics)) {
             return run_multiaxis_slice(opt, so, *part, *profiles, times);

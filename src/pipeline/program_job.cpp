@@ -12,10 +12,6 @@ namespace maxslice::pipeline {
 
 using core::Vec3d;
 
-Vec3d plate_center(const machine::MachineProfile& machine) {
-    return machine::plate_center(machine);
-}
-
 mesh::TriangleMesh place_on_plate(mesh::TriangleMesh part, const Vec3d& direction,
                                   const Vec3d& plate_center) {
     return mesh::placed_on_plate(std::move(part), direction, plate_center);

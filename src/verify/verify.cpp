@@ -37,6 +37,11 @@ constexpr double kApexToleranceVoxels = 1.0;
 constexpr double kSupportGapVoxels = 0.25;
 /// ... down to this many voxels further (a layer below found within about two voxels).
 constexpr double kSupportDepthVoxels = 2.0;
+/// ... and across to half a track plus this many voxels: a voxel counts only when its centre
+/// lies inside a bead, so a bead's voxel image can end up to one voxel inside its true edge;
+/// without the slack, support within half a track in exact geometry would be missed at
+/// random (decision 0010).
+constexpr double kSupportReachSlackVoxels = 1.0;
 /// A bead bottom this many voxels above the plate (part z = 0) or lower rests on the plate.
 constexpr double kPlateToleranceVoxels = 1.0;
 /// Axis values within this of a limit pass (the program rounds to 3 decimals).
@@ -370,7 +375,7 @@ private:
         Region region;
         const double top = -(h + kSupportGapVoxels * voxel_);
         const double bottom = top - kSupportDepthVoxels * voxel_;
-        const double r = 0.5 * process_.track_width_mm;
+        const double r = 0.5 * process_.track_width_mm + kSupportReachSlackVoxels * voxel_;
         region.add({{{bottom, -r}, {top, -r}, {top, r}, {bottom, r}}});
         bool counted = false;
         const double piece = samples.size() > 1

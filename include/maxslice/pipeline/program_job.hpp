@@ -24,11 +24,6 @@ namespace maxslice::pipeline {
                                                 const core::Vec3d& direction,
                                                 const core::Vec3d& plate_center = {});
 
-/// Where place_on_plate puts a part (Z = 0): the middle of the X and Y travel of an "xyz"
-/// machine, the C axis (table.c_offset, part coordinates) of a table-tilt machine
-/// (docs/program-dialects.md).
-[[nodiscard]] core::Vec3d plate_center(const machine::MachineProfile& machine);
-
 /// The toolpath settings a process profile implies.
 [[nodiscard]] path::PathSettings path_settings(const machine::ProcessProfile& process);
 

@@ -66,7 +66,7 @@ Job run_job(const std::string& profile) {
         if (!profiles) return out;
         out.profiles = *profiles;
         out.placed = place_on_plate(test::leaning_column().mesh, {0.0, 0.0, 1.0},
-                                    plate_center(out.profiles.machine));
+                                    machine::plate_center(out.profiles.machine));
         PlanJobSettings ps;
         ps.plan = plan_settings(out.profiles.process);
         auto planned = plan_mesh(out.placed, ps);
