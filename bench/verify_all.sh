@@ -32,8 +32,8 @@ echo "# maxslice 5-axis job with the verifier  ($(date -u '+%Y-%m-%d %H:%M UTC')
 echo
 echo "machine: $(nproc) cores, load $(cut -d' ' -f1-3 /proc/loadavg); profile: ${profile#"$repo/"}; parts read with --repair"
 echo
-echo "| part | exit | regions | layers (tilted) | collisions | unsupported | limit violations | coverage % | excess % | bead height mm | build time min | verify s | job wall s | note |"
-echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"
+echo "| part | exit | regions | layers (tilted) | collisions | unsupported | limit violations | coverage % | excess % | build time min | verify s | job wall s | note |"
+echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"
 { ls "$work"/fixtures/*.stl; find "$data/meshes" -type f | sort; echo "$data/large/Spiral_lattice_cone_2_occt.stl"; } | while read -r f; do
     [ -f "$f" ] || continue
     case $f in "$work"/*) rel="fixture ${f##*/}"; rel=${rel%.stl} ;; *) rel=${f#"$data/"} ;; esac
@@ -45,7 +45,7 @@ echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"
     wall=$(awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.2f", b - a }')
     note=""
     if [ "$rc" != 0 ]; then
-        note=$(grep -m1 "error" "$work/err" | sed 's/^maxslice: error: //; s/|/\\|/g' | cut -c1-140)
+        note=$(grep -m1 "error" "$work/err" | sed 's/^maxslice: error: [^:]*: //; s/|/\\|/g' | cut -c1-150)
     fi
     vs=$(awk '/^timing verify/ { print $3 }' "$work/err")
     # The verifier's own report when it refused the program (printed on stderr).
@@ -55,7 +55,7 @@ echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"
         /^coverage/ { cov = $2; exc = $NF; sub(/%/, "", cov); sub(/%/, "", exc) }
         /^build time/ { bt = $3 }
         END {
-            printf "| %s | %s | %s | %s | %s | %s | %s | %s | %s | - | %s | %s | %s | %s |\n", rel, rc,
+            printf "| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", rel, rc,
                 regions ? regions : "-", layers ? layers " (" tilted ")" : "-", col != "" ? col : "-",
                 uns != "" ? uns : "-", lim != "" ? lim : "-", cov != "" ? cov : "-", exc != "" ? exc : "-",
                 bt ? bt : "-", vs, wall, note }' "$work/out"
