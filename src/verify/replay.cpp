@@ -469,7 +469,7 @@ private:
             if (w['X']) programmed.x = *w['X'];
             if (w['Y']) programmed.y = *w['Y'];
             if (w['Z']) programmed.z = *w['Z'];
-            const Vec3d m = machine_xyz(programmed - pivot_, next);
+            const Vec3d m = linear_axes_for_tip(kin_, programmed - pivot_, next);
             next.x = m.x;
             next.y = m.y;
             next.z = m.z;
@@ -497,23 +497,6 @@ private:
 
     [[nodiscard]] bool pose_known() const {
         return known_[0] && known_[1] && known_[2] && known_[3] && known_[4];
-    }
-
-    // The linear axes that put the part-frame `tip` under the tool with the rotary values of
-    // `pose`: forward is affine in X Y Z for fixed rotary values, tip = M p + t0 with M a
-    // rotation, so p = M^T (tip - t0).
-    [[nodiscard]] Vec3d machine_xyz(const Vec3d& tip, const machine::MachinePose& pose) const {
-        machine::MachinePose p = pose;
-        p.x = p.y = p.z = 0.0;
-        const Vec3d t0 = kin_.forward(p).tip_mm;
-        std::array<Vec3d, 3> col;
-        for (int i = 0; i < 3; ++i) {
-            machine::MachinePose e = p;
-            (i == 0 ? e.x : (i == 1 ? e.y : e.z)) = 1.0;
-            col[static_cast<std::size_t>(i)] = kin_.forward(e).tip_mm - t0;
-        }
-        const Vec3d d = tip - t0;
-        return {core::dot(col[0], d), core::dot(col[1], d), core::dot(col[2], d)};
     }
 
     const machine::Profiles& profiles_;
@@ -556,6 +539,20 @@ core::Result<ProgramDialect> parse_dialect(std::string_view name) {
 
 core::Result<ProgramDialect> dialect_of(const machine::MachineProfile& machine) {
     return parse_dialect(machine::dialect_name(machine.dialect));
+}
+
+core::Vec3d linear_axes_for_tip(const machine::MachineKinematics& kinematics,
+                                const core::Vec3d& tip, machine::MachinePose pose) {
+    pose.x = pose.y = pose.z = 0.0;
+    const core::Vec3d t0 = kinematics.forward(pose).tip_mm;
+    std::array<core::Vec3d, 3> col;
+    for (int i = 0; i < 3; ++i) {
+        machine::MachinePose e = pose;
+        (i == 0 ? e.x : (i == 1 ? e.y : e.z)) = 1.0;
+        col[static_cast<std::size_t>(i)] = kinematics.forward(e).tip_mm - t0;
+    }
+    const core::Vec3d d = tip - t0;
+    return {core::dot(col[0], d), core::dot(col[1], d), core::dot(col[2], d)};
 }
 
 core::Result<Replay> replay_program(std::string_view program_text,

@@ -72,22 +72,6 @@ struct Sample {
     Vec3d dir;
 };
 
-// The linear axes that put the part-frame `tip` under the tool with the rotary values of
-// `pose` (forward is affine in X Y Z for fixed rotary values).
-Vec3d machine_xyz(const machine::MachineKinematics& kin, const Vec3d& tip,
-                  machine::MachinePose pose) {
-    pose.x = pose.y = pose.z = 0.0;
-    const Vec3d t0 = kin.forward(pose).tip_mm;
-    std::array<Vec3d, 3> col;
-    for (int i = 0; i < 3; ++i) {
-        machine::MachinePose e = pose;
-        (i == 0 ? e.x : (i == 1 ? e.y : e.z)) = 1.0;
-        col[static_cast<std::size_t>(i)] = kin.forward(e).tip_mm - t0;
-    }
-    const Vec3d d = tip - t0;
-    return {core::dot(col[0], d), core::dot(col[1], d), core::dot(col[2], d)};
-}
-
 class Verifier {
 public:
     Verifier(const machine::Profiles& profiles, const machine::MachineKinematics& kin,
@@ -283,7 +267,7 @@ private:
             }
             if (b.tcp) {
                 const Vec3d tip = tip0 + (b.tip_mm - tip0) * t;
-                const Vec3d m = machine_xyz(kin_, tip, s.pose);
+                const Vec3d m = linear_axes_for_tip(kin_, tip, s.pose);
                 s.pose.x = m.x;
                 s.pose.y = m.y;
                 s.pose.z = m.z;

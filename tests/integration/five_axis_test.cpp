@@ -59,6 +59,18 @@ struct Figures {
     double excess_pct = NAN;
 };
 
+Figures read_figures(const std::string& out);
+
+// The verifier's figures are printed and say 0 collisions, 0 unsupported beads, 0 limit
+// violations.
+void expect_clean(const Figures& f, const std::string& out) {
+    ASSERT_TRUE(f.verified) << out;
+    ASSERT_TRUE(f.coverage_line) << out;
+    EXPECT_EQ(f.collisions, 0) << out;
+    EXPECT_EQ(f.unsupported, 0) << out;
+    EXPECT_EQ(f.limit_violations, 0) << out;
+}
+
 Figures read_figures(const std::string& out) {
     static const std::regex verified(
         R"((?:^|\n)verified +(\d+) collisions, (\d+) unsupported beads, (\d+) limit violations)");
@@ -116,11 +128,7 @@ void expect_clean_job(const fs::path& part, const fs::path& profile, const fs::p
     EXPECT_GT(fs::file_size(program), 10000u);
     EXPECT_EQ(r.err.find("maxslice: error"), std::string::npos) << r.err;
     const Figures f = read_figures(r.out);
-    ASSERT_TRUE(f.verified) << r.out;
-    ASSERT_TRUE(f.coverage_line) << r.out;
-    EXPECT_EQ(f.collisions, 0) << r.out;
-    EXPECT_EQ(f.unsupported, 0) << r.out;
-    EXPECT_EQ(f.limit_violations, 0) << r.out;
+    expect_clean(f, r.out);
     EXPECT_GE(f.coverage_pct, 97.0) << r.out;
     EXPECT_LT(f.excess_pct, 5.0) << r.out;
 
@@ -391,11 +399,7 @@ TEST(FiveAxis, EverySharedModelIsBuiltOrRefusedCleanly) {
         ++written;
         EXPECT_TRUE(fs::exists(program));
         const Figures f = read_figures(r.out);
-        ASSERT_TRUE(f.verified) << r.out;
-        ASSERT_TRUE(f.coverage_line) << r.out;
-        EXPECT_EQ(f.collisions, 0) << r.out;
-        EXPECT_EQ(f.unsupported, 0) << r.out;
-        EXPECT_EQ(f.limit_violations, 0) << r.out;
+        expect_clean(f, r.out);
         EXPECT_GT(f.coverage_pct, 0.0) << r.out;
         EXPECT_GE(f.excess_pct, 0.0) << r.out;
     }

@@ -58,6 +58,13 @@ struct Replay {
     std::vector<ReplayBlock> blocks;  ///< moves and dwells only
 };
 
+/// The linear axes (machine X, Y, Z) that put the part-frame `tip` under the tool with the
+/// rotary values of `pose`, from the forward kinematics alone: forward is affine in X Y Z for
+/// fixed rotary values, tip = M p + t0 with M a rotation, so p = M^T (tip - t0). Used for
+/// blocks written under tool centre point control.
+[[nodiscard]] core::Vec3d linear_axes_for_tip(const machine::MachineKinematics& kinematics,
+                                              const core::Vec3d& tip, machine::MachinePose pose);
+
 /// Parses a program of `dialect` for the machine and process of `profiles` and replays it
 /// through machine::MachineKinematics::forward (docs/program-dialects.md). Axis words are modal
 /// (an axis not yet programmed counts as 0, as LinuxCNC's interpreter does, and the block is

@@ -173,18 +173,7 @@ struct Read {
     int tcp_switches = 0;
 };
 
-std::optional<double> word(const std::string& block, char letter) {
-    std::istringstream in(block);
-    std::string token;
-    while (in >> token) {
-        if (token.size() > 1 && token[0] == letter) {
-            char* end = nullptr;
-            const double v = std::strtod(token.c_str() + 1, &end);
-            if (end != nullptr && *end == '\0') return v;
-        }
-    }
-    return std::nullopt;
-}
+using testing::word;
 
 Read read_program(const std::string& text, Dialect dialect, char tilt) {
     Read out;
