@@ -218,7 +218,8 @@ private:
         const auto [lo, hi] = slice::extent_along(mesh_, r.base);
         (void)lo;
         if (!(hi > 0.0)) return {};
-        SliceStack slices(mesh_, r.base, slice::uniform_layers(0.0, hi, s_.layer_mm));
+        SliceStack slices(mesh_, r.base,
+                          slice::uniform_layers(0.0, hi, s_.layer_mm, s_.h_min_mm, s_.h_max_mm));
         for (;;) {
             auto outcome = walk(job, slices);
             if (!outcome) return std::unexpected(outcome.error());
@@ -474,7 +475,8 @@ private:
         const auto [lo, hi] = slice::extent_along(mesh_, base);
         (void)lo;
         if (!(hi > s_.layer_mm / 2)) return false;
-        SliceStack slices(mesh_, base, slice::uniform_layers(0.0, hi, s_.layer_mm));
+        SliceStack slices(mesh_, base,
+                          slice::uniform_layers(0.0, hi, s_.layer_mm, s_.h_min_mm, s_.h_max_mm));
         // The first of them is the empty one the march met.
         return walk({rid, {lower}}, slices);
     }

@@ -50,6 +50,23 @@ std::vector<LayerSpan> uniform_layers(double from, double to, double layer_mm) {
     return out;
 }
 
+std::vector<LayerSpan> uniform_layers(double from, double to, double layer_mm, double h_min_mm,
+                                      double h_max_mm) {
+    std::vector<LayerSpan> out = uniform_layers(from, to, layer_mm);
+    if (out.size() < 2 || !(out.back().thickness() < h_min_mm)) return out;
+    const double bottom = out[out.size() - 2].bottom;
+    const double top = out.back().top;
+    out.pop_back();
+    if (top - bottom <= h_max_mm) {
+        out.back() = make_span(bottom, top);
+    } else {
+        const double mid = 0.5 * (bottom + top);
+        out.back() = make_span(bottom, mid);
+        out.push_back(make_span(mid, top));
+    }
+    return out;
+}
+
 std::vector<LayerSpan> adaptive_layers(const mesh::TriangleMesh& mesh, const PlaneFrame& base,
                                        double from, double to, const LayerSettings& s) {
     // Cusp height of a facet with unit normal n cut by layers of thickness h along d is

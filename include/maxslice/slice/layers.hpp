@@ -34,6 +34,13 @@ struct LayerSettings {
 /// (a remainder thinner than 1% of the layer is merged into the previous layer).
 [[nodiscard]] std::vector<LayerSpan> uniform_layers(double from, double to, double layer_mm);
 
+/// Equidistant layers as uniform_layers, but a last layer thinner than h_min (a process
+/// cannot lay it: the speed law's thinnest track is h_min) is folded into the one below: the
+/// two become one layer when that is at most h_max thick, else two of equal thickness. Only
+/// the last two layers change; a range thinner than h_min stays one layer.
+[[nodiscard]] std::vector<LayerSpan> uniform_layers(double from, double to, double layer_mm,
+                                                    double h_min_mm, double h_max_mm);
+
 /// Adaptive layers along base.normal over heights [from, to] measured from the base plane
 /// (as extent_along gives them): each layer is as thick as the cusp bound allows for the
 /// facets it crosses (c = h |n . d|), clamped to [min_layer_mm, max_layer_mm], and ends on a

@@ -246,5 +246,36 @@ TEST(AdaptiveLayers, FlatFaceJustAboveALayerBoundary) {
     expect_adaptive_properties(adaptive_case(test::t_shape(), {0, 0, 1}, tee), tee);
 }
 
+TEST(UniformLayers, ALastLayerThinnerThanHMinIsFoldedIntoTheOneBelow) {
+    // 15.01 mm in 0.5 mm layers: 30 layers and a 0.01 mm remainder (above the 1% merge).
+    const auto plain = uniform_layers(0.0, 15.01, 0.5);
+    ASSERT_EQ(plain.size(), 31u);
+    EXPECT_NEAR(plain.back().thickness(), 0.01, 1e-9);
+    const auto merged = uniform_layers(0.0, 15.01, 0.5, 0.3, 0.7);
+    ASSERT_EQ(merged.size(), 30u);
+    EXPECT_NEAR(merged.back().thickness(), 0.51, 1e-9);
+    EXPECT_DOUBLE_EQ(merged.back().top, 15.01);
+    // A remainder that would make the merged layer too thick: the last two share the height.
+    const auto even = uniform_layers(0.0, 15.25, 0.5, 0.3, 0.7);
+    ASSERT_EQ(even.size(), 31u);
+    EXPECT_NEAR(even[29].thickness(), 0.375, 1e-9);
+    EXPECT_NEAR(even[30].thickness(), 0.375, 1e-9);
+    EXPECT_DOUBLE_EQ(even[30].top, 15.25);
+    for (std::size_t i = 0; i + 1 < even.size(); ++i) {
+        EXPECT_DOUBLE_EQ(even[i].top, even[i + 1].bottom);
+        EXPECT_GE(even[i].thickness(), 0.3 - 1e-9);
+        EXPECT_LE(even[i].thickness(), 0.7 + 1e-9);
+    }
+    // A remainder of at least h_min, or a range thinner than h_min, is left as it is.
+    const auto kept = uniform_layers(0.0, 15.3, 0.5, 0.3, 0.7);
+    const auto reference = uniform_layers(0.0, 15.3, 0.5);
+    ASSERT_EQ(kept.size(), reference.size());
+    for (std::size_t i = 0; i < kept.size(); ++i) {
+        EXPECT_DOUBLE_EQ(kept[i].bottom, reference[i].bottom);
+        EXPECT_DOUBLE_EQ(kept[i].top, reference[i].top);
+    }
+    EXPECT_EQ(uniform_layers(0.0, 0.2, 0.5, 0.3, 0.7).size(), 1u);
+}
+
 }  // namespace
 }  // namespace maxslice::slice
