@@ -157,7 +157,11 @@ private:
             return;
         }
         ++out_.section_changes;
-        const double top = highest_along(placed_, d) + margin_mm_;
+        if (core::norm(d - top_direction_) > 0.0) {  // once per direction, not per section
+            top_direction_ = d;
+            top_mm_ = highest_along(placed_, d);
+        }
+        const double top = top_mm_ + margin_mm_;
         const double up_from = top - core::dot(from, d);
         const double up_to = top - core::dot(first, d);
         if (up_from > 0.0) travel(from + d * up_from, d, layer);
@@ -172,6 +176,8 @@ private:
     double margin_mm_ = kSectionTravelMarginMm;
     int last_section_ = -1;
     Vec3d last_direction_{0.0, 0.0, 1.0};
+    Vec3d top_direction_{};  // the direction top_mm_ was measured along (zero: none yet)
+    double top_mm_ = 0.0;    // the part's highest point along it
     std::vector<Vec3d> points_;
     std::vector<double> feeds_;
 };

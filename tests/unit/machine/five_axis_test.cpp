@@ -138,13 +138,7 @@ Program five_axis_program(const ProcessProfile& process) {
     return p;
 }
 
-std::vector<const Move*> positioning(const Program& p) {
-    std::vector<const Move*> out;
-    for (const Move& m : p.moves) {
-        if (m.kind == MoveKind::kTravel || m.kind == MoveKind::kDeposit) out.push_back(&m);
-    }
-    return out;
-}
+using testing::positioning;
 
 // The clearance height as docs/program-dialects.md defines it, from the program's positions.
 double contract_clear_z(const MachineProfile& m, const Program& p) {

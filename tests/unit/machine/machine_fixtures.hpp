@@ -142,6 +142,15 @@ struct ReadProgram {
     std::vector<std::string> blocks;  ///< every block (gm: without the columns)
 };
 
+/// Moves that position the head (travel and deposit), in order.
+inline std::vector<const Move*> positioning(const Program& p) {
+    std::vector<const Move*> out;
+    for (const Move& m : p.moves) {
+        if (m.kind == MoveKind::kTravel || m.kind == MoveKind::kDeposit) out.push_back(&m);
+    }
+    return out;
+}
+
 inline std::optional<double> word(const std::string& block, char letter) {
     std::istringstream in(block);
     std::string token;

@@ -45,14 +45,7 @@ Program tiny_program(const ProcessProfile& process) {
     return p;
 }
 
-// Moves that position the head (travel and deposit), in order.
-std::vector<const Move*> positioning(const Program& p) {
-    std::vector<const Move*> out;
-    for (const Move& m : p.moves) {
-        if (m.kind == MoveKind::kTravel || m.kind == MoveKind::kDeposit) out.push_back(&m);
-    }
-    return out;
-}
+using testing::positioning;
 
 TEST(GmWriter, GoldenTinyProgram) {
     const auto text =
