@@ -9,6 +9,8 @@ find_package(Eigen3 REQUIRED NO_MODULE)
 pkg_check_modules(POLYCLIPPING REQUIRED IMPORTED_TARGET polyclipping)
 pkg_check_modules(LIB3MF REQUIRED IMPORTED_TARGET lib3MF)
 find_package(assimp REQUIRED)
+# Boost.Polygon's Voronoi diagram (header-only) for medial axes: src/geom2d/medial_axis.cpp.
+find_package(Boost 1.74 REQUIRED)
 
 # Open CASCADE: linked by toolkit name so that only the toolkits maxslice uses must be
 # installed (the package's CMake config also demands the visualization toolkits).

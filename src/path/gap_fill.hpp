@@ -1,5 +1,5 @@
 #pragma once
-// Tracks along gaps the contour passes leave where no fill line fits.
+// Tracks along the gaps the contour passes and the fill leave.
 
 #include <cstdint>
 #include <vector>
@@ -9,12 +9,12 @@
 
 namespace maxslice::path::detail {
 
-/// Tracks for the gaps of one island (any frame): the parts inside the contour tracks that
-/// neither a deeper contour pass nor the fill reaches (region paths, outers CCW). Each gap
-/// piece of mean width g (2 x area / perimeter) gets:
+/// Tracks for the gaps of one island (any frame): the parts of it no track covers (region
+/// paths, outers CCW). Each gap piece of mean width g (2 x area / perimeter) gets:
 /// - nothing when g < min_width_um (a track would pile material onto its neighbours);
-/// - one track along its middle when g <= the track width: a closed stroke around a
-///   ring-shaped gap, an open one along a strip;
+/// - one track along its medial axis where it is at least min_width_um wide, when g <= the
+///   track width: a closed stroke around a ring-shaped gap, open ones along strips and the
+///   branches of a network;
 /// - else the loops of the piece offset inward by g/4 (two tracks across it).
 [[nodiscard]] std::vector<RouteStroke> gap_fill(const geom2d::Paths2& gaps,
                                                 std::int64_t track_width_um,

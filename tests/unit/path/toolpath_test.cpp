@@ -362,19 +362,22 @@ TEST(Toolpath, RasterAngleSettingOverridesTheOrientation) {
 }
 
 TEST(Toolpath, NeighbouringLinesAreLinkedIntoOneZigzag) {
-    // A convex shape fills in one stroke; a hole splits the fill into a few.
+    // A convex shape fills in one zigzag; a hole splits the fill into a few. (Short fill
+    // strokes beside them are tracks along slivers the zigzag leaves at the contour.)
+    const auto zigzags = [](const LayerToolpath& tp) {
+        long n = 0;
+        for (const Stroke& s : tp.strokes) {
+            n += s.kind == StrokeKind::kFill && length_mm(s.points) > 20.0 ? 1 : 0;
+        }
+        return n;
+    };
     for (const auto& tree : {region({rect(0, 0, 60, 20)}), region({ngon(0, 0, 25, 128)}),
                              region({rotated_rect(0, 0, 60, 30, 30)})}) {
-        const LayerToolpath tp = plan(tree, settings());
-        long fill = 0;
-        for (const Stroke& s : tp.strokes) fill += s.kind == StrokeKind::kFill ? 1 : 0;
-        EXPECT_EQ(fill, 1);
+        EXPECT_EQ(zigzags(plan(tree, settings())), 1);
     }
-    const LayerToolpath ring = plan(annulus(), settings());
-    long fill = 0;
-    for (const Stroke& s : ring.strokes) fill += s.kind == StrokeKind::kFill ? 1 : 0;
-    EXPECT_GE(fill, 2);
-    EXPECT_LE(fill, 4);
+    const long ring = zigzags(plan(annulus(), settings()));
+    EXPECT_GE(ring, 2);
+    EXPECT_LE(ring, 4);
 }
 
 TEST(Toolpath, OrderingShortensIdleTravel) {
@@ -442,6 +445,24 @@ TEST(Toolpath, NarrowPiecesThatVanishAreReportedUncovered) {
     EXPECT_GE(tp.uncovered_mm2, 0.9 * 20.0);
     EXPECT_LE(tp.uncovered_mm2, 20.0 + 0.04 * 800.0);
     expect_valid(tree, settings(), tp, {}, 0.0);
+}
+
+TEST(Toolpath, SliversBetweenTracksGetATrackAlongTheirMiddle) {
+    // An annulus 5.9 mm wide: the contour tracks along both walls (2.5 mm each) leave a ring
+    // 0.9 mm wide in the middle, too narrow for a fill line: one closed track along it.
+    const geom2d::WireTree ring = annulus(30.0, 24.1);
+    const LayerToolpath tp = plan(ring, settings());
+    expect_valid(ring, settings(), tp, {}, 0.995);
+    long closed_fill = 0;
+    for (const Stroke& st : tp.strokes) {
+        if (st.kind != StrokeKind::kFill || st.points.front() != st.points.back()) continue;
+        ++closed_fill;
+        for (const Point2& p : st.points) {
+            const double r = std::hypot(static_cast<double>(p.x), static_cast<double>(p.y));
+            EXPECT_NEAR(r, 27050.0, 60.0);  // the middle of the ring, 27.05 mm from the centre
+        }
+    }
+    EXPECT_EQ(closed_fill, 1);
 }
 
 TEST(Toolpath, EmptyAndHoleOnlyRegionsGiveNoStrokes) {
