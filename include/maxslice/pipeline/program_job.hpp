@@ -68,6 +68,9 @@ struct MultiAxisProgram {
     int layers_with_uncovered = 0;
     ThicknessReport thickness;
     int section_changes = 0;  ///< travels over the part's top between sections
+    /// Track cut away because the layer below has no bead under it (mm), and in how many layers.
+    double trimmed_mm = 0.0;
+    int layers_trimmed = 0;
 };
 
 /// The moves of a planned, ordered part (METHOD.md sections 9 to 11), in part coordinates
