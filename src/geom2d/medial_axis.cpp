@@ -193,6 +193,9 @@ std::vector<MedialLine> medial_axis(const Paths2& region_in, std::int64_t min_ra
         const Diagram::cell_type& c2 = *e.twin()->cell();
         const XY p0{e.vertex0()->x(), e.vertex0()->y()};
         const XY p1{e.vertex1()->x(), e.vertex1()->y()};
+        // A vertex outside the region's box comes from a diagram spoiled by input it does not
+        // accept (segments crossing after all): never a track there.
+        if (!in_box(p0) || !in_box(p1)) continue;
         bool inside = true;
         bool decided = false;
         for (const Diagram::cell_type* c : {&c1, &c2}) {
@@ -204,9 +207,7 @@ std::vector<MedialLine> medial_axis(const Paths2& region_in, std::int64_t min_ra
             const Point2 mid = rounded({0.5 * (p0.x + p1.x), 0.5 * (p0.y + p1.y)});
             inside = locate_point(region, mid) != Containment::kOutside;
         }
-        // A vertex outside the region's box comes from a diagram spoiled by input it does not
-        // accept (segments crossing after all): never a track there.
-        if (!inside || !in_box(p0) || !in_box(p1)) continue;
+        if (!inside) continue;
         const double r0 = site_distance(c1, segs, p0);
         const double r1 = site_distance(c1, segs, p1);
         if (r0 < min_r && r1 < min_r) continue;
