@@ -339,8 +339,8 @@ int run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
     std::printf("\n");
     std::printf("uncovered       %.2f mm2 of %.1f mm2 (%d layers over 1%%)\n", p->uncovered_mm2,
                 p->region_area_mm2, p->layers_with_uncovered);
-    std::printf("left out        %.1f mm of track in %d layers (no bead below it)\n",
-                p->trimmed_mm, p->layers_trimmed);
+    std::printf("left out        %.1f mm of track in %d layers (no bead below it)\n", p->trimmed_mm,
+                p->layers_trimmed);
     print_verification(report);
     if (opt.timings) print_timings(times, true);
     return kExitOk;

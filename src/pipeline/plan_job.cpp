@@ -234,6 +234,7 @@ ordered_json order_json(const PlannedPart& planned) {
                              {"apex", detail::vec_json(c.apex)},
                              {"hit", detail::vec_json(c.hit)},
                              {"margin_mm", c.margin_mm},
+                             {"in_stream", c.in_stream},
                              {"reason", c.reason}});
     }
     return {{"complete", o.complete()},

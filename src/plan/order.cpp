@@ -262,11 +262,21 @@ LayerShape shape_of(const Layer& l, const Nozzle& nozzle, double spacing, double
 
 // What the nozzle of S2 (standing anywhere on S2's top) meets of S1's material.
 struct Meeting {
-    double margin = kInf;  // smallest clearance (mm); +inf beyond kMarginCap; below the
-                           // nozzle's clearance: the first sample found there
+    double margin = kInf;  // smallest margin (mm, see stream_margin); +inf beyond kMarginCap;
+                           // below the nozzle's clearance: the first sample found there
     core::Vec3d apex;
     core::Vec3d hit;
+    bool in_stream = false;  // the hit lies in the powder stream (below the nozzle tip)
 };
+
+// The margin of a point t above the apex with clearance c (mm) from the nozzle: c for the
+// hardware (the cone above the standoff, the body), c plus the nozzle's clearance for the
+// powder stream between the melt pool and the nozzle tip, which needs only to stay clear
+// of material (it does not crash into it; inside it, it would be shadowed). A margin below
+// the nozzle's clearance is a collision either way.
+double stream_margin(const Nozzle& nozzle, double t, double c) {
+    return t <= nozzle.standoff_mm ? c + nozzle.clearance_mm : c;
+}
 
 // How S1's frame axes project on S2's axes (d, top.u, top.v): p[k][j] = |S2 axis k . S1
 // axis j|, the extent along S2's axis k of a unit step along S1's axis j.
@@ -341,9 +351,10 @@ Meeting meet(const LayerShape& s2, const LayerShape& s1, const Nozzle& nozzle) {
             if (!found) continue;
             const geom2d::ClosestPoint& cp = *found;
             const double r = cp.distance_um / core::kMicronsPerMm;
-            const double here = clearance_at(nozzle, t, r, ca, sa);
+            const double here = stream_margin(nozzle, t, clearance_at(nozzle, t, r, ca, sa));
             if (here < m.margin) {
                 m.margin = here;
+                m.in_stream = t <= nozzle.standoff_mm;
                 m.hit = x;
                 m.apex = s2.top.origin + s2.top.u * core::um_to_mm(cp.point.x) +
                          s2.top.v * core::um_to_mm(cp.point.y);
@@ -664,14 +675,16 @@ core::Result<BuildOrder> order_layers(const Plan& plan, const OrderSettings& set
             c.other = e->second;
             c.apex = e->meeting.apex;
             c.hit = e->meeting.hit;
-            c.margin_mm = e->meeting.margin;
+            c.in_stream = e->meeting.in_stream;
+            c.margin_mm = e->meeting.margin - (c.in_stream ? nozzle.clearance_mm : 0.0);
             c.reason = fmt::format(
-                "the nozzle on {} at ({:.2f}, {:.2f}, {:.2f}) would meet {} at ({:.2f}, {:.2f}, "
+                "the {} on {} at ({:.2f}, {:.2f}, {:.2f}) would meet {} at ({:.2f}, {:.2f}, "
                 "{:.2f}) (clearance {:.2f} mm < {:.2f}), so {} must come first, yet {} must come "
                 "before it ({})",
-                describe(plan, c.layer), c.apex.x, c.apex.y, c.apex.z, describe(plan, c.other),
-                c.hit.x, c.hit.y, c.hit.z, c.margin_mm, nozzle.clearance_mm,
-                describe(plan, c.layer), describe(plan, c.other),
+                c.in_stream ? "powder stream" : "nozzle", describe(plan, c.layer), c.apex.x,
+                c.apex.y, c.apex.z, describe(plan, c.other), c.hit.x, c.hit.y, c.hit.z, c.margin_mm,
+                c.in_stream ? 0.0 : nozzle.clearance_mm, describe(plan, c.layer),
+                describe(plan, c.other),
                 descends(plan, c.layer, c.other) ? "it is deposited on it"
                                                  : "through the other conflicts listed");
             out.conflicts.push_back(std::move(c));

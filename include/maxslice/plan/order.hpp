@@ -24,8 +24,10 @@ struct Nozzle {
     double standoff_mm = 10.0;     ///< melt pool to nozzle tip, in (0, H]
     double body_radius_mm = 0.0;   ///< head body above the cone (0: no body)
     double body_length_mm = 0.0;   ///< its length, >= 0
-    /// The smallest clearance accepted between the nozzle and deposited material; it also
-    /// covers the spacing of the points the check samples. >= 0.
+    /// The smallest clearance accepted between the nozzle (the cone above the standoff, the
+    /// body) and deposited material; it also covers the spacing of the points the check
+    /// samples. >= 0. The powder stream (the cone between the melt pool and the nozzle tip,
+    /// t <= standoff) needs only to stay clear of material (clearance 0).
     double clearance_mm = 1.0;
 };
 
@@ -55,8 +57,10 @@ struct Conflict {
     int other = -1;          ///< the deposited layer its nozzle hits
     core::Vec3d apex;        ///< where the nozzle stands (on `layer`'s top)
     core::Vec3d hit;         ///< a point of `other` inside the nozzle
-    double margin_mm = 0.0;  ///< the clearance there (< the nozzle's clearance_mm)
+    double margin_mm = 0.0;  ///< the clearance there (< the nozzle's clearance_mm, < 0 in
+                             ///< the powder stream)
     std::string reason;      ///< one line, for people
+    bool in_stream = false;  ///< the hit lies in the powder stream, below the nozzle tip
 };
 
 /// A run of consecutive layers of one side (a branch of the hierarchy graph: a chain of
@@ -71,8 +75,10 @@ struct Section {
 /// The build order of a plan.
 struct BuildOrder {
     std::vector<int> order;  ///< layer ids in build sequence (partial when conflicts exist)
-    /// Per layer id: the smallest clearance (mm) between its nozzle and the material
-    /// deposited before it; +inf when nothing is in reach; NaN for a layer not ordered.
+    /// Per layer id: the smallest margin (mm) between its nozzle and the material deposited
+    /// before it: the clearance to the head, or to the powder stream plus the nozzle's
+    /// clearance_mm (the stream needs only to stay clear), so at least clearance_mm for every
+    /// ordered layer; +inf when nothing is in reach; NaN for a layer not ordered.
     std::vector<double> margin_mm;
     std::vector<int> side_of;     ///< per layer id: its branch
     std::vector<int> section_of;  ///< per layer id: its section (-1 when not ordered)

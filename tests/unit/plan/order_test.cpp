@@ -441,6 +441,31 @@ TEST(BuildOrder, BearingSeatBossAfterItsSupportInOneRun) {
     EXPECT_EQ(bosses, 1);
 }
 
+TEST(BuildOrder, ThePowderStreamNeedsOnlyToStayClear) {
+    // The slot's walls grow in turn: each wall's nozzle passes the other wall only within
+    // its powder stream (below the nozzle tip, 10 mm from the melt pool), which needs only to
+    // stay clear of material, whatever the head's clearance. With the tip at the melt pool
+    // (standoff 0.5 mm) the same cone is hardware, and a larger clearance orders more pairs.
+    const Plan p = plan_of(test::slot().mesh);
+    const auto ordered = [&](double clearance, double standoff) {
+        OrderSettings s;
+        s.nozzle.clearance_mm = clearance;
+        s.nozzle.standoff_mm = standoff;
+        BuildOrder o = order_of(p, s);
+        EXPECT_TRUE(o.complete()) << outcome(o);
+        expect_valid_order(p, o, s.nozzle);
+        return o;
+    };
+    const BuildOrder stream_near = ordered(2.0, 10.0);
+    const BuildOrder stream_far = ordered(8.0, 10.0);
+    EXPECT_GT(stream_near.collision_edges, 0);
+    EXPECT_EQ(stream_near.collision_edges, stream_far.collision_edges);
+    const BuildOrder head_near = ordered(2.0, 0.5);
+    const BuildOrder head_far = ordered(8.0, 0.5);
+    EXPECT_GT(head_far.collision_edges, head_near.collision_edges);
+    EXPECT_GT(head_far.collision_edges, stream_far.collision_edges);
+}
+
 TEST(BuildOrder, TShapeArmsWithTheFewestJumps) {
     const auto f = test::t_shape_arms();
     const auto [p, rank] = ordered_with_fewest_jumps(f);
