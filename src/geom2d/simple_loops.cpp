@@ -184,10 +184,15 @@ bool ends_at(const Edge& e, std::int64_t y) {
 
 // Steps 2 and 3 for two edges that are not consecutive in one loop.
 bool pair_clear(const Edge& s, const Edge& t, Heights& heights) {
-    if (segments_meet(s, t)) return false;
     const std::int64_t lo = std::max(std::min(s.a.y, s.b.y), std::min(t.a.y, t.b.y));
     const std::int64_t hi = std::min(std::max(s.a.y, s.b.y), std::max(t.a.y, t.b.y));
-    if (lo > hi) return true;  // never on one sweep line
+    if (lo > hi) return true;  // never on one sweep line, so they cannot meet either
+    // Most pairs are further apart across than any gap that matters.
+    if (std::max(s.a.x, s.b.x) + 2 < std::min(t.a.x, t.b.x) ||
+        std::max(t.a.x, t.b.x) + 2 < std::min(s.a.x, s.b.x)) {
+        return true;
+    }
+    if (segments_meet(s, t)) return false;
     // At a height where both edges end, both positions are exact (and distinct: the
     // edges do not meet); the check moves to the next sweep line inward.
     const bool exact_lo = ends_at(s, lo) && ends_at(t, lo);
@@ -313,6 +318,51 @@ bool pairs_clear(const std::vector<Edge>& edges, const Grid& grid,
     return true;
 }
 
+// Steps 2 and 3 for a loop alone when it is y-monotone (its two chains from the lowest to
+// the highest point never go down), as most cuts of struts and shafts are: edges of one chain
+// share no sweep line except at their shared vertex, or at both ends of a horizontal edge
+// between them where both are exact and distinct (no two consecutive edges are collinear),
+// so only pairs from opposite chains with overlapping heights need a check, found by
+// merging the chains in O(n). Returns nullopt when the loop is not y-monotone.
+std::optional<bool> monotone_loop_clear(const Path2& p, Heights& heights) {
+    const std::size_t n = p.size();
+    const auto low = [](const Point2& a, const Point2& b) {
+        return a.y != b.y ? a.y < b.y : a.x < b.x;
+    };
+    std::size_t s = 0, t = 0;
+    for (std::size_t i = 1; i < n; ++i) {
+        if (low(p[i], p[s])) s = i;
+        if (low(p[t], p[i])) t = i;
+    }
+    const auto next = [n](std::size_t i) { return i + 1 == n ? 0 : i + 1; };
+    const auto prev = [n](std::size_t i) { return i == 0 ? n - 1 : i - 1; };
+    for (std::size_t i = s; i != t; i = next(i)) {
+        if (p[next(i)].y < p[i].y) return std::nullopt;
+    }
+    for (std::size_t i = s; i != t; i = prev(i)) {
+        if (p[prev(i)].y < p[i].y) return std::nullopt;
+    }
+    // Chain A: edges (i, i + 1) from s forward; chain B: edges (i, i - 1) from s backward.
+    // Along each, both ends of the edges' height ranges never decrease, so the B edges that
+    // overlap an A edge in height are a run that only moves forward. (Touching ranges count:
+    // a horizontal edge overlaps every edge that reaches its height.)
+    std::vector<Edge> chain_b;
+    for (std::size_t i = s; i != t; i = prev(i)) {
+        chain_b.push_back({p[i], p[prev(i)], 0, 0, 0, 0, 0, 0, 0});
+    }
+    std::size_t j0 = 0;
+    for (std::size_t i = s; i != t; i = next(i)) {
+        const Edge ea{p[i], p[next(i)], 0, 0, 0, 0, 0, 0, 0};
+        while (j0 < chain_b.size() && chain_b[j0].b.y < ea.a.y) ++j0;
+        for (std::size_t j = j0; j < chain_b.size() && chain_b[j].a.y <= ea.b.y; ++j) {
+            const bool first = i == s && j == 0;  // consecutive at s: see extrema_clear
+            const bool last = next(i) == t && j + 1 == chain_b.size();  // consecutive at t
+            if (!first && !last && !pair_clear(ea, chain_b[j], heights)) return false;
+        }
+    }
+    return true;
+}
+
 // Step 3 for consecutive edges: they share a sweep line beyond their shared vertex only
 // when both leave it upwards or both downwards; their gap grows from there, so the nearest
 // sweep line on that side is the one to check (where both end, both are exact).
@@ -409,6 +459,12 @@ std::optional<WireTree> wire_tree_of_simple_loops(const Paths2& loops) {
     Grid grid;
     for (const std::vector<std::uint32_t>& g : members) {
         if (g.empty()) continue;
+        if (g.size() == 1) {  // a lone loop is a root, and often needs no grid
+            if (const auto clear = monotone_loop_clear(clean[g[0]], heights)) {
+                if (!*clear) return std::nullopt;
+                continue;
+            }
+        }
         edges.clear();
         Box gb = box[g[0]];
         for (const std::uint32_t l : g) {

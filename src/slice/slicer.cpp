@@ -17,6 +17,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 #include <algorithm>
 #include <array>
@@ -466,26 +467,46 @@ core::Result<std::vector<Slice>> slice_mesh(const mesh::TriangleMesh& mesh, cons
     return out;
 }
 
+namespace {
+
+// The smallest and largest of f(vertex) over the vertices of the triangles, in parallel:
+// min and max are exact, so the result does not depend on the split. NaN values are skipped
+// (std::min/max keep the running value), as in a serial loop.
+template <class F>
+std::pair<double, double> triangle_vertex_range(const mesh::TriangleMesh& mesh, F f) {
+    using Range = std::pair<double, double>;
+    const Range empty{std::numeric_limits<double>::infinity(),
+                      -std::numeric_limits<double>::infinity()};
+    return tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, mesh.triangles.size(), 1 << 14), empty,
+        [&](const tbb::blocked_range<std::size_t>& r, Range acc) {
+            for (std::size_t t = r.begin(); t != r.end(); ++t) {
+                for (const std::uint32_t i : mesh.triangles[t]) {
+                    const double h = f(mesh.vertices[i]);
+                    acc.first = std::min(acc.first, h);
+                    acc.second = std::max(acc.second, h);
+                }
+            }
+            return acc;
+        },
+        [](const Range& a, const Range& b) {
+            return Range{std::min(a.first, b.first), std::max(a.second, b.second)};
+        });
+}
+
+}  // namespace
+
 PlaneFrame base_frame(const mesh::TriangleMesh& mesh, const core::Vec3d& direction) {
     const core::Vec3d d = core::normalized(direction);
-    double lo = std::numeric_limits<double>::infinity();
-    for (const auto& tri : mesh.triangles) {
-        for (const std::uint32_t i : tri) lo = std::min(lo, core::dot(mesh.vertices[i], d));
-    }
+    double lo =
+        triangle_vertex_range(mesh, [&](const core::Vec3d& v) { return core::dot(v, d); }).first;
     if (!std::isfinite(lo)) lo = 0.0;
     return PlaneFrame::from_normal(d * lo, d);
 }
 
 std::pair<double, double> extent_along(const mesh::TriangleMesh& mesh, const PlaneFrame& frame) {
-    double lo = std::numeric_limits<double>::infinity();
-    double hi = -std::numeric_limits<double>::infinity();
-    for (const auto& tri : mesh.triangles) {
-        for (const std::uint32_t i : tri) {
-            const double h = frame.height(mesh.vertices[i]);
-            lo = std::min(lo, h);
-            hi = std::max(hi, h);
-        }
-    }
+    const auto [lo, hi] =
+        triangle_vertex_range(mesh, [&](const core::Vec3d& v) { return frame.height(v); });
     if (!(lo <= hi)) return {0.0, 0.0};
     return {lo, hi};
 }

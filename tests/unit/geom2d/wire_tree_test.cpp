@@ -321,6 +321,21 @@ TEST(WireTreeFastPath, RefusesWhatOnlyClipperCanResolve) {
     }
 }
 
+TEST(WireTreeFastPath, AgreesWithClipperOnFoundCases) {
+    // Loops random fuzzing once caught the fast path on: collinear horizontal edges of the
+    // two sides of one loop overlapping at a single height.
+    const Paths2 cases[] = {
+        {um_path({{6, 2}, {7, 1}, {5, 1}, {0, 0}, {6, 1}, {8, 1}})},
+        {um_path({{33, 27}, {31, 31}, {31, 27}, {26, 27}, {27, 23}, {30, 27}})},
+        {um_path({{8, 7}, {0, 8}, {5, 7}, {1, 7}, {0, 4}, {3, 7}})},
+        {um_path({{3, 5}, {0, 5}, {0, 3}, {2, 5}, {6, 5}, {5, 7}})},
+    };
+    for (std::size_t i = 0; i < std::size(cases); ++i) {
+        SCOPED_TRACE(i);
+        fast_path_agrees(cases[i]);
+    }
+}
+
 TEST(WireTreeFastPath, AgreesWithClipperOnRandomSmallLoops) {
     // Random loops on a tiny grid: crossings, touching, collinear runs, spikes, slivers and
     // near misses are common. Every answer of the fast path must be Clipper's.
