@@ -2,10 +2,11 @@
 //
 // The algorithm follows Minetto et al. (2017), "An optimal algorithm for 3D triangle mesh
 // slicing": triangles are bucketed by the range of planes they cross (O(n log k) with a
-// binary search per triangle, then a counting sort), each plane is cut independently
-// (in parallel), and its segments are chained into loops through a hash table keyed on the
-// mesh edge (the pair of vertex ids) each segment starts on: O(n log k + m) in all, with no
-// rounding of coordinates involved in the topology.
+// binary search per triangle, then a counting sort that writes each triangle's segments
+// straight into its planes' buckets, while the triangle is in cache), each plane is cut
+// independently (in parallel), and its segments are chained into loops through a hash table
+// keyed on the mesh edge (the pair of vertex ids) each segment starts on: O(n log k + m) in
+// all, with no rounding of coordinates involved in the topology.
 //
 // Degenerate positions are resolved by symbolic perturbation: a vertex counts as "above" a
 // plane at height h only when its height is > h, so a plane through a vertex, an edge or a
@@ -16,12 +17,15 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <bit>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <numeric>
 #include <string>
 
@@ -36,12 +40,14 @@ using geom2d::Paths2;
 using geom2d::Point2;
 
 // A segment of the cut in one triangle: it enters the triangle across edge `from` and
-// leaves it across edge `to` (both undirected edge keys), solid on its left.
+// leaves it across edge `to` (both undirected edge keys), solid on its left. Plain integers
+// (no default member initialisers), so an array of them is allocated without clearing.
 struct Segment {
     std::uint64_t from;
     std::uint64_t to;
-    Point2 start;              // the crossing point on edge `from`
-    std::uint32_t to_a, to_b;  // the vertices of edge `to` (for the end of an open chain)
+    std::int64_t x, y;  // the crossing point on edge `from` (um)
+
+    Point2 start() const { return {x, y}; }
 };
 
 std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
@@ -49,16 +55,55 @@ std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
     return (static_cast<std::uint64_t>(lo) << 32) | hi;
 }
 
+struct alignas(32) VertexInPlane {
+    double h, u, v;  // height along the normal, in-plane coordinates (mm)
+};
+
 // Per-mesh data shared by all planes: vertex heights along the normal and in-plane
-// coordinates (mm), and for each plane (in sorted order) the triangles that cross it.
+// coordinates (mm), and for each plane (in sorted order) the segments of the triangles that
+// cross it, in triangle order: plane k's are segs[bucket_begin[k], bucket_begin[k + 1]).
 struct CutContext {
     const mesh::TriangleMesh* mesh = nullptr;
-    std::vector<double> height;
-    std::vector<double> pu, pv;
+    std::vector<double> height;         // dense, for bucketing
+    std::vector<VertexInPlane> vertex;  // one cache line per vertex, for the segments
     std::vector<double> sorted_heights;
     std::vector<std::size_t> bucket_begin;  // size planes + 1
-    std::vector<std::uint32_t> bucket_tris;
+    std::unique_ptr<Segment[]> segs;        // uninitialised until written: no zeroing pass
 };
+
+// The point where the plane at height h crosses edge (a, b), in micrometres. It is computed
+// from the lower vertex id to the higher one so both triangles of the edge get equal bits.
+Point2 crossing(const CutContext& ctx, std::uint32_t a, std::uint32_t b, double h) {
+    if (a > b) std::swap(a, b);
+    const VertexInPlane& pa = ctx.vertex[a];
+    const VertexInPlane& pb = ctx.vertex[b];
+    const double t = (h - pa.h) / (pb.h - pa.h);
+    const double u = pa.u + (pb.u - pa.u) * t;
+    const double v = pa.v + (pb.v - pa.v) * t;
+    return {core::mm_to_um(u), core::mm_to_um(v)};
+}
+
+// The segment of triangle tri in the plane at height h, which the triangle crosses
+// (min height <= h < max height, three distinct vertices).
+Segment segment_of(const CutContext& ctx, const std::array<std::uint32_t, 3>& tri, double h) {
+    // Walking the triangle's edges in winding order, the cut enters where an edge goes from
+    // above the plane to below it and leaves where an edge goes back up; with the outward
+    // normal from the winding, the solid is then on the left (seen from +normal). With the
+    // vertex heights straddling h, exactly one edge goes down and one goes up.
+    std::uint32_t fa = 0, fb = 0, ta = 0, tb = 0;
+    for (int e = 0; e < 3; ++e) {
+        const std::uint32_t a = tri[static_cast<std::size_t>(e)];
+        const std::uint32_t b = tri[static_cast<std::size_t>((e + 1) % 3)];
+        const bool above_a = ctx.vertex[a].h > h, above_b = ctx.vertex[b].h > h;
+        if (above_a && !above_b) {
+            fa = a, fb = b;
+        } else if (!above_a && above_b) {
+            ta = a, tb = b;
+        }
+    }
+    const Point2 p = crossing(ctx, fa, fb, h);
+    return {edge_key(fa, fb), edge_key(ta, tb), p.x, p.y};
+}
 
 core::Result<CutContext> prepare(const mesh::TriangleMesh& mesh, const PlaneFrame& base,
                                  std::span<const double> heights) {
@@ -66,15 +111,13 @@ core::Result<CutContext> prepare(const mesh::TriangleMesh& mesh, const PlaneFram
     ctx.mesh = &mesh;
     const std::size_t nv = mesh.vertices.size();
     ctx.height.resize(nv);
-    ctx.pu.resize(nv);
-    ctx.pv.resize(nv);
+    ctx.vertex.resize(nv);
     std::atomic<bool> finite{true};
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nv, 1 << 14), [&](const auto& r) {
         for (std::size_t i = r.begin(); i != r.end(); ++i) {
             const core::Vec3d d = mesh.vertices[i] - base.origin;
             ctx.height[i] = core::dot(d, base.normal);
-            ctx.pu[i] = core::dot(d, base.u);
-            ctx.pv[i] = core::dot(d, base.v);
+            ctx.vertex[i] = {ctx.height[i], core::dot(d, base.u), core::dot(d, base.v)};
             if (!core::is_finite(mesh.vertices[i])) finite.store(false);
         }
     });
@@ -121,47 +164,65 @@ core::Result<CutContext> prepare(const mesh::TriangleMesh& mesh, const PlaneFram
         while (k < np && hs[k] < x) ++k;
         return static_cast<std::uint32_t>(k);
     };
+    // Counting sort of (plane, triangle) pairs, in parallel over fixed chunks of triangles:
+    // each chunk counts its triangles per plane, and a chunk's segments of a plane go after
+    // those of the chunks before it, so every plane lists its segments in triangle order
+    // whatever the number of chunks or threads. A triangle with a repeated vertex has no
+    // segment (its crossing edges are one edge) and is left out here.
     std::vector<std::uint32_t> k0(nt), k1(nt);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nt, 1 << 14), [&](const auto& r) {
-        for (std::size_t t = r.begin(); t != r.end(); ++t) {
+    const std::size_t chunk = std::max<std::size_t>(std::size_t{1} << 15, (nt + 63) / 64);
+    const std::size_t chunks = (nt + chunk - 1) / chunk;
+    // counts[c * (np + 1) + k]: chunk c's triangles that cross plane k (first as differences).
+    std::vector<std::uint32_t> counts(chunks * (np + 1), 0);
+    tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+        std::uint32_t* d = counts.data() + c * (np + 1);
+        for (std::size_t t = c * chunk, end = std::min(nt, t + chunk); t < end; ++t) {
             const auto& tri = mesh.triangles[t];
-            const double a = ctx.height[tri[0]], b = ctx.height[tri[1]], c = ctx.height[tri[2]];
-            k0[t] = lower_bound(std::min({a, b, c}));
-            k1[t] = lower_bound(std::max({a, b, c}));
+            if (tri[0] == tri[1] || tri[1] == tri[2] || tri[2] == tri[0]) {
+                k0[t] = k1[t] = 0;
+                continue;
+            }
+            const double a = ctx.height[tri[0]], b = ctx.height[tri[1]], e = ctx.height[tri[2]];
+            const double hi = std::max({a, b, e});
+            // k1 = lower_bound(hi) >= k0, found by a scan from k0: most triangles cross no
+            // plane, and one that crosses several has as many segments to make.
+            std::uint32_t k = k0[t] = lower_bound(std::min({a, b, e}));
+            while (k < np && hs[k] < hi) ++k;
+            k1[t] = k;
+            ++d[k0[t]];
+            --d[k1[t]];
+        }
+        std::uint32_t run = 0;
+        for (std::size_t k = 0; k <= np; ++k) d[k] = run += d[k];
+    });
+    ctx.bucket_begin.assign(np + 1, 0);
+    std::vector<std::size_t> offsets(chunks * (np + 1));
+    std::size_t total = 0;
+    for (std::size_t k = 0; k < np; ++k) {
+        ctx.bucket_begin[k] = total;
+        for (std::size_t c = 0; c < chunks; ++c) {
+            offsets[c * (np + 1) + k] = total;
+            total += counts[c * (np + 1) + k];
+        }
+    }
+    ctx.bucket_begin[np] = total;
+    ctx.segs = std::make_unique_for_overwrite<Segment[]>(total);
+    tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+        std::size_t* fill = offsets.data() + c * (np + 1);
+        for (std::size_t t = c * chunk, end = std::min(nt, t + chunk); t < end; ++t) {
+            for (std::uint32_t k = k0[t]; k < k1[t]; ++k) {
+                ctx.segs[fill[k]++] = segment_of(ctx, mesh.triangles[t], hs[k]);
+            }
         }
     });
-    // Counting sort of (plane, triangle) pairs; triangles stay in index order per plane.
-    ctx.bucket_begin.assign(np + 1, 0);
-    for (std::size_t t = 0; t < nt; ++t) {
-        for (std::uint32_t k = k0[t]; k < k1[t]; ++k) ++ctx.bucket_begin[k + 1];
-    }
-    std::partial_sum(ctx.bucket_begin.begin(), ctx.bucket_begin.end(), ctx.bucket_begin.begin());
-    ctx.bucket_tris.resize(ctx.bucket_begin[np]);
-    std::vector<std::size_t> fill(ctx.bucket_begin.begin(), ctx.bucket_begin.end() - 1);
-    for (std::size_t t = 0; t < nt; ++t) {
-        for (std::uint32_t k = k0[t]; k < k1[t]; ++k) {
-            ctx.bucket_tris[fill[k]++] = static_cast<std::uint32_t>(t);
-        }
-    }
     return ctx;
-}
-
-// The point where the plane at height h crosses edge (a, b), in micrometres. It is computed
-// from the lower vertex id to the higher one so both triangles of the edge get equal bits.
-Point2 crossing(const CutContext& ctx, std::uint32_t a, std::uint32_t b, double h) {
-    if (a > b) std::swap(a, b);
-    const double ha = ctx.height[a], hb = ctx.height[b];
-    const double t = (h - ha) / (hb - ha);
-    const double u = ctx.pu[a] + (ctx.pu[b] - ctx.pu[a]) * t;
-    const double v = ctx.pv[a] + (ctx.pv[b] - ctx.pv[a]) * t;
-    return {core::mm_to_um(u), core::mm_to_um(v)};
 }
 
 // Open addressing table from an edge key to the segments that start on that edge (more than
 // one only at non-manifold edges; they are linked through `next`).
 class EdgeTable {
 public:
-    explicit EdgeTable(const std::vector<Segment>& segs) : segs_(segs) {
+    explicit EdgeTable(std::span<const Segment> segs) : segs_(segs) {
         std::size_t cap = 16;
         while (cap < 2 * segs.size()) cap <<= 1;
         mask_ = cap - 1;
@@ -196,7 +257,7 @@ private:
     std::size_t hash(std::uint64_t key) const {
         return static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ULL) >> 17) & mask_;
     }
-    const std::vector<Segment>& segs_;
+    std::span<const Segment> segs_;
     std::size_t mask_ = 0;
     std::vector<std::uint32_t> slots_;
     std::vector<std::uint32_t> next_;
@@ -296,32 +357,8 @@ void close_open_chains(std::vector<Path2>& open, double max_gap_mm, PlaneCut& cu
 
 PlaneCut cut_plane(const CutContext& ctx, std::size_t k, double max_gap_mm) {
     const double h = ctx.sorted_heights[k];
-    const auto& tris = ctx.mesh->triangles;
-    std::vector<Segment> segs;
-    segs.reserve(ctx.bucket_begin[k + 1] - ctx.bucket_begin[k]);
-    for (std::size_t i = ctx.bucket_begin[k]; i < ctx.bucket_begin[k + 1]; ++i) {
-        const auto& tri = tris[ctx.bucket_tris[i]];
-        // Walking the triangle's edges in winding order, the cut enters where an edge goes
-        // from above the plane to below it and leaves where an edge goes back up; with the
-        // outward normal from the winding, the solid is then on the left (seen from +normal).
-        std::uint64_t from = 0, to = 0;
-        std::uint32_t fa = 0, fb = 0, ta = 0, tb = 0;
-        int found = 0;
-        for (int e = 0; e < 3; ++e) {
-            const std::uint32_t a = tri[static_cast<std::size_t>(e)];
-            const std::uint32_t b = tri[static_cast<std::size_t>((e + 1) % 3)];
-            const bool above_a = ctx.height[a] > h, above_b = ctx.height[b] > h;
-            if (above_a && !above_b) {
-                from = edge_key(a, b), fa = a, fb = b;
-                found |= 1;
-            } else if (!above_a && above_b) {
-                to = edge_key(a, b), ta = a, tb = b;
-                found |= 2;
-            }
-        }
-        if (found != 3 || from == to) continue;  // degenerate triangle (repeated vertex)
-        segs.push_back({from, to, crossing(ctx, fa, fb, h), ta, tb});
-    }
+    const std::span<const Segment> segs(ctx.segs.get() + ctx.bucket_begin[k],
+                                        ctx.bucket_begin[k + 1] - ctx.bucket_begin[k]);
 
     PlaneCut cut;
     const EdgeTable table(segs);
@@ -334,7 +371,7 @@ PlaneCut cut_plane(const CutContext& ctx, std::size_t k, double max_gap_mm) {
         bool closed = false;
         while (true) {
             used[cur] = 1;
-            chain.push_back(segs[cur].start);
+            chain.push_back(segs[cur].start());
             const std::uint64_t next_edge = segs[cur].to;
             if (next_edge == segs[s0].from) {
                 closed = true;
@@ -343,7 +380,8 @@ PlaneCut cut_plane(const CutContext& ctx, std::size_t k, double max_gap_mm) {
             const std::uint32_t nxt = table.find_unused(next_edge, used);
             if (nxt == EdgeTable::kEmpty) {
                 // The cut leaves the surface through an open edge: end the chain there.
-                chain.push_back(crossing(ctx, segs[cur].to_a, segs[cur].to_b, h));
+                chain.push_back(crossing(ctx, static_cast<std::uint32_t>(next_edge >> 32),
+                                         static_cast<std::uint32_t>(next_edge), h));
                 break;
             }
             cur = nxt;
@@ -429,26 +467,46 @@ core::Result<std::vector<Slice>> slice_mesh(const mesh::TriangleMesh& mesh, cons
     return out;
 }
 
+namespace {
+
+// The smallest and largest of f(vertex) over the vertices of the triangles, in parallel:
+// min and max are exact, so the result does not depend on the split. NaN values are skipped
+// (std::min/max keep the running value), as in a serial loop.
+template <class F>
+std::pair<double, double> triangle_vertex_range(const mesh::TriangleMesh& mesh, F f) {
+    using Range = std::pair<double, double>;
+    const Range empty{std::numeric_limits<double>::infinity(),
+                      -std::numeric_limits<double>::infinity()};
+    return tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, mesh.triangles.size(), 1 << 14), empty,
+        [&](const tbb::blocked_range<std::size_t>& r, Range acc) {
+            for (std::size_t t = r.begin(); t != r.end(); ++t) {
+                for (const std::uint32_t i : mesh.triangles[t]) {
+                    const double h = f(mesh.vertices[i]);
+                    acc.first = std::min(acc.first, h);
+                    acc.second = std::max(acc.second, h);
+                }
+            }
+            return acc;
+        },
+        [](const Range& a, const Range& b) {
+            return Range{std::min(a.first, b.first), std::max(a.second, b.second)};
+        });
+}
+
+}  // namespace
+
 PlaneFrame base_frame(const mesh::TriangleMesh& mesh, const core::Vec3d& direction) {
     const core::Vec3d d = core::normalized(direction);
-    double lo = std::numeric_limits<double>::infinity();
-    for (const auto& tri : mesh.triangles) {
-        for (const std::uint32_t i : tri) lo = std::min(lo, core::dot(mesh.vertices[i], d));
-    }
+    double lo =
+        triangle_vertex_range(mesh, [&](const core::Vec3d& v) { return core::dot(v, d); }).first;
     if (!std::isfinite(lo)) lo = 0.0;
     return PlaneFrame::from_normal(d * lo, d);
 }
 
 std::pair<double, double> extent_along(const mesh::TriangleMesh& mesh, const PlaneFrame& frame) {
-    double lo = std::numeric_limits<double>::infinity();
-    double hi = -std::numeric_limits<double>::infinity();
-    for (const auto& tri : mesh.triangles) {
-        for (const std::uint32_t i : tri) {
-            const double h = frame.height(mesh.vertices[i]);
-            lo = std::min(lo, h);
-            hi = std::max(hi, h);
-        }
-    }
+    const auto [lo, hi] =
+        triangle_vertex_range(mesh, [&](const core::Vec3d& v) { return frame.height(v); });
     if (!(lo <= hi)) return {0.0, 0.0};
     return {lo, hi};
 }

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <vector>
 
 #include "maxslice/geom2d/polygon.hpp"
@@ -37,7 +38,19 @@ struct WireTree {
 
 /// Combines raw closed loops into a region (Clipper union with the given fill rule) and
 /// returns its wires as a containment tree. Degenerate loops contribute nothing.
+/// With the positive rule, loops that already bound a region (simple, disjoint, alternately
+/// oriented: a cut through a closed mesh) take a fast path with the same result.
 [[nodiscard]] WireTree build_wire_tree(const Paths2& loops, FillRule rule);
+
+namespace detail {
+/// build_wire_tree's two ways, for tests that compare them. The fast path: the positive-rule
+/// wire tree of loops that are simple, pairwise disjoint (not even touching), outermost
+/// counter-clockwise and each oriented opposite to its parent; nullopt for any other input
+/// (or when checking would be slow). Equal to the Clipper union's tree whenever it answers.
+[[nodiscard]] std::optional<WireTree> wire_tree_of_simple_loops(const Paths2& loops);
+/// The Clipper union alone.
+[[nodiscard]] WireTree clipper_wire_tree(const Paths2& loops, FillRule rule);
+}  // namespace detail
 
 /// Region booleans on closed paths (results as flat paths, outers CCW, holes CW).
 [[nodiscard]] Paths2 union_of(const Paths2& a, FillRule rule = FillRule::kNonZero);

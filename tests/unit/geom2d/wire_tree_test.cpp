@@ -234,6 +234,152 @@ TEST(WireTree, PathsFollowNodeOrder) {
     EXPECT_DOUBLE_EQ(signed_area_mm2(paths), t.area_mm2());
 }
 
+// ---- The fast path for loops that already bound a region --------------------------------
+
+// Loops in micrometres, counter-clockwise unless reversed.
+Path2 um_path(std::initializer_list<Point2> pts) {
+    return Path2(pts);
+}
+
+// The fast path, when it answers, must give Clipper's tree; build_wire_tree must give it
+// always. Returns whether the fast path answered.
+bool fast_path_agrees(const Paths2& loops) {
+    const WireTree clipper = detail::clipper_wire_tree(loops, FillRule::kPositive);
+    expect_same_tree(build_wire_tree(loops, FillRule::kPositive), clipper);
+    const auto fast = detail::wire_tree_of_simple_loops(loops);
+    if (fast) expect_same_tree(*fast, clipper);
+    return fast.has_value();
+}
+
+// Rings of regular polygons, alternately oriented, nested `levels` deep, with a few rings of
+// islands side by side: what a cut through a closed mesh gives.
+Paths2 nested_rings(std::mt19937_64& rng, int levels) {
+    std::uniform_real_distribution<double> jitter(-0.3, 0.3);
+    std::uniform_int_distribution<int> sides(12, 40);  // inner rings stay inside outer ones
+    Paths2 loops;
+    for (int col = 0; col < 3; ++col) {
+        const double cx = 100.0 * col + jitter(rng), cy = 20.0 * jitter(rng);
+        for (int level = 0; level < levels; ++level) {
+            const double r = 45.0 - 8.0 * level + jitter(rng);
+            Path2 p = ngon(cx, cy, r, sides(rng));
+            std::rotate(p.begin(), p.begin() + static_cast<std::ptrdiff_t>(p.size() / 2), p.end());
+            loops.push_back(level % 2 == 0 ? p : reversed(p));
+        }
+        if (levels % 2 == 0) {  // the innermost loop is a hole: two islands in it
+            loops.push_back(ngon(cx - 2.0, cy, 1.5, 12));
+            loops.push_back(ngon(cx + 2.0, cy, 1.5, 12));
+        }
+    }
+    std::shuffle(loops.begin(), loops.end(), rng);
+    return loops;
+}
+
+TEST(WireTreeFastPath, AgreesWithClipperOnNestedRegions) {
+    std::mt19937_64 rng(7);
+    for (int trial = 0; trial < 60; ++trial) {
+        SCOPED_TRACE(trial);
+        const Paths2 loops = nested_rings(rng, 1 + trial % 5);
+        EXPECT_TRUE(fast_path_agrees(loops));
+    }
+    EXPECT_TRUE(fast_path_agrees({}));
+}
+
+TEST(WireTreeFastPath, DropsRepeatedAndCollinearPointsAsClipperDoes) {
+    const Path2 p = um_path({{0, 0},
+                             {5000, 0},
+                             {5000, 0},
+                             {10000, 0},
+                             {10000, 4000},
+                             {10000, 10000},
+                             {3000, 7000},
+                             {0, 10000},
+                             {0, 10000},
+                             {0, 0}});
+    EXPECT_TRUE(fast_path_agrees({p}));
+    EXPECT_EQ(build_wire_tree({p}, FillRule::kPositive).nodes.at(0).wire.size(), 5u);
+}
+
+TEST(WireTreeFastPath, RefusesWhatOnlyClipperCanResolve) {
+    const Paths2 cases[] = {
+        {square(0, 0, 10, 10), square(10, 10, 20, 20)},      // touching at a corner
+        {square(0, 0, 10, 10), square(5, 0, 15, 10)},        // overlapping bodies
+        {square(0, 0, 10, 10), square(2, 2, 8, 8)},          // same orientation nested
+        {square(0, 0, 10, 10, true)},                        // a hole with no outer
+        {square(0, 0, 10, 10), square(10, 2, 12, 8, true)},  // hole touching its outer
+        {um_path({{0, 0}, {10, 10}, {10, 0}, {0, 10}})},     // a bow tie
+        // A vertex of one loop 1 um from an edge of another: Clipper's rounding may merge.
+        {square(0, 0, 10, 10), um_path({{10001, 5000}, {20000, 0}, {20000, 10000}})},
+        // A spike: the loop runs out and back along one line.
+        {um_path({{0, 0}, {10, 0}, {20, 0}, {10, 0}, {10, 10}})},
+        // A notch narrower than a unit one unit below its tip, as in a real cut: Clipper's
+        // rounded sweep cuts it off.
+        {um_path({{3, 3}, {0, 0}, {0, -1}, {-1, 1}, {-13, 13}, {0, -100}})},
+    };
+    for (std::size_t i = 0; i < std::size(cases); ++i) {
+        SCOPED_TRACE(i);
+        EXPECT_FALSE(fast_path_agrees(cases[i]));
+    }
+}
+
+TEST(WireTreeFastPath, AgreesWithClipperOnFoundCases) {
+    // Loops random fuzzing once caught the fast path on: collinear horizontal edges of the
+    // two sides of one loop overlapping at a single height.
+    const Paths2 cases[] = {
+        {um_path({{6, 2}, {7, 1}, {5, 1}, {0, 0}, {6, 1}, {8, 1}})},
+        {um_path({{33, 27}, {31, 31}, {31, 27}, {26, 27}, {27, 23}, {30, 27}})},
+        {um_path({{8, 7}, {0, 8}, {5, 7}, {1, 7}, {0, 4}, {3, 7}})},
+        {um_path({{3, 5}, {0, 5}, {0, 3}, {2, 5}, {6, 5}, {5, 7}})},
+    };
+    for (std::size_t i = 0; i < std::size(cases); ++i) {
+        SCOPED_TRACE(i);
+        fast_path_agrees(cases[i]);
+    }
+}
+
+TEST(WireTreeFastPath, AgreesWithClipperOnRandomSmallLoops) {
+    // Random loops on a tiny grid: crossings, touching, collinear runs, spikes, slivers and
+    // near misses are common. Every answer of the fast path must be Clipper's.
+    std::mt19937_64 rng(11);
+    int answered = 0;
+    for (int trial = 0; trial < 4000; ++trial) {
+        std::uniform_int_distribution<int> count(1, 3), points(3, 7);
+        std::uniform_int_distribution<std::int64_t> coord(0, trial % 2 == 0 ? 12 : 400);
+        Paths2 loops;
+        const int n = count(rng);
+        for (int l = 0; l < n; ++l) {
+            Path2 p;
+            const int k = points(rng);
+            for (int i = 0; i < k; ++i) p.push_back({coord(rng), coord(rng)});
+            loops.push_back(std::move(p));
+        }
+        SCOPED_TRACE(trial);
+        answered += fast_path_agrees(loops) ? 1 : 0;
+    }
+    EXPECT_GT(answered, 100);  // the property is not vacuous
+}
+
+TEST(WireTreeFastPath, AgreesWithClipperOnFineNoisyCircles) {
+    // Circles of a few hundred um with points rounded to the um grid and jittered by a unit
+    // or two, nested and side by side, as the cuts of a fine lattice give them.
+    std::mt19937_64 rng(5);
+    std::uniform_int_distribution<int> jit(-2, 2);
+    int answered = 0;
+    for (int trial = 0; trial < 400; ++trial) {
+        Paths2 loops;
+        for (int c = 0; c < 4; ++c) {
+            for (int level = 0; level < 2; ++level) {
+                const double r = 0.15 - 0.06 * level;
+                Path2 p = ngon(0.35 * c, 0.0, r, 40 + trial % 50);
+                for (Point2& q : p) q = {q.x + jit(rng), q.y + jit(rng)};
+                loops.push_back(level == 0 ? p : reversed(p));
+            }
+        }
+        SCOPED_TRACE(trial);
+        answered += fast_path_agrees(loops) ? 1 : 0;
+    }
+    EXPECT_GT(answered, 10);
+}
+
 // ---- Booleans and offsets ----------------------------------------------------------------
 
 TEST(Booleans, OverlappingSquares) {

@@ -322,6 +322,50 @@ TEST_P(SliceFixture, SameResultWithOneAndTwoThreads) {
     expect_same_slices(one, two);
 }
 
+// The wire trees take a fast path when a cut's loops already bound a region; they must be
+// exactly the trees of the Clipper union of the raw loops, for closed and open meshes, at
+// vertex levels and between them.
+TEST_P(SliceFixture, WireTreesAreTheClipperUnionOfTheCut) {
+    const Fixture f = fixture();
+    mesh::TriangleMesh opened = f.mesh;
+    opened.triangles.erase(opened.triangles.begin() +
+                           static_cast<std::ptrdiff_t>(opened.triangles.size() / 2));
+    std::size_t layers = 0, fast = 0;
+    const mesh::TriangleMesh& open = opened;
+    for (const mesh::TriangleMesh* m : {&f.mesh, &open}) {
+        for (const Vec3d& d : {Vec3d{0, 0, 1}, oblique_direction(4000 + GetParam())}) {
+            const PlaneFrame base = base_frame(*m, d);
+            const auto [lo, hi] = extent_along(*m, base);
+            std::vector<LayerSpan> spans = uniform_layers(lo, hi, (hi - lo) / 97.0);
+            for (const double z : f.vertex_heights) spans.push_back({z - 0.01, z + 0.01, z});
+            const auto slices = slice_mesh(*m, base, spans);
+            std::vector<double> heights;
+            for (const LayerSpan& s : spans) heights.push_back(s.cut);
+            const auto cuts = cut_mesh(*m, base, heights);
+            ASSERT_TRUE(slices && cuts);
+            for (std::size_t i = 0; i < heights.size(); ++i) {
+                SCOPED_TRACE(i);
+                const Paths2& loops = (*cuts)[i].loops;
+                const WireTree clipper =
+                    geom2d::detail::clipper_wire_tree(loops, geom2d::FillRule::kPositive);
+                const WireTree& mine = (*slices)[i].wires;
+                EXPECT_EQ(mine.roots, clipper.roots);
+                ASSERT_EQ(mine.nodes.size(), clipper.nodes.size());
+                for (std::size_t k = 0; k < mine.nodes.size(); ++k) {
+                    EXPECT_EQ(mine.nodes[k].wire, clipper.nodes[k].wire);
+                    EXPECT_EQ(mine.nodes[k].parent, clipper.nodes[k].parent);
+                    EXPECT_EQ(mine.nodes[k].children, clipper.nodes[k].children);
+                    EXPECT_EQ(mine.nodes[k].is_hole, clipper.nodes[k].is_hole);
+                    EXPECT_EQ(mine.nodes[k].depth, clipper.nodes[k].depth);
+                }
+                ++layers;
+                fast += geom2d::detail::wire_tree_of_simple_loops(loops).has_value() ? 1 : 0;
+            }
+        }
+    }
+    EXPECT_GT(fast, layers / 2);  // the fast path is taken, so the comparison means something
+}
+
 INSTANTIATE_TEST_SUITE_P(All, SliceFixture,
                          ::testing::Range<std::size_t>(0, test::all_fixtures().size()),
                          [](const auto& info) { return test::all_fixtures()[info.param].name; });
