@@ -315,6 +315,11 @@ for f in "${model_files[@]}"; do
                 for s in load validate; do R["$m|$L|ms_$s"]=$(ms_stage "$k.msinfo" "$s"); done
             fi
         fi
+        # The same job without the verifier's replay (the peers do not check their programs):
+        # the like-for-like figure beside the default job.
+        nv_job=("${job[@]}" --no-verify)
+        [ "${R[$m|$L|ms_note]:-}" = "with --repair" ] && nv_job+=(--repair)
+        [ "${R[$m|$L|ms_note]:-}" != "refused, load from info" ] && measure "$k.msnover" "${nv_job[@]}"
         rm -f "$work/out.ngc"
         if [ "$whole" = 1 ]; then
             for p in "${peers[@]}"; do
@@ -345,7 +350,7 @@ for f in "${model_files[@]}"; do
         # ---- report for this model and layer
         echo "### $m, layer $L mm"
         echo
-        echo "Whole job: mesh in, program out, matched settings (ratios against maxslice's own run; with --repair when it refused)"
+        echo "Whole job: mesh in, program out, matched settings (ratios against maxslice's own run; with --repair when it refused). maxslice replays every program it writes in its verifier; the --no-verify row is the same job without that check (the peers check nothing)"
         echo
         printf '| %-22s | %5s | %8s | %8s | %8s | %12s | %11s | %11s | %7s |\n' tool exit "wall s" "cpu s" \
             "peak MiB" "wall peer/ms" "cpu peer/ms" "MiB peer/ms" foreign
@@ -353,6 +358,7 @@ for f in "${model_files[@]}"; do
             --------- ------------- ------------ ------------ --------
         tools=(maxslice)
         [ "${R[$m|$L|ms_note]:-}" = "with --repair" ] && tools+=(msrepair)
+        [ "${R[$m|$L|ms_note]:-}" != "refused, load from info" ] && tools+=(msnover)
         [ "$whole" = 1 ] && tools+=("${peers[@]}")
         [[ " ${peers[*]} " == *" slic3r "* ]] && tools+=(slic3r-svg)
         ms_key=maxslice; [ "${R[$m|$L|ms_note]:-}" = "with --repair" ] && ms_key=msrepair
@@ -365,6 +371,7 @@ for f in "${model_files[@]}"; do
                 prusa) label="PrusaSlicer" ;; cura) label="CuraEngine" ;; slic3r) label="Slic3r" ;;
                 slic3r-svg) label="Slic3r --export-svg" ;;
                 msrepair) label="maxslice --repair" ;;
+                msnover) label="maxslice --no-verify" ;;
             esac
             printf '| %-22s | %5s | %8s | %8s | %8s | %12s | %11s | %11s | %7s |\n' "$label" "$(exits "$k.$t")" \
                 "$(num "$wall")" "$(num "$cpu" 2)" "$(num "$rss" 0)" "$(ratio "$wall" "$ms_wall")" \

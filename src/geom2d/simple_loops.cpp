@@ -544,18 +544,8 @@ std::optional<WireTree> wire_tree_of_simple_loops(const Paths2& loops) {
         });
         const int first = static_cast<int>(tree.nodes.size());
         for (const int id : ids) {
-            const int node = static_cast<int>(tree.nodes.size());
-            WireNode wn;
-            wn.wire = std::move(clean[static_cast<std::size_t>(id)]);
-            wn.parent = parent_node;
-            wn.is_hole = level % 2 == 1;
-            wn.depth = level;
-            tree.nodes.push_back(std::move(wn));
-            if (parent_node >= 0) {
-                tree.nodes[static_cast<std::size_t>(parent_node)].children.push_back(node);
-            } else {
-                tree.roots.push_back(node);
-            }
+            tree.add(std::move(clean[static_cast<std::size_t>(id)]), parent_node, level % 2 == 1,
+                     level);
         }
         for (std::size_t k = 0; k < ids.size(); ++k) {
             self(self, kids[static_cast<std::size_t>(ids[k])], first + static_cast<int>(k),

@@ -73,24 +73,28 @@ void add_subtree(const ClipperLib::PolyNode& node, int parent, int depth, WireTr
     std::vector<std::pair<int, const ClipperLib::PolyNode*>> created;
     for (auto& [path, child] : kids) {
         if (path.size() < 3) continue;
-        const int id = static_cast<int>(tree.nodes.size());
-        WireNode wn;
-        wn.wire = std::move(path);
-        wn.parent = parent;
-        wn.is_hole = child->IsHole();
-        wn.depth = depth;
-        tree.nodes.push_back(std::move(wn));
-        if (parent >= 0) {
-            tree.nodes[static_cast<std::size_t>(parent)].children.push_back(id);
-        } else {
-            tree.roots.push_back(id);
-        }
-        created.emplace_back(id, child);
+        created.emplace_back(tree.add(std::move(path), parent, child->IsHole(), depth), child);
     }
     for (const auto& [id, child] : created) add_subtree(*child, id, depth + 1, tree);
 }
 
 }  // namespace
+
+int WireTree::add(Path2 wire, int parent, bool is_hole, int depth) {
+    const int id = static_cast<int>(nodes.size());
+    WireNode wn;
+    wn.wire = std::move(wire);
+    wn.parent = parent;
+    wn.is_hole = is_hole;
+    wn.depth = depth;
+    nodes.push_back(std::move(wn));
+    if (parent >= 0) {
+        nodes[static_cast<std::size_t>(parent)].children.push_back(id);
+    } else {
+        roots.push_back(id);
+    }
+    return id;
+}
 
 std::size_t WireTree::outer_count() const {
     return static_cast<std::size_t>(

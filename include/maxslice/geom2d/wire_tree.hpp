@@ -34,6 +34,8 @@ struct WireTree {
     /// The islands: each outer wire with its holes (islands inside holes are islands of
     /// their own), in node order. Hole wires without an outer wire are left out.
     [[nodiscard]] std::vector<Paths2> islands() const;
+    /// Appends a node under `parent` (-1: a root) and returns its index.
+    int add(Path2 wire, int parent, bool is_hole, int depth);
 };
 
 /// Combines raw closed loops into a region (Clipper union with the given fill rule) and
