@@ -143,6 +143,25 @@ PlannedIsland plan_island(const Paths2& island, const detail::RasterFrame& frame
         }
     }
 
+    // Gaps: inside each contour pass's track, what neither the next pass (its track and all
+    // inside it) nor, after the last pass, the fill reaches (the fill region grown by a pitch:
+    // its line ends and the contour overlap up to there). A pass missing in a narrow arm
+    // leaves the arm's middle to the gap fill.
+    Paths2 gaps;
+    for (std::size_t k = 0; k < passes.size(); ++k) {
+        const Paths2 inner =
+            geom2d::offset_of(local, -(2 * w.half + static_cast<std::int64_t>(k) * w.pitch));
+        if (inner.empty()) break;
+        Paths2 reached;
+        if (k + 1 < passes.size()) {
+            reached = geom2d::offset_of(passes[k + 1], w.half);
+        } else if (k + 1 == static_cast<std::size_t>(w.passes) && !eroded.empty()) {
+            reached = geom2d::offset_of(eroded, w.opening + w.pitch);
+        }
+        Paths2 left = reached.empty() ? inner : geom2d::difference_of(inner, reached);
+        gaps.insert(gaps.end(), std::make_move_iterator(left.begin()),
+                    std::make_move_iterator(left.end()));
+    }
     // Coverage, in the raster frame where fill tracks run along the rows of the integration
     // (each meets only the rows of its own width).
     Paths2 tracks;
@@ -153,29 +172,11 @@ PlannedIsland plan_island(const Paths2& island, const detail::RasterFrame& frame
         }
     }
     tracks.insert(tracks.end(), raster_lines.begin(), raster_lines.end());
-    // Leftovers: what no track covers yet (the tracks' swept area, exactly) gets tracks along
-    // the medial axis of its pieces at least the narrowest gap wide, where they stay half a
-    // track inside the island: slivers between tracks. Features narrower than the track stay
-    // bare: a track over them would overhang the section, and perhaps the layer below.
-    const Paths2 left = geom2d::difference_of(local, geom2d::sweep_polylines(tracks, w.half));
-    const auto add_leftover = [&](detail::RouteStroke&& t) {
-        tracks.push_back(t.points);
-        if (t.closed) tracks.back().push_back(t.points.front());
-        t.points = frame.from_raster(t.points);
-        fill.push_back(std::move(t));
-    };
-    for (detail::RouteStroke& t : detail::gap_fill(left, 2 * w.half, w.min_gap)) {
-        Path2 line = t.points;
-        if (t.closed) line.push_back(t.points.front());
-        Paths2 inside = geom2d::clip_polylines({line}, centres);
-        if (inside.size() == 1 && inside.front() == line) {
-            add_leftover(std::move(t));  // wholly inside: as it is (a ring stays closed)
-            continue;
-        }
-        for (Path2& piece : inside) {
-            if (piece.size() < 2 || length_um(piece) < static_cast<double>(w.min_gap)) continue;
-            add_leftover({StrokeKind::kFill, false, std::move(piece)});
-        }
+    for (detail::RouteStroke& gap : detail::gap_fill(gaps, 2 * w.half, w.min_gap)) {
+        tracks.push_back(gap.points);
+        if (gap.closed) tracks.back().push_back(gap.points.front());
+        gap.points = frame.from_raster(gap.points);
+        fill.push_back(std::move(gap));
     }
     const double uncovered =
         geom2d::uncovered_area_mm2(local, tracks, w.half, std::max<std::int64_t>(1, w.half / 8));

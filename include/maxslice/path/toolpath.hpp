@@ -69,10 +69,8 @@ struct LayerToolpath {
 /// passes (the wires offset inward by half a track, then by one pitch per further pass), a
 /// zigzag fill of what is left with lines at most width x (1 - overlap) apart, neighbouring
 /// lines linked along the boundary while the link stays inside (laser on), one track along
-/// the medial axis of every gap the tracks leave (between contours where no fill line fits,
-/// slivers between contour and fill) where it is at least a fifth of a track wide and the
-/// track stays inside (features narrower than the track stay bare and are reported as
-/// uncovered), islands and strokes ordered to keep idle
+/// the medial axis of gaps between contours where no fill line fits, islands and strokes
+/// ordered to keep idle
 /// travel short starting from `start`. Holes are deposited around, never filled; hole wires
 /// without an enclosing outer wire have no material and get no tracks. Every track lies
 /// inside the region (its centre at least half a track from the boundary). Deterministic:
