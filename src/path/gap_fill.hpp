@@ -10,7 +10,8 @@
 namespace maxslice::path::detail {
 
 /// Tracks for the gaps of one island (any frame): the parts inside the contour tracks that
-/// neither a deeper contour pass nor the fill reaches (region paths, outers CCW). Each gap piece of mean width g (2 x area / perimeter) gets:
+/// neither a deeper contour pass nor the fill reaches (region paths, outers CCW). Each gap piece of
+/// mean width g (2 x area / perimeter) gets:
 /// - nothing when g < min_width_um (a track would pile material onto its neighbours);
 /// - one track along its medial axis where it is at least min_width_um wide, when g <= the
 ///   track width: a closed stroke around a ring-shaped gap, open ones along strips and the
