@@ -39,6 +39,16 @@ double perimeter_mm(const Path2& path) {
     return len / core::kMicronsPerMm;
 }
 
+double length_um(const Path2& path) {
+    double sum = 0.0;
+    for (std::size_t i = 1; i < path.size(); ++i) {
+        const double dx = static_cast<double>(path[i].x - path[i - 1].x);
+        const double dy = static_cast<double>(path[i].y - path[i - 1].y);
+        sum += std::sqrt(dx * dx + dy * dy);
+    }
+    return sum;
+}
+
 namespace {
 
 // 128-bit integers (a GCC/Clang extension); __extension__ keeps -Wpedantic quiet.

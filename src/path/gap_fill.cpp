@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "maxslice/core/units.hpp"
 #include "maxslice/geom2d/medial_axis.hpp"
 #include "maxslice/geom2d/wire_tree.hpp"
 
@@ -11,21 +12,6 @@ namespace {
 
 using geom2d::Path2;
 using geom2d::Paths2;
-using geom2d::Point2;
-
-double squared_distance(Point2 a, Point2 b) {
-    const double dx = static_cast<double>(b.x - a.x);
-    const double dy = static_cast<double>(b.y - a.y);
-    return dx * dx + dy * dy;
-}
-
-double perimeter_um(const Path2& loop) {
-    double sum = 0.0;
-    for (std::size_t i = 0; i < loop.size(); ++i) {
-        sum += std::sqrt(squared_distance(loop[i], loop[(i + 1) % loop.size()]));
-    }
-    return sum;
-}
 
 }  // namespace
 
@@ -43,7 +29,7 @@ std::vector<RouteStroke> gap_fill(const Paths2& gaps, std::int64_t track_width_u
         double perimeter = 0.0;
         for (const Path2& loop : piece) {
             area += geom2d::signed_area_um2(loop);
-            perimeter += perimeter_um(loop);
+            perimeter += geom2d::perimeter_mm(loop) * core::kMicronsPerMm;
         }
         const double width = 2.0 * area / perimeter;
         if (width < static_cast<double>(min_width_um)) continue;

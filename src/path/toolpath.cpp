@@ -60,18 +60,8 @@ std::unexpected<core::Error> invalid(std::string message) {
     return core::fail(core::ErrorCode::kInvalidInput, std::move(message), "path settings");
 }
 
-double length_um(const Path2& path) {
-    double sum = 0.0;
-    for (std::size_t i = 1; i < path.size(); ++i) {
-        const double dx = static_cast<double>(path[i].x - path[i - 1].x);
-        const double dy = static_cast<double>(path[i].y - path[i - 1].y);
-        sum += std::sqrt(dx * dx + dy * dy);
-    }
-    return sum;
-}
-
 double distance_um(Point2 a, Point2 b) {
-    return length_um(Path2{a, b});
+    return geom2d::length_um(Path2{a, b});
 }
 
 // The distances of a plan in whole micrometres.
@@ -272,7 +262,7 @@ LayerToolpath order_layer(PreparedLayer&& prepared, StrokeOrder order, Point2 st
     double travel = 0.0;
     for (const Stroke& s : out.strokes) {
         travel += distance_um(at, s.points.front());
-        deposit += length_um(s.points);
+        deposit += geom2d::length_um(s.points);
         at = s.points.back();
     }
     out.deposit_length_mm = deposit / core::kMicronsPerMm;

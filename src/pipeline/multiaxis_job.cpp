@@ -105,14 +105,7 @@ constexpr double kSameLengthUm = 1.0;
 // measured again when anything was cut.
 double trim_to_support(path::LayerToolpath& tp, const geom2d::Paths2& support,
                        const geom2d::WireTree& wires, std::int64_t half_um, std::int64_t min_um) {
-    const auto length_um = [](const geom2d::Path2& line) {
-        double sum = 0.0;
-        for (std::size_t i = 1; i < line.size(); ++i) {
-            sum += std::hypot(static_cast<double>(line[i].x - line[i - 1].x),
-                              static_cast<double>(line[i].y - line[i - 1].y));
-        }
-        return sum;
-    };
+    using geom2d::length_um;
     std::vector<path::Stroke> kept;
     double removed = 0.0;
     for (path::Stroke& s : tp.strokes) {

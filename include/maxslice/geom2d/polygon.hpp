@@ -27,6 +27,8 @@ using Paths2 = std::vector<Path2>;
 [[nodiscard]] double signed_area_mm2(const Paths2& paths);
 /// Total length of a closed path, in mm.
 [[nodiscard]] double perimeter_mm(const Path2& path);
+/// Length of the path read as an open polyline (first to last point, not closed), in um.
+[[nodiscard]] double length_um(const Path2& path);
 
 /// Area-weighted centroid of a region (outers CCW, holes CW) in um, as doubles; the mean of
 /// the points when the region has no area; (0, 0) when it has no points.
