@@ -10,6 +10,10 @@ namespace {
 
 using core::Vec3d;
 
+/// Rounding room for the floor test of find_occupied (mm): its bound and the per-voxel test
+/// compute a voxel centre's a in different orders.
+constexpr double kFloorSlack = 1e-9;
+
 double segment_distance(const AxialPoint& p, const AxialPoint& q, double a, double r) {
     const double ea = q.a - p.a, er = q.r - p.r;
     const double len2 = ea * ea + er * er;
@@ -129,6 +133,19 @@ bool find_occupied(const OccupancyPyramid& grid, const Vec3d& origin, double vox
                    const Vec3d& apex, const Vec3d& axis, const Region& region, double margin,
                    Vec3d* hit) {
     if (region.polygons.empty()) return false;
+    // Nothing set at or above the region's floor (a planar layer's head above everything built
+    // so far, a travel move above the part): no voxel of the set box reaches a_min.
+    const std::array<int, 3>& set_lo = grid.set_lo();
+    const std::array<int, 3>& set_hi = grid.set_hi();
+    if (set_lo[0] > set_hi[0]) return false;
+    double top = 0.0;  // the largest a of a voxel centre in the set box
+    for (int c = 0; c < 3; ++c) {
+        const auto u = static_cast<std::size_t>(c);
+        const double lo_c = origin[c] + (set_lo[u] + 0.5) * voxel - apex[c];
+        const double hi_c = origin[c] + (set_hi[u] + 0.5) * voxel - apex[c];
+        top += std::max(axis[c] * lo_c, axis[c] * hi_c);
+    }
+    if (top < region.a_min - kFloorSlack) return false;
     // The region's bounding box: the axis segment widened by r_max across it.
     std::array<double, 3> lo{}, hi{};
     const double reach = region.r_max + margin;
@@ -145,8 +162,8 @@ bool find_occupied(const OccupancyPyramid& grid, const Vec3d& origin, double vox
     int span = 1;
     for (std::size_t c = 0; c < 3; ++c) {
         const double o = origin[static_cast<int>(c)];
-        i0[c] = std::max(0, floor_index((lo[c] - o) / voxel));
-        i1[c] = std::min(n[c] - 1, floor_index((hi[c] - o) / voxel));
+        i0[c] = std::max(set_lo[c], floor_index((lo[c] - o) / voxel));
+        i1[c] = std::min({n[c] - 1, set_hi[c], floor_index((hi[c] - o) / voxel)});
         if (i0[c] > i1[c]) return false;
         span = std::max(span, i1[c] - i0[c] + 1);
     }
@@ -156,6 +173,17 @@ bool find_occupied(const OccupancyPyramid& grid, const Vec3d& origin, double vox
     const Query q{grid,   origin, voxel,
                   apex,   axis,   std::abs(axis.x) + std::abs(axis.y) + std::abs(axis.z),
                   region, margin, hit};
+    // The voxel at the middle of the region's axis first: the material under a bead usually
+    // lies right there, and a hit there ends the search in one look.
+    const Vec3d mid = apex + axis * (0.5 * (region.a_min + region.a_max));
+    std::array<int, 3> probe{};
+    bool probe_inside = true;
+    for (std::size_t c = 0; c < 3; ++c) {
+        const int ci = static_cast<int>(c);
+        probe[c] = floor_index((mid[ci] - origin[ci]) / voxel);
+        probe_inside = probe_inside && probe[c] >= i0[c] && probe[c] <= i1[c];
+    }
+    if (probe_inside && q.cell(0, probe[0], probe[1], probe[2])) return true;
     for (int i = i0[0] >> level; i <= i1[0] >> level; ++i) {
         for (int j = i0[1] >> level; j <= i1[1] >> level; ++j) {
             for (int k = i0[2] >> level; k <= i1[2] >> level; ++k) {
@@ -197,6 +225,9 @@ void fill(OccupancyPyramid& grid, const Vec3d& origin, double voxel, const Slabs
             tilted.push_back({sl.n.x * inv, sl.n.y * inv, lo, hi});
         }
     }
+    // No slab's bound on z changes along y (a bead laid straight down): rows are blocks.
+    const bool level_rows = std::all_of(tilted.begin(), tilted.end(),
+                                        [](const Tilted& t) { return t.ny_over_nz == 0.0; });
     for (int i = i0; i <= i1; ++i) {
         const double x = origin.x + (i + 0.5) * voxel;
         double y_lo = box.min.y, y_hi = box.max.y;
@@ -215,6 +246,20 @@ void fill(OccupancyPyramid& grid, const Vec3d& origin, double voxel, const Slabs
         if (empty || y_lo > y_hi) continue;
         const int ja = std::max(j0, index(y_lo, 1, fine.ny(), false));
         const int jb = std::min(j1, index(y_hi, 1, fine.ny(), true));
+        if (ja <= jb && level_rows) {
+            // Every column of the row gets the same z interval: one block.
+            double t0 = box.min.z, t1 = box.max.z;
+            for (const Tilted& sl : tilted) {
+                const double base = sl.nx_over_nz * x;
+                t0 = std::max(t0, sl.lo_over_nz - base);
+                t1 = std::min(t1, sl.hi_over_nz - base);
+            }
+            if (t0 > t1) continue;
+            const int k0 = std::max(0, index(t0, 2, fine.nz(), false));
+            const int k1 = std::min(fine.nz() - 1, index(t1, 2, fine.nz(), true));
+            if (k0 <= k1) grid.set_block(i, ja, jb, k0, k1);
+            continue;
+        }
         for (int j = ja; j <= jb; ++j) {
             const double y = origin.y + (j + 0.5) * voxel;
             // The column x, y, z = t: each remaining slab bounds t to an interval.

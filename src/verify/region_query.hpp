@@ -41,9 +41,10 @@ struct Region {
 
 /// Looks for a set voxel whose centre lies within `margin` of the region placed with its axis
 /// origin at `apex` along the unit `axis` (world mm), and not below the region's a_min (the
-/// margin widens the region across and beyond its far end, never below its floor). Descends the
-/// pyramid only through set cells the region may reach; the first hit in a fixed order is returned
-/// (deterministic).
+/// margin widens the region across and beyond its far end, never below its floor). Returns at
+/// once when no set voxel reaches the floor; otherwise looks at the voxel in the middle of the
+/// region's axis, then descends the pyramid only through set cells the region may reach. The
+/// first hit in that fixed order is returned (deterministic).
 [[nodiscard]] bool find_occupied(const OccupancyPyramid& grid, const core::Vec3d& origin,
                                  double voxel, const core::Vec3d& apex, const core::Vec3d& axis,
                                  const Region& region, double margin, core::Vec3d* hit);

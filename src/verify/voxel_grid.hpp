@@ -23,7 +23,9 @@ namespace maxslice::verify::detail {
     return static_cast<int>(std::ceil(std::clamp(f, -4.0, 1.0e9)));
 }
 
-/// A grid of bits, z fastest: each (i, j) column is a run of 64-bit words.
+/// A grid of bits. A word holds 64 voxels of one (i, j) column along z; the words of one
+/// z band (k / 64) form a plane with j fastest, so the columns a bead touches side by side lie
+/// in neighbouring words (one cache line holds eight columns).
 class BitGrid {
 public:
     BitGrid() = default;
@@ -31,10 +33,8 @@ public:
         : nx_(nx),
           ny_(ny),
           nz_(nz),
-          words_per_column_((nz + 63) / 64),
-          bits_(static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny) *
-                    static_cast<std::size_t>(words_per_column_),
-                0) {}
+          plane_(static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny)),
+          bits_(plane_ * static_cast<std::size_t>((nz + 63) / 64), 0) {}
 
     [[nodiscard]] int nx() const { return nx_; }
     [[nodiscard]] int ny() const { return ny_; }
@@ -44,26 +44,25 @@ public:
         return (bits_[word(i, j, k)] >> (k & 63) & 1U) != 0;
     }
     /// Sets bits k0..k1 (inclusive) of column (i, j).
-    void set_run(int i, int j, int k0, int k1) {
-        std::uint64_t* col = &bits_[word(i, j, 0)];
-        if ((k0 >> 6) == (k1 >> 6)) {  // one word: the usual bead column
-            const int lo = k0 & 63, n = k1 - k0 + 1;
-            const std::uint64_t ones = n == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << n) - 1;
-            col[k0 >> 6] |= ones << lo;
-            return;
-        }
+    void set_run(int i, int j, int k0, int k1) { set_block(i, j, j, k0, k1); }
+    /// Sets bits k0..k1 (inclusive) of the columns (i, j0) to (i, j1).
+    void set_block(int i, int j0, int j1, int k0, int k1) {
+        std::uint64_t* row = &bits_[word(i, j0, k0)];
+        const std::size_t n = static_cast<std::size_t>(j1 - j0) + 1;
         int k = k0;
-        while (k <= k1) {
-            const int w = k >> 6;
+        for (;;) {
             const int lo = k & 63;
             const int hi = std::min(63, lo + (k1 - k));
             const std::uint64_t mask =
                 (hi == 63 ? ~std::uint64_t{0} : ((std::uint64_t{1} << (hi + 1)) - 1)) &
                 ~((std::uint64_t{1} << lo) - 1);
-            col[w] |= mask;
+            for (std::size_t j = 0; j < n; ++j) row[j] |= mask;
             k += hi - lo + 1;
+            if (k > k1) return;
+            row += plane_;
         }
     }
+    /// Every word; two grids of the same size match word for word.
     [[nodiscard]] const std::vector<std::uint64_t>& words() const { return bits_; }
     [[nodiscard]] std::size_t count() const {
         std::size_t n = 0;
@@ -73,13 +72,13 @@ public:
 
 private:
     [[nodiscard]] std::size_t word(int i, int j, int k) const {
-        return (static_cast<std::size_t>(i) * static_cast<std::size_t>(ny_) +
-                static_cast<std::size_t>(j)) *
-                   static_cast<std::size_t>(words_per_column_) +
-               static_cast<std::size_t>(k >> 6);
+        return static_cast<std::size_t>(k >> 6) * plane_ +
+               static_cast<std::size_t>(i) * static_cast<std::size_t>(ny_) +
+               static_cast<std::size_t>(j);
     }
 
-    int nx_ = 0, ny_ = 0, nz_ = 0, words_per_column_ = 0;
+    int nx_ = 0, ny_ = 0, nz_ = 0;
+    std::size_t plane_ = 0;  // words in one z band
     std::vector<std::uint64_t> bits_;
 };
 
@@ -100,26 +99,39 @@ public:
     [[nodiscard]] int level_count() const { return static_cast<int>(levels_.size()); }
     [[nodiscard]] const BitGrid& level(int l) const { return levels_[static_cast<std::size_t>(l)]; }
     [[nodiscard]] const BitGrid& fine() const { return levels_.front(); }
+    /// The index box of every voxel set so far (lo > hi on an axis while nothing is set).
+    [[nodiscard]] const std::array<int, 3>& set_lo() const { return set_lo_; }
+    [[nodiscard]] const std::array<int, 3>& set_hi() const { return set_hi_; }
 
-    void set_run(int i, int j, int k0, int k1) {
-        levels_.front().set_run(i, j, k0, k1);
-        // Neighbouring columns share their coarse cells: stop at the first level whose run was
+    /// Sets bits k0..k1 (inclusive) of the fine columns (i, j0) to (i, j1), and the pyramid.
+    void set_block(int i, int j0, int j1, int k0, int k1) {
+        set_lo_ = {std::min(set_lo_[0], i), std::min(set_lo_[1], j0), std::min(set_lo_[2], k0)};
+        set_hi_ = {std::max(set_hi_[0], i), std::max(set_hi_[1], j1), std::max(set_hi_[2], k1)};
+        levels_.front().set_block(i, j0, j1, k0, k1);
+        // Neighbouring calls share their coarse cells: stop at the first level whose block was
         // the previous call's (every coarser level was set then too).
         for (std::size_t l = 1; l < levels_.size(); ++l) {
             i >>= 1;
-            j >>= 1;
+            j0 >>= 1;
+            j1 >>= 1;
             k0 >>= 1;
             k1 >>= 1;
-            std::array<int, 4>& last = last_[l];
-            if (last[0] == i && last[1] == j && last[2] == k0 && last[3] == k1) break;
-            last = {i, j, k0, k1};
-            levels_[l].set_run(i, j, k0, k1);
+            std::array<int, 5>& last = last_[l];
+            if (last[0] == i && last[1] == j0 && last[2] == j1 && last[3] == k0 && last[4] == k1) {
+                break;
+            }
+            last = {i, j0, j1, k0, k1};
+            levels_[l].set_block(i, j0, j1, k0, k1);
         }
     }
+    void set_run(int i, int j, int k0, int k1) { set_block(i, j, j, k0, k1); }
 
 private:
     std::vector<BitGrid> levels_;
-    std::vector<std::array<int, 4>> last_ = std::vector<std::array<int, 4>>(64, {-1, -1, -1, -1});
+    std::array<int, 3> set_lo_{INT32_MAX, INT32_MAX, INT32_MAX};
+    std::array<int, 3> set_hi_{-1, -1, -1};
+    std::vector<std::array<int, 5>> last_ =
+        std::vector<std::array<int, 5>>(64, {-1, -1, -1, -1, -1});
 };
 
 }  // namespace maxslice::verify::detail

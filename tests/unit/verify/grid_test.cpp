@@ -1,0 +1,237 @@
+// The verifier's private voxel pyramid, convex fill and region query against brute force:
+// every voxel the fill sets has its centre inside the solid and no other does, every coarse
+// bit is the OR of the eight below it, and find_occupied finds a hit exactly when some set
+// voxel passes the region test (its own early exits and its first look at the middle voxel
+// change only how fast it answers).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <vector>
+
+#include "region_query.hpp"
+#include "voxel_grid.hpp"
+
+namespace maxslice::verify::detail {
+namespace {
+
+using core::Vec3d;
+
+constexpr int kN = 40;           // voxels along each axis (z spans a 64-bit word boundary)
+constexpr double kVoxel = 0.25;  // mm
+const Vec3d kOrigin{-0.013, 0.021, -0.007};
+
+Vec3d centre(int i, int j, int k) {
+    return kOrigin + Vec3d{(i + 0.5) * kVoxel, (j + 0.5) * kVoxel, (k + 0.5) * kVoxel};
+}
+
+Vec3d random_unit(std::mt19937& rng) {
+    std::normal_distribution<double> g;
+    for (;;) {
+        const Vec3d v{g(rng), g(rng), g(rng)};
+        if (core::norm(v) > 1e-3) return core::normalized(v);
+    }
+}
+
+// A box with edges along t, s = d x t and d: the shape of a bead piece. Half of them have d
+// straight up, as in a planar layer (the fill's row-at-once path).
+struct Box {
+    Slabs slabs;
+    std::vector<std::pair<Vec3d, std::pair<double, double>>> planes;
+};
+
+Box random_box(std::mt19937& rng) {
+    std::uniform_real_distribution<double> pos(1.0, kN * kVoxel - 1.0);
+    std::uniform_real_distribution<double> len(0.2, 3.0);
+    std::uniform_real_distribution<double> ang(0.0, 2.0 * std::numbers::pi);
+    const bool upright = std::uniform_int_distribution<int>(0, 1)(rng) == 0;
+    const Vec3d d = upright ? Vec3d{0, 0, 1} : random_unit(rng);
+    Vec3d t;
+    if (upright) {
+        const double a = ang(rng);
+        t = {std::cos(a), std::sin(a), 0.0};
+    } else {
+        const Vec3d other = std::abs(d.x) < 0.9 ? Vec3d{1, 0, 0} : Vec3d{0, 1, 0};
+        t = core::normalized(core::cross(d, other));
+    }
+    const Vec3d s = core::cross(d, t);
+    const Vec3d p{pos(rng), pos(rng), pos(rng)};
+    const double lt = len(rng), ls = len(rng), ld = 0.5 * len(rng);
+    Box b;
+    for (const auto& [n, half] : {std::pair{t, lt}, std::pair{s, ls}, std::pair{d, ld}}) {
+        const double c = core::dot(n, p);
+        b.slabs.add(n, c - half, c + half);
+        b.planes.push_back({n, {c - half, c + half}});
+    }
+    for (const double a : {-lt, lt}) {
+        for (const double c : {-ls, ls}) {
+            for (const double e : {-ld, ld}) b.slabs.corners.push_back(p + t * a + s * c + d * e);
+        }
+    }
+    return b;
+}
+
+// 1 inside, 0 outside, -1 within rounding of a face (either answer is right).
+int inside(const Box& b, const Vec3d& c) {
+    bool edge = false;
+    for (const auto& [n, range] : b.planes) {
+        const double v = core::dot(n, c);
+        if (v < range.first - 1e-9 || v > range.second + 1e-9) return 0;
+        if (v < range.first + 1e-9 || v > range.second - 1e-9) edge = true;
+    }
+    return edge ? -1 : 1;
+}
+
+TEST(VoxelGrid, FillSetsTheVoxelsWhoseCentresLieInsideAndThePyramidIsTheirOr) {
+    std::mt19937 rng(7);
+    for (int trial = 0; trial < 20; ++trial) {
+        OccupancyPyramid grid(kN, kN, kN);
+        std::vector<Box> boxes;
+        const int count = std::uniform_int_distribution<int>(1, 6)(rng);
+        for (int n = 0; n < count; ++n) {
+            boxes.push_back(random_box(rng));
+            fill(grid, kOrigin, kVoxel, boxes.back().slabs);
+        }
+        int set = 0;
+        std::array<int, 3> lo{kN, kN, kN}, hi{-1, -1, -1};
+        for (int i = 0; i < kN; ++i) {
+            for (int j = 0; j < kN; ++j) {
+                for (int k = 0; k < kN; ++k) {
+                    bool any_in = false, any_edge = false;
+                    for (const Box& b : boxes) {
+                        const int v = inside(b, centre(i, j, k));
+                        any_in = any_in || v == 1;
+                        any_edge = any_edge || v == -1;
+                    }
+                    const bool got = grid.fine().get(i, j, k);
+                    if (!any_edge) {
+                        ASSERT_EQ(got, any_in) << trial << ": " << i << " " << j << " " << k;
+                    }
+                    if (got) {
+                        ++set;
+                        lo = {std::min(lo[0], i), std::min(lo[1], j), std::min(lo[2], k)};
+                        hi = {std::max(hi[0], i), std::max(hi[1], j), std::max(hi[2], k)};
+                    }
+                }
+            }
+        }
+        ASSERT_GT(set, 0);
+        // The set box holds every set voxel (it may be larger: it follows the runs laid).
+        for (std::size_t c = 0; c < 3; ++c) {
+            EXPECT_LE(grid.set_lo()[c], lo[c]);
+            EXPECT_GE(grid.set_hi()[c], hi[c]);
+        }
+        for (int l = 1; l < grid.level_count(); ++l) {
+            const BitGrid& g = grid.level(l);
+            const BitGrid& below = grid.level(l - 1);
+            for (int i = 0; i < g.nx(); ++i) {
+                for (int j = 0; j < g.ny(); ++j) {
+                    for (int k = 0; k < g.nz(); ++k) {
+                        bool any = false;
+                        for (int c = 0; c < 8; ++c) {
+                            const int ci = 2 * i + (c & 1), cj = 2 * j + (c >> 1 & 1),
+                                      ck = 2 * k + (c >> 2);
+                            if (ci < below.nx() && cj < below.ny() && ck < below.nz()) {
+                                any = any || below.get(ci, cj, ck);
+                            }
+                        }
+                        ASSERT_EQ(g.get(i, j, k), any) << "level " << l;
+                    }
+                }
+            }
+        }
+    }
+}
+
+TEST(VoxelGrid, FindOccupiedAgreesWithAScanOfEverySetVoxel) {
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> pos(0.0, kN * kVoxel);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    int hits = 0, misses = 0;
+    for (int trial = 0; trial < 30; ++trial) {
+        OccupancyPyramid grid(kN, kN, kN);
+        const int count = std::uniform_int_distribution<int>(1, 5)(rng);
+        for (int n = 0; n < count; ++n) fill(grid, kOrigin, kVoxel, random_box(rng).slabs);
+        for (int q = 0; q < 60; ++q) {
+            // A cone with a body (the nozzle) or a flat box under the apex (the support probe).
+            Region region;
+            if (q % 2 == 0) {
+                const double apex = 0.25, len = 1.0 + 4.0 * unit(rng), tan = 0.2 + unit(rng);
+                region.add({{{apex, -apex * tan},
+                             {len, -len * tan},
+                             {len, len * tan},
+                             {apex, apex * tan}}});
+                const double r = len * tan + 0.5, top = len + 2.0 * unit(rng);
+                region.add({{{len, -r}, {top, -r}, {top, r}, {len, r}}});
+            } else {
+                const double top = -0.3 - unit(rng), bottom = top - 0.5, r = 0.3 + unit(rng);
+                region.add({{{bottom, -r}, {top, -r}, {top, r}, {bottom, r}}});
+            }
+            const double margin = q % 3 == 0 ? 0.0 : 0.6 * unit(rng);
+            const Vec3d apex{pos(rng), pos(rng), pos(rng)};
+            const Vec3d axis = q % 4 == 1 ? Vec3d{0, 0, 1} : random_unit(rng);
+            Vec3d hit;
+            const bool found =
+                find_occupied(grid, kOrigin, kVoxel, apex, axis, region, margin, &hit);
+            const auto passes = [&](const Vec3d& c) {
+                const Vec3d rel = c - apex;
+                const double a = core::dot(rel, axis);
+                const double r = core::norm(rel - axis * a);
+                if (a < region.a_min) return false;
+                if (region.distance_bound(a, r) > margin) return false;
+                return margin == 0.0 || region.distance(a, r) <= margin;
+            };
+            bool expected = false;
+            for (int i = 0; i < kN && !expected; ++i) {
+                for (int j = 0; j < kN && !expected; ++j) {
+                    for (int k = 0; k < kN && !expected; ++k) {
+                        expected = grid.fine().get(i, j, k) && passes(centre(i, j, k));
+                    }
+                }
+            }
+            ASSERT_EQ(found, expected) << "trial " << trial << " query " << q;
+            if (found) {
+                ++hits;
+                EXPECT_TRUE(passes(hit));
+                const int i = static_cast<int>(std::floor((hit.x - kOrigin.x) / kVoxel));
+                const int j = static_cast<int>(std::floor((hit.y - kOrigin.y) / kVoxel));
+                const int k = static_cast<int>(std::floor((hit.z - kOrigin.z) / kVoxel));
+                EXPECT_TRUE(grid.fine().get(i, j, k));
+            } else {
+                ++misses;
+            }
+        }
+    }
+    // Both answers occur often enough for the comparison to mean something.
+    EXPECT_GT(hits, 100);
+    EXPECT_GT(misses, 100);
+}
+
+TEST(VoxelGrid, NothingAtOrAboveTheFloorIsNoHitEvenWithMaterialJustBelow) {
+    // A slab of material whose top lies just under the apex floor; the region's floor is at
+    // a_min above the apex. Moving the apex down by a voxel puts material above the floor.
+    OccupancyPyramid grid(kN, kN, kN);
+    Slabs slab;
+    slab.add({1, 0, 0}, 1.0, 9.0);
+    slab.add({0, 1, 0}, 1.0, 9.0);
+    slab.add({0, 0, 1}, 1.0, 3.0);
+    for (const double x : {1.0, 9.0}) {
+        for (const double y : {1.0, 9.0}) {
+            for (const double z : {1.0, 3.0}) slab.corners.push_back({x, y, z});
+        }
+    }
+    fill(grid, kOrigin, kVoxel, slab);
+    Region cone;
+    cone.add({{{0.25, -0.1}, {5.0, -2.0}, {5.0, 2.0}, {0.25, 0.1}}});
+    const Vec3d up{0, 0, 1};
+    Vec3d hit;
+    EXPECT_FALSE(find_occupied(grid, kOrigin, kVoxel, {5.0, 5.0, 3.0}, up, cone, 1.0, &hit));
+    EXPECT_TRUE(find_occupied(grid, kOrigin, kVoxel, {5.0, 5.0, 2.5}, up, cone, 1.0, &hit));
+    // Pointing down into it, the floor test must not skip it either.
+    EXPECT_TRUE(find_occupied(grid, kOrigin, kVoxel, {5.0, 5.0, 3.5}, {0, 0, -1}, cone, 0.0, &hit));
+}
+
+}  // namespace
+}  // namespace maxslice::verify::detail
