@@ -4,6 +4,7 @@
 #include "maxslice/verify/verify.hpp"
 
 #include <fmt/format.h>
+#include <tbb/task_group.h>
 
 #include <algorithm>
 #include <array>
@@ -92,7 +93,11 @@ public:
         rep.laser_on_count = replay.laser_on_count;
         rep.clearance_mm = settings_.clearance_mm;
         if (auto ok = setup_grid(replay, model, rep); !ok) return std::unexpected(ok.error());
-        model_ = detail::voxelize_model(model, origin_, voxel_, nx_, ny_, nz_);
+        // The model's voxels are needed only for the volumes at the end: they are made on
+        // another core while the program is replayed.
+        tbb::task_group model_task;
+        model_task.run(
+            [&] { model_ = detail::voxelize_model(model, origin_, voxel_, nx_, ny_, nz_); });
         build_regions();
 
         double hmin = std::numeric_limits<double>::infinity(), hmax = 0.0;
@@ -171,6 +176,7 @@ public:
         rep.bead_height_max_mm = hmax;
         rep.build_time_s = rep.deposit_time_s + rep.idle_time_s + rep.dwell_time_s;
         rep.unsupported_length_mm = unsupported_length_;
+        model_task.wait();
         measure_volumes(rep);
         return rep;
     }
