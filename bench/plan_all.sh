@@ -50,7 +50,7 @@ echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|
         /^tilts wanted/ { tilts = $3 }
         /^layers/ { layers = $2 }
         /^unsupported/ { uns = $2 }
-        /^plan volume/ { vol = $NF; sub(/\)$/, "", vol) }
+        /^plan volume/ { vol = ($0 ~ /not closed/) ? "open mesh" : $NF; sub(/\)$/, "", vol) }
         /^planning time/ { t = $3 }
         /^build order/ { order = ($0 ~ /NO collision-free/) ? "conflicts" : "complete" }
         /^  conflict:/ { conflicts++ }

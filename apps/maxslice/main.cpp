@@ -484,11 +484,8 @@ int run_slice(const PartOptions& opt, const SliceOptions& so) {
                 n.z);
     std::printf("thickness       %.4f - %.4f mm\n", hmin, hmax);
     std::printf("most wires      %zu outer, %zu holes in one layer\n", outers, holes);
-    std::printf("sliced volume   %.6g mm3 (mesh %.6g mm3, %+.3f%%)\n", volume,
-                part->report.volume_mm3,
-                part->report.volume_mm3 != 0.0
-                    ? 100.0 * (volume - part->report.volume_mm3) / part->report.volume_mm3
-                    : 0.0);
+    std::printf("sliced volume   %.6g mm3 %s\n", volume,
+                pipeline::volume_against_mesh(volume, part->report).c_str());
     if (gaps > 0) std::printf("gaps closed     %d (open mesh)\n", gaps);
     if (planned) {
         const auto& sum = planned->summary;
@@ -601,7 +598,7 @@ int run_plan(const PartOptions& opt, const PlanOptions& po, bool layer_given) {
             return report_error(ok.error());
         }
     }
-    std::fputs(pipeline::plan_summary(*planned, part->report.volume_mm3).c_str(), stdout);
+    std::fputs(pipeline::plan_summary(*planned, part->report).c_str(), stdout);
     if (opt.timings) print_timings(times);
     if (!planned->order->complete()) {
         const plan::Conflict& c = planned->order->conflicts.front();

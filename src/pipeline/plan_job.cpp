@@ -616,7 +616,16 @@ core::Result<void> write_order_svgs(const std::filesystem::path& dir, const plan
     return {};
 }
 
-std::string plan_summary(const PlannedPart& planned, double mesh_volume_mm3) {
+std::string volume_against_mesh(double volume_mm3, const mesh::ValidationReport& report) {
+    if (!report.closed_manifold()) {
+        return "(the mesh is not closed: its volume is not defined, nothing to compare)";
+    }
+    const double m = report.volume_mm3;
+    return fmt::format("(mesh {:.6g} mm3, {:+.3f}%)", m,
+                       m != 0.0 ? 100.0 * (volume_mm3 - m) / m : 0.0);
+}
+
+std::string plan_summary(const PlannedPart& planned, const mesh::ValidationReport& report) {
     const plan::Plan& p = planned.plan;
     fmt::memory_buffer out;
     if (!planned.candidates.empty()) {
@@ -661,8 +670,7 @@ std::string plan_summary(const PlannedPart& planned, double mesh_volume_mm3) {
             p.unsupported_layers.size(), l.id, l.region, at.x, at.y, at.z);
     }
     const double v = p.volume_mm3();
-    put(out, "plan volume     {:.6g} mm3 (mesh {:.6g} mm3, {:+.3f}%)\n", v, mesh_volume_mm3,
-        mesh_volume_mm3 != 0.0 ? 100.0 * (v - mesh_volume_mm3) / mesh_volume_mm3 : 0.0);
+    put(out, "plan volume     {:.6g} mm3 {}\n", v, volume_against_mesh(v, report));
     put(out, "planning time   {:.3f} s\n", planned.seconds);
     if (planned.order) {
         const plan::BuildOrder& o = *planned.order;

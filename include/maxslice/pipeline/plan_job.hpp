@@ -11,6 +11,7 @@
 #include "maxslice/core/result.hpp"
 #include "maxslice/machine/profile.hpp"
 #include "maxslice/mesh/triangle_mesh.hpp"
+#include "maxslice/mesh/validation.hpp"
 #include "maxslice/pipeline/slice_job.hpp"
 #include "maxslice/plan/order.hpp"
 #include "maxslice/plan/planner.hpp"
@@ -105,7 +106,13 @@ enum class PlanColour {
 [[nodiscard]] core::Result<void> write_order_svgs(const std::filesystem::path& dir,
                                                   const plan::Plan& plan,
                                                   const plan::BuildOrder& order);
+/// "(mesh V mm3, +x.xxx%)" comparing a sliced or planned volume with the mesh's, or, when the
+/// mesh is not closed, a note that it has no volume to compare with (an open surface's
+/// signed volume depends on where the origin is).
+[[nodiscard]] std::string volume_against_mesh(double volume_mm3,
+                                              const mesh::ValidationReport& report);
 /// A short human summary (regions, splits, tilts wanted, layers, volume, time).
-[[nodiscard]] std::string plan_summary(const PlannedPart& planned, double mesh_volume_mm3);
+[[nodiscard]] std::string plan_summary(const PlannedPart& planned,
+                                       const mesh::ValidationReport& report);
 
 }  // namespace maxslice::pipeline

@@ -8,11 +8,14 @@
 #include <cmath>
 #include <limits>
 #include <set>
+#include <string>
 #include <vector>
 
 #include "maxslice/machine/speed_law.hpp"
+#include "maxslice/mesh/validation.hpp"
 #include "maxslice/pipeline/plan_job.hpp"
 #include "maxslice/pipeline/program_job.hpp"
+#include "support/fixtures.hpp"
 #include "support/planner_fixtures.hpp"
 
 namespace maxslice::pipeline {
@@ -220,6 +223,24 @@ TEST(MultiAxisProgram, SameInputSameMoves) {
         ASSERT_EQ(x.feed_mm_min, y.feed_mm_min);
         ASSERT_EQ(x.kind, y.kind);
     }
+}
+
+// A closed mesh is compared with its volume; an open one has none (its signed volume moves with
+// the origin), so the summary says so instead of printing a misleading difference.
+TEST(VolumeAgainstMesh, ComparesOnlyWithAClosedMesh) {
+    const mesh::TriangleMesh cube = test::box({0, 0, 0}, {10, 20, 5});
+    const mesh::ValidationReport closed = mesh::validate(cube);
+    ASSERT_TRUE(closed.closed_manifold());
+    EXPECT_EQ(volume_against_mesh(1010.0, closed), "(mesh 1000 mm3, +1.000%)");
+    EXPECT_EQ(volume_against_mesh(995.0, closed), "(mesh 1000 mm3, -0.500%)");
+
+    mesh::TriangleMesh open = cube;
+    open.triangles.pop_back();
+    const mesh::ValidationReport report = mesh::validate(open);
+    ASSERT_FALSE(report.closed_manifold());
+    const std::string text = volume_against_mesh(1000.0, report);
+    EXPECT_NE(text.find("not closed"), std::string::npos) << text;
+    EXPECT_EQ(text.find('%'), std::string::npos) << text;
 }
 
 }  // namespace
