@@ -243,9 +243,12 @@ void print_verification(const std::optional<verify::Report>& report) {
         "(%zu poses, %.3f mm voxels)\n",
         report->collisions.count, report->unsupported.count, report->limit_violations.count,
         report->poses_checked, report->voxel_mm);
-    std::printf("coverage        %.2f%% of the part, excess %.2f%%\n", 100.0 * report->coverage,
-                100.0 * report->excess);
-    if (report->coverage < 0.97) {
+    std::printf("coverage        %.2f%% of the part, excess %.2f%%%s\n", 100.0 * report->coverage,
+                100.0 * report->excess,
+                report->model_open_columns > 0
+                    ? " (estimates: the mesh is not closed, the verifier cannot tell its inside)"
+                    : "");
+    if (report->coverage < 0.97 && report->model_open_columns == 0) {
         std::fprintf(stderr,
                      "maxslice: warning: the beads cover %.1f%% of the part's volume (features "
                      "narrower than the track get no material)\n",

@@ -26,9 +26,11 @@ bool top_left(double ax, double ay, double bx, double by) {
 
 }  // namespace
 
-BitGrid voxelize_model(const mesh::TriangleMesh& mesh, const core::Vec3d& origin, double voxel,
-                       int nx, int ny, int nz) {
-    BitGrid grid(nx, ny, nz);
+ModelVoxels voxelize_model(const mesh::TriangleMesh& mesh, const core::Vec3d& origin, double voxel,
+                           int nx, int ny, int nz) {
+    ModelVoxels out;
+    out.grid = BitGrid(nx, ny, nz);
+    BitGrid& grid = out.grid;
     std::vector<Hit> hits;
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
         core::Vec3d p[3] = {mesh.corner(t, 0), mesh.corner(t, 1), mesh.corner(t, 2)};
@@ -89,9 +91,11 @@ BitGrid voxelize_model(const mesh::TriangleMesh& mesh, const core::Vec3d& origin
                 if (k0 <= k1) grid.set_run(i, j, k0, k1);
             }
         }
+        ++out.columns;
+        if (winding != 0) ++out.open_columns;
         s = e;
     }
-    return grid;
+    return out;
 }
 
 }  // namespace maxslice::verify::detail

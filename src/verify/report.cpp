@@ -81,6 +81,8 @@ std::string report_json(const Report& r) {
     field("excess_volume_mm3", num(r.excess_volume_mm3, 3));
     field("coverage", num(r.coverage, 6));
     field("excess", num(r.excess, 6));
+    field("model_open_columns", std::to_string(r.model_open_columns));
+    field("model_columns", std::to_string(r.model_columns));
     field("deposition_length_mm", num(r.deposition_length_mm, 3));
     field("idle_length_mm", num(r.idle_length_mm, 3));
     field("rotary_travel_deg", num(r.rotary_travel_deg, 3));
@@ -116,6 +118,12 @@ std::string report_text(const Report& r) {
     fmt::format_to(it,
                    "excess          {:.2f}% ({:.1f} mm3 of {:.1f} mm3 deposited lies outside)\n",
                    100.0 * r.excess, r.excess_volume_mm3, r.deposited_volume_mm3);
+    if (r.model_open_columns > 0) {
+        fmt::format_to(it,
+                       "model           not closed: {} of {} voxel columns cross its surface "
+                       "unevenly; coverage and excess are estimates\n",
+                       r.model_open_columns, r.model_columns);
+    }
     fmt::format_to(it, "deposition      {:.1f} mm, bead height {:.3f} - {:.3f} mm\n",
                    r.deposition_length_mm, r.bead_height_min_mm, r.bead_height_max_mm);
     fmt::format_to(it, "idle travel     {:.1f} mm, rotary {:.1f} deg\n", r.idle_length_mm,

@@ -494,7 +494,7 @@ private:
 
     void measure_volumes(Report& rep) const {
         const auto& dep = grid_.fine().words();
-        const auto& mod = model_.words();
+        const auto& mod = model_.grid.words();
         std::size_t n_model = 0, n_dep = 0, n_both = 0;
         for (std::size_t i = 0; i < dep.size(); ++i) {
             n_model += static_cast<std::size_t>(std::popcount(mod[i]));
@@ -506,6 +506,8 @@ private:
         rep.deposited_volume_mm3 = static_cast<double>(n_dep) * v3;
         rep.covered_volume_mm3 = static_cast<double>(n_both) * v3;
         rep.excess_volume_mm3 = static_cast<double>(n_dep - n_both) * v3;
+        rep.model_columns = model_.columns;
+        rep.model_open_columns = model_.open_columns;
         rep.coverage =
             n_model > 0 ? static_cast<double>(n_both) / static_cast<double>(n_model) : 0.0;
         rep.excess =
@@ -523,7 +525,7 @@ private:
     double sample_ = 1.0;
     int nx_ = 0, ny_ = 0, nz_ = 0;
     OccupancyPyramid grid_;
-    detail::BitGrid model_;
+    detail::ModelVoxels model_;
     Region nozzle_region_;
     std::size_t poses_checked_ = 0;
     double unsupported_length_ = 0.0;

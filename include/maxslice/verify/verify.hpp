@@ -69,6 +69,10 @@ struct Report {
     double excess_volume_mm3 = 0.0;     ///< beads outside the model
     double coverage = 0.0;              ///< covered / model, [0, 1]
     double excess = 0.0;                ///< excess / model
+    /// Columns of the model's voxelization that cross its surface unevenly (an open mesh):
+    /// when non-zero, coverage and excess are estimates (docs/verifier.md).
+    std::size_t model_open_columns = 0;
+    std::size_t model_columns = 0;  ///< columns that cross the model's surface
 
     double deposition_length_mm = 0.0;  ///< tool tip path with the laser on (part frame)
     double idle_length_mm = 0.0;        ///< linear axes' path with the laser off (machine)

@@ -401,6 +401,33 @@ TEST(Verify, CoverageFallsWhenLayersAreMissing) {
     EXPECT_NEAR(r.coverage, 0.5, 0.03) << report_text(r);
 }
 
+TEST(Verify, AnOpenModelIsFlaggedAndItsCoverageMarkedAsAnEstimate) {
+    const machine::Profiles p = load("reference_lmd.toml");
+    ProgramText prog(p, ProgramDialect::kGm, false);
+    const Vec3d c = plate_centre(p);
+    zigzag_block(prog, p, c.x, c.y, kHalf, kLayers);
+    const Report closed = verified(prog.text(), p);
+    EXPECT_EQ(closed.model_open_columns, 0U);
+    EXPECT_GT(closed.model_columns, 1000U);
+    EXPECT_EQ(report_text(closed).find("not closed"), std::string::npos);
+    // The block without its top: every column through the top stays open.
+    mesh::TriangleMesh open = placed_block(p);
+    const mesh::TriangleMesh whole = open;
+    open.triangles.clear();
+    for (std::size_t t = 0; t < whole.triangles.size(); ++t) {
+        const bool top = whole.corner(t, 0).z == whole.corner(t, 1).z &&
+                         whole.corner(t, 1).z == whole.corner(t, 2).z &&
+                         whole.corner(t, 0).z > mesh::bounding_box(whole).center().z;
+        if (!top) open.triangles.push_back(whole.triangles[t]);
+    }
+    ASSERT_LT(open.triangles.size(), whole.triangles.size());
+    auto r = verify_program(prog.text(), open, p);
+    ASSERT_TRUE(r) << r.error().describe();
+    EXPECT_EQ(r->model_open_columns, r->model_columns);
+    EXPECT_NE(report_text(*r).find("not closed"), std::string::npos) << report_text(*r);
+    EXPECT_TRUE(r->passed());  // the checks of the program do not depend on the model
+}
+
 // One track on the plate at `feed`: its report (fine voxels: a 0.3 mm bead is two of the
 // automatic 0.15 mm voxels, 0.5 mm three or four).
 Report single_track(const machine::Profiles& p, double feed) {
