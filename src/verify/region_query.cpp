@@ -196,12 +196,13 @@ bool find_occupied(const OccupancyPyramid& grid, const Vec3d& origin, double vox
 
 void fill(OccupancyPyramid& grid, const Vec3d& origin, double voxel, const Slabs& solid) {
     core::Box3d box;
-    for (const Vec3d& c : solid.corners) box.add(c);
+    for (const Vec3d& c : solid.corners()) box.add(c);
     if (box.empty()) return;
     const BitGrid& fine = grid.fine();
+    const double inv_voxel = 1.0 / voxel;
     const auto index = [&](double x, int axis, int n, bool upper) {
         // Voxel centres origin + (i + 0.5) v inside [x_lo, x_hi].
-        const double f = (x - origin[axis]) / voxel - 0.5;
+        const double f = (x - origin[axis]) * inv_voxel - 0.5;
         const int i = upper ? floor_index(f) : ceil_index(f);
         return std::clamp(i, -1, n);
     };
@@ -210,21 +211,25 @@ void fill(OccupancyPyramid& grid, const Vec3d& origin, double voxel, const Slabs
     const int j0 = std::max(0, index(box.min.y, 1, fine.ny(), false));
     const int j1 = std::min(fine.ny() - 1, index(box.max.y, 1, fine.ny(), true));
     // Slabs parallel to z bound each row's y range; only the others are evaluated per column.
-    std::vector<const Slabs::Slab*> vertical;
+    std::array<const Slabs::Slab*, Slabs::kMax> vertical_slabs{};
+    std::size_t vertical_count = 0;
     struct Tilted {
         double nx_over_nz, ny_over_nz, lo_over_nz, hi_over_nz;
     };
-    std::vector<Tilted> tilted;
-    for (const auto& sl : solid.slabs) {
+    std::array<Tilted, Slabs::kMax> tilted_slabs{};
+    std::size_t tilted_count = 0;
+    for (const auto& sl : solid.slabs()) {
         if (std::abs(sl.n.z) < 1e-12) {
-            vertical.push_back(&sl);
+            vertical_slabs[vertical_count++] = &sl;
         } else {
             const double inv = 1.0 / sl.n.z;
             double lo = sl.lo * inv, hi = sl.hi * inv;
             if (lo > hi) std::swap(lo, hi);
-            tilted.push_back({sl.n.x * inv, sl.n.y * inv, lo, hi});
+            tilted_slabs[tilted_count++] = {sl.n.x * inv, sl.n.y * inv, lo, hi};
         }
     }
+    const std::span<const Slabs::Slab* const> vertical(vertical_slabs.data(), vertical_count);
+    const std::span<const Tilted> tilted(tilted_slabs.data(), tilted_count);
     // No slab's bound on z changes along y (a bead laid straight down): rows are blocks.
     const bool level_rows = std::all_of(tilted.begin(), tilted.end(),
                                         [](const Tilted& t) { return t.ny_over_nz == 0.0; });
@@ -238,7 +243,8 @@ void fill(OccupancyPyramid& grid, const Vec3d& origin, double voxel, const Slabs
                 if (base < sl->lo || base > sl->hi) empty = true;
                 continue;
             }
-            double a = (sl->lo - base) / sl->n.y, b = (sl->hi - base) / sl->n.y;
+            const double inv = 1.0 / sl->n.y;
+            double a = (sl->lo - base) * inv, b = (sl->hi - base) * inv;
             if (a > b) std::swap(a, b);
             y_lo = std::max(y_lo, a);
             y_hi = std::min(y_hi, b);

@@ -2,6 +2,8 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
+#include <span>
 #include <vector>
 
 #include "maxslice/core/vec3.hpp"
@@ -49,16 +51,29 @@ struct Region {
                                  double voxel, const core::Vec3d& apex, const core::Vec3d& axis,
                                  const Region& region, double margin, core::Vec3d* hit);
 
-/// A convex solid as slabs lo <= n . p <= hi, with the corners that bound it.
+/// A convex solid as at most kMax slabs lo <= n . p <= hi, with at most kMaxCorners corners
+/// that bound it (a bead box has 3 and 8, a round joint 5 and 16). Fixed capacity: one is laid
+/// for every bead piece, so it allocates nothing.
 struct Slabs {
     struct Slab {
         core::Vec3d n;
         double lo = 0.0;
         double hi = 0.0;
     };
-    std::vector<Slab> slabs;
-    std::vector<core::Vec3d> corners;
-    void add(const core::Vec3d& n, double lo, double hi) { slabs.push_back({n, lo, hi}); }
+    static constexpr std::size_t kMax = 8;
+    static constexpr std::size_t kMaxCorners = 16;
+    std::array<Slab, kMax> slab{};
+    std::size_t slab_count = 0;
+    std::array<core::Vec3d, kMaxCorners> corner{};
+    std::size_t corner_count = 0;
+    /// Precondition: fewer than kMax slabs so far.
+    void add(const core::Vec3d& n, double lo, double hi) { slab[slab_count++] = {n, lo, hi}; }
+    /// Precondition: fewer than kMaxCorners corners so far.
+    void add_corner(const core::Vec3d& c) { corner[corner_count++] = c; }
+    [[nodiscard]] std::span<const Slab> slabs() const { return {slab.data(), slab_count}; }
+    [[nodiscard]] std::span<const core::Vec3d> corners() const {
+        return {corner.data(), corner_count};
+    }
 };
 
 /// Sets every voxel whose centre lies inside the convex solid (z columns, one interval each).

@@ -130,7 +130,8 @@ public:
                 hmin = std::min(hmin, h);
                 hmax = std::max(hmax, h);
             }
-            const std::vector<Sample> samples = sample_block(b);
+            sample_block(b, samples_);
+            const std::vector<Sample>& samples = samples_;
             // Lengths and time.
             const Vec3d programmed_from =
                 b.tcp ? kin_.forward(b.from).tip_mm : Vec3d{b.from.x, b.from.y, b.from.z};
@@ -258,7 +259,7 @@ private:
     // Poses along a move: joint-space blocks interpolate every axis, tool-centre-point blocks
     // move the tip linearly in the part frame (rotary axes linear). At most sample_ between
     // neighbours, for the tip and for the far end of the head.
-    std::vector<Sample> sample_block(const ReplayBlock& b) const {
+    void sample_block(const ReplayBlock& b, std::vector<Sample>& out) const {
         const Vec3d tip0 = kin_.forward(b.from).tip_mm;
         const bool turns = b.pose.a_or_b_deg != b.from.a_or_b_deg || b.pose.c_deg != b.from.c_deg;
         const auto at = [&](double t) {
@@ -299,10 +300,8 @@ private:
             }
         }
         const int n = static_cast<int>(std::clamp(std::ceil(path / sample_), 1.0, kMaxSamples));
-        std::vector<Sample> out;
-        out.reserve(static_cast<std::size_t>(n) + 1);
+        out.clear();
         for (int i = 0; i <= n; ++i) out.push_back(at(static_cast<double>(i) / n));
-        return out;
     }
 
     // Returns false when a violation was recorded (one per block).
@@ -458,8 +457,8 @@ private:
         box.add(d, ad - h, ad);
         const Vec3d a = tip - t * back, b = tip + t * len;
         for (const Vec3d& e : {a, b, a - d * h, b - d * h}) {
-            box.corners.push_back(e + s * hw);
-            box.corners.push_back(e - s * hw);
+            box.add_corner(e + s * hw);
+            box.add_corner(e - s * hw);
         }
         detail::fill(grid_, origin_, voxel_, box);
     }
@@ -486,7 +485,7 @@ private:
         }();
         for (const double top : {0.0, -h}) {
             for (const auto& [cu, cv] : kOctagon) {
-                prism.corners.push_back(tip + d * top + u * (r * cu) + v * (r * cv));
+                prism.add_corner(tip + d * top + u * (r * cu) + v * (r * cv));
             }
         }
         detail::fill(grid_, origin_, voxel_, prism);
@@ -540,6 +539,7 @@ private:
         double h = 0.0;
     };
     std::optional<OpenEnd> open_end_;  // the end of the wire being laid
+    std::vector<Sample> samples_;      // the poses of the block being checked (reused)
 };
 
 }  // namespace

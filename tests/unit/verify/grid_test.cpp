@@ -67,7 +67,7 @@ Box random_box(std::mt19937& rng) {
     }
     for (const double a : {-lt, lt}) {
         for (const double c : {-ls, ls}) {
-            for (const double e : {-ld, ld}) b.slabs.corners.push_back(p + t * a + s * c + d * e);
+            for (const double e : {-ld, ld}) b.slabs.add_corner(p + t * a + s * c + d * e);
         }
     }
     return b;
@@ -219,7 +219,7 @@ TEST(VoxelGrid, NothingAtOrAboveTheFloorIsNoHitEvenWithMaterialJustBelow) {
     slab.add({0, 0, 1}, 1.0, 3.0);
     for (const double x : {1.0, 9.0}) {
         for (const double y : {1.0, 9.0}) {
-            for (const double z : {1.0, 3.0}) slab.corners.push_back({x, y, z});
+            for (const double z : {1.0, 3.0}) slab.add_corner({x, y, z});
         }
     }
     fill(grid, kOrigin, kVoxel, slab);
