@@ -45,10 +45,12 @@ public:
     }
     /// Sets bits k0..k1 (inclusive) of column (i, j).
     void set_run(int i, int j, int k0, int k1) { set_block(i, j, j, k0, k1); }
-    /// Sets bits k0..k1 (inclusive) of the columns (i, j0) to (i, j1).
-    void set_block(int i, int j0, int j1, int k0, int k1) {
+    /// Sets bits k0..k1 (inclusive) of the columns (i, j0) to (i, j1); returns whether every
+    /// one of them was set already.
+    bool set_block(int i, int j0, int j1, int k0, int k1) {
         std::uint64_t* row = &bits_[word(i, j0, k0)];
         const std::size_t n = static_cast<std::size_t>(j1 - j0) + 1;
+        std::uint64_t missing = 0;
         int k = k0;
         for (;;) {
             const int lo = k & 63;
@@ -56,9 +58,12 @@ public:
             const std::uint64_t mask =
                 (hi == 63 ? ~std::uint64_t{0} : ((std::uint64_t{1} << (hi + 1)) - 1)) &
                 ~((std::uint64_t{1} << lo) - 1);
-            for (std::size_t j = 0; j < n; ++j) row[j] |= mask;
+            for (std::size_t j = 0; j < n; ++j) {
+                missing |= mask & ~row[j];
+                row[j] |= mask;
+            }
             k += hi - lo + 1;
-            if (k > k1) return;
+            if (k > k1) return missing == 0;
             row += plane_;
         }
     }
@@ -108,20 +113,15 @@ public:
         set_lo_ = {std::min(set_lo_[0], i), std::min(set_lo_[1], j0), std::min(set_lo_[2], k0)};
         set_hi_ = {std::max(set_hi_[0], i), std::max(set_hi_[1], j1), std::max(set_hi_[2], k1)};
         levels_.front().set_block(i, j0, j1, k0, k1);
-        // Neighbouring calls share their coarse cells: stop at the first level whose block was
-        // the previous call's (every coarser level was set then too).
+        // A coarse cell already set has every coarser cell above it set: stop at the first
+        // level where the block was set already (neighbouring calls share their coarse cells).
         for (std::size_t l = 1; l < levels_.size(); ++l) {
             i >>= 1;
             j0 >>= 1;
             j1 >>= 1;
             k0 >>= 1;
             k1 >>= 1;
-            std::array<int, 5>& last = last_[l];
-            if (last[0] == i && last[1] == j0 && last[2] == j1 && last[3] == k0 && last[4] == k1) {
-                break;
-            }
-            last = {i, j0, j1, k0, k1};
-            levels_[l].set_block(i, j0, j1, k0, k1);
+            if (levels_[l].set_block(i, j0, j1, k0, k1)) break;
         }
     }
     void set_run(int i, int j, int k0, int k1) { set_block(i, j, j, k0, k1); }
@@ -130,8 +130,6 @@ private:
     std::vector<BitGrid> levels_;
     std::array<int, 3> set_lo_{INT32_MAX, INT32_MAX, INT32_MAX};
     std::array<int, 3> set_hi_{-1, -1, -1};
-    std::vector<std::array<int, 5>> last_ =
-        std::vector<std::array<int, 5>>(64, {-1, -1, -1, -1, -1});
 };
 
 }  // namespace maxslice::verify::detail
