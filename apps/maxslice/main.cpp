@@ -21,6 +21,7 @@
 #include "maxslice/machine/machine_moves.hpp"
 #include "maxslice/machine/profile.hpp"
 #include "maxslice/machine/writer.hpp"
+#include "maxslice/pipeline/orient_job.hpp"
 #include "maxslice/pipeline/plan_job.hpp"
 #include "maxslice/pipeline/previews.hpp"
 #include "maxslice/pipeline/program_job.hpp"
@@ -130,6 +131,8 @@ struct SliceOptions {
     std::string output;
     std::string dialect;
     std::vector<double> direction{0.0, 0.0, 1.0};
+    bool direction_given = false;
+    std::string orient;  ///< given, auto, or empty: given, other orientations if it fails
     bool adaptive = false;
     double cusp = 0.1;
     std::optional<double> min_layer, max_layer;
@@ -261,29 +264,64 @@ void print_verification(const std::optional<verify::Report>& report) {
 
 // A table-tilt machine: plan the placed part (regions, tilts, splits), order its layers with
 // the nozzle check, turn them into moves and write the 5-axis program.
+// The orientation policy of a program job: --orient, or the default (the given direction,
+// others when it cannot be built, unless --direction was given).
+std::optional<pipeline::OrientPolicy> orient_policy(const SliceOptions& so) {
+    if (so.orient == "given") return pipeline::OrientPolicy::kGiven;
+    if (so.orient == "auto") return pipeline::OrientPolicy::kAuto;
+    if (!so.orient.empty()) return std::nullopt;
+    return so.direction_given ? pipeline::OrientPolicy::kGiven : pipeline::OrientPolicy::kFallback;
+}
+
+// "; other orientations tried: -Z (14 layers rest on nothing), ..." (empty without others).
+std::string other_tries(const std::vector<pipeline::OrientTry>& tries, int chosen) {
+    std::string out;
+    for (std::size_t i = 0; i < tries.size(); ++i) {
+        if (static_cast<int>(i) == chosen || tries[i].source == "as given") continue;
+        out += fmt::format("{}{} ({})", out.empty() ? "" : ", ", tries[i].source,
+                           tries[i].refusal.empty() ? "builds" : tries[i].refusal);
+    }
+    return out.empty() ? out : "; other orientations tried: " + out;
+}
+
+// Says which base direction a job kept when it is not the part as given.
+void print_orientation(const std::vector<pipeline::OrientTry>& tries, int chosen) {
+    if (tries.empty()) return;
+    const pipeline::OrientTry& kept = tries[static_cast<std::size_t>(chosen)];
+    if (kept.source == "as given") return;
+    std::string where = pipeline::direction_text(kept.direction);
+    if (kept.source != where) where += ", " + kept.source;
+    const std::string why = tries.front().source == "as given"
+                                ? "the part as given cannot be built: " + tries.front().refusal
+                                : "--orient auto";
+    std::fprintf(stderr,
+                 "maxslice: warning: %s; it is built standing along %s instead (--orient given "
+                 "keeps the file's orientation)\n",
+                 why.c_str(), where.c_str());
+    std::printf("orientation     along %s (%s)\n", where.c_str(), why.c_str());
+}
+
 int run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
                         pipeline::PreparedPart& part, const machine::Profiles& profiles,
-                        pipeline::StageTimes& times) {
+                        pipeline::StageTimes& times, const core::Vec3d& given,
+                        pipeline::OrientPolicy policy) {
     const auto progress = make_progress();
     auto t0 = std::chrono::steady_clock::now();
-    pipeline::PlanJobSettings ps;
-    ps.plan = pipeline::plan_settings(profiles.process);
-    auto planned = pipeline::plan_mesh(part.imported.mesh, ps, progress.get());
-    if (!planned) return report_error(planned.error());
-    std::string nozzle_source;
-    const plan::Nozzle nozzle = pipeline::nozzle_of(profiles.machine, &nozzle_source);
-    if (auto ok = pipeline::order_plan(*planned, nozzle, nozzle_source, progress.get()); !ok) {
-        return report_error(ok.error());
-    }
+    auto oriented =
+        pipeline::orient_multiaxis(part.imported.mesh, given, policy, profiles, progress.get());
+    if (!oriented) return report_error(oriented.error());
+    part.imported.mesh = std::move(oriented->placed);
+    const std::optional<pipeline::PlannedPart> planned = std::move(oriented->planned);
     times.slice_s = seconds_since(t0);
+    const std::string tried = other_tries(oriented->tries, oriented->chosen);
     const plan::Plan& plan = planned->plan;
     if (!plan.unsupported_layers.empty()) {
         const plan::Layer& l = plan.layers[static_cast<std::size_t>(plan.unsupported_layers[0])];
         return report_error({core::ErrorCode::kInvalidInput,
                              fmt::format("{} layers rest on nothing (the first: layer {} in region "
                                          "{}, a body or branch the plan cannot reach from the "
-                                         "plate): no program without support is possible",
-                                         plan.unsupported_layers.size(), l.id, l.region),
+                                         "plate): no program without support is possible{}",
+                                         plan.unsupported_layers.size(), l.id, l.region, tried),
                              opt.path});
     }
     if (!planned->order->complete()) {
@@ -292,10 +330,11 @@ int run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
             {core::ErrorCode::kInvalidInput,
              fmt::format("no collision-free build order exists with this nozzle ({} "
                          "conflicts), so no program is written: {}. See the partial order: "
-                         "maxslice plan PART --profile FILE --plan plan.json",
-                         planned->order->conflicts.size(), c.reason),
+                         "maxslice plan PART --profile FILE --plan plan.json{}",
+                         planned->order->conflicts.size(), c.reason, tried),
              opt.path});
     }
+    print_orientation(oriented->tries, oriented->chosen);
     const std::string name = std::filesystem::path(opt.path).filename().string();
     t0 = std::chrono::steady_clock::now();
     auto p = pipeline::plan_multiaxis_program(plan, *planned->order, part.imported.mesh, profiles,
@@ -381,26 +420,47 @@ int run_slice(const PartOptions& opt, const SliceOptions& so) {
     auto part = pipeline::prepare_part(opt.path, *settings, &times);
     if (!part) return report_error(part.error());
     print_warnings(*part);
-    if (program_mode) {
-        part->imported.mesh = pipeline::place_on_plate(std::move(part->imported.mesh), ss.direction,
-                                                       machine::plate_center(profiles->machine));
-        ss.direction = {0.0, 0.0, 1.0};
-        if (machine::is_table_tilt(profiles->machine.kinematics)) {
-            return run_multiaxis_slice(opt, so, *part, *profiles, times);
-        }
+    const auto policy = orient_policy(so);
+    if (!policy) {
+        return report_error({core::ErrorCode::kInvalidInput,
+                             "unknown orientation '" + so.orient + "' (use given or auto)",
+                             "--orient"});
+    }
+    const core::Vec3d given = ss.direction;
+    if (program_mode && machine::is_table_tilt(profiles->machine.kinematics)) {
+        return run_multiaxis_slice(opt, so, *part, *profiles, times, given, *policy);
     }
     const auto progress = make_progress();
-    auto stack = pipeline::slice_part(part->imported.mesh, ss, progress.get(), &times);
-    if (!stack) return report_error(stack.error());
+    std::optional<pipeline::SliceStack> stack;
+    std::optional<plan::PlanarCheck> check;
+    std::vector<pipeline::OrientTry> tries;
+    int chosen = 0;
+    const plan::PlanSettings ps =
+        profiles ? pipeline::plan_settings(profiles->process) : plan::PlanSettings{};
+    if (program_mode) {
+        // A 3-axis machine builds every layer along one direction: the part stands on the
+        // plate along the given direction (or, when that has overhangs a planar build cannot
+        // hold and --orient allows it, along another), checked with the planner's analysis.
+        auto oriented =
+            pipeline::orient_planar(part->imported.mesh, given,
+                                    so.allow_overhangs ? pipeline::OrientPolicy::kGiven : *policy,
+                                    ss, *profiles, progress.get(), &times);
+        if (!oriented) return report_error(oriented.error());
+        part->imported.mesh = std::move(oriented->placed);
+        stack = std::move(oriented->stack);
+        check = std::move(oriented->check);
+        tries = std::move(oriented->tries);
+        chosen = oriented->chosen;
+    } else {
+        auto sliced = pipeline::slice_part(part->imported.mesh, ss, progress.get(), &times);
+        if (!sliced) return report_error(sliced.error());
+        stack = std::move(*sliced);
+    }
 
     std::optional<pipeline::PlannedProgram> planned;
     std::optional<verify::Report> report;
-    if (program_mode && profiles->machine.kinematics == machine::Kinematics::kXyz) {
-        // A 3-axis machine builds every layer along one direction: refuse a part whose
-        // overhangs need a split (the multi-axis planner's analysis), never deposit on air.
-        const plan::PlanSettings ps = pipeline::plan_settings(profiles->process);
-        auto check = plan::check_planar(stack->slices, ps);
-        if (!check) return report_error(check.error());
+    if (program_mode) {
+        // Refuse a part whose overhangs need a split, never deposit on air.
         if (check->overhangs > 0 && so.allow_overhangs) {
             std::fprintf(stderr,
                          "maxslice: warning: --allow-overhangs: overhangs a planar build cannot "
@@ -415,12 +475,13 @@ int run_slice(const PartOptions& opt, const SliceOptions& so) {
                              "{:.1f} mm2 at "
                              "({:.3f}, {:.3f}, {:.3f}) with Ang = {:.1f} deg > beta {:.0f}{}); the "
                              "machine profile is 3-axis (kinematics xyz), so no program is "
-                             "written. See where it splits: maxslice plan PART --orient auto",
+                             "written. See where it splits: maxslice plan PART --orient auto{}",
                              check->heights_mm.front(), check->overhangs, check->checked_up_to,
                              p.area_mm2, p.C.x, p.C.y, p.C.z, p.ang_deg, ps.beta_deg,
-                             p.touches_lower ? "" : ", floating"),
+                             p.touches_lower ? "" : ", floating", other_tries(tries, chosen)),
                  opt.path});
         }
+        print_orientation(tries, chosen);
         if (check->tilts_wanted > 0) {
             std::fprintf(
                 stderr,
@@ -641,9 +702,14 @@ int run(int argc, char** argv) {
     slice->add_option("--dialect", so.dialect,
                       "Program dialect: gm, linuxcnc, fanuc or siemens (default: the "
                       "machine profile's)");
-    slice->add_option("--direction", so.direction, "Slicing (build) direction X,Y,Z")
-        ->delimiter(',')
-        ->expected(3);
+    CLI::Option* direction_opt =
+        slice->add_option("--direction", so.direction, "Slicing (build) direction X,Y,Z")
+            ->delimiter(',')
+            ->expected(3);
+    slice->add_option("--orient", so.orient,
+                      "Program jobs: given (stand the part along --direction, default +Z, and "
+                      "nothing else) or auto (the candidates of maxslice plan --orient auto); "
+                      "default: as given, and when that cannot be built the other candidates");
     slice->add_flag("--adaptive", so.adaptive, "Vary the thickness to bound the cusp height");
     slice->add_option("--cusp", so.cusp, "Largest cusp height in mm (with --adaptive)")
         ->check(CLI::PositiveNumber);
@@ -712,6 +778,7 @@ int run(int argc, char** argv) {
 
     if (verify_cmd->parsed()) return app::run_verify(verify_opt);
     so.layer_given = layer_opt->count() > 0;
+    so.direction_given = direction_opt->count() > 0;
     const PartOptions& active =
         info->parsed() ? info_opt : (plan_cmd->parsed() ? plan_opt : slice_opt);
     std::optional<tbb::global_control> threads;

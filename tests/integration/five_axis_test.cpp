@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <regex>
 #include <sstream>
@@ -248,12 +249,50 @@ TEST(FiveAxis, AWideNozzleIsRefusedWithoutAProgram) {
     std::ofstream(profile) << text;
     const fs::path part = export_fixture(maxslice::test::portal_frame(), dir);
     const fs::path program = dir / "p.gm";
-    const CliRun r =
-        run_cli({"slice", part.string(), "--profile", profile.string(), "-o", program.string()});
+    const CliRun r = run_cli({"slice", part.string(), "--profile", profile.string(), "-o",
+                              program.string(), "--orient", "given"});
     EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
     EXPECT_NE(r.err.find("maxslice: error:"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("no collision-free build order"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(program));
+}
+
+// The portal frame as modelled has no collision-free order with the reference nozzle (its beam
+// is built sideways over the far column). By default the job then stands it on another
+// candidate base, says so, and writes a program that `maxslice verify` passes with the part
+// placed along that direction; --orient given and --direction keep the refusal.
+TEST(FiveAxis, APartThatCannotBeBuiltAsGivenIsStoodOnAnotherBase) {
+    const fs::path dir = temp_dir("fallback");
+    const fs::path part = export_fixture(maxslice::test::portal_frame(), dir);
+    const fs::path program = dir / "p.gm";
+    const CliRun r = run_cli(
+        {"slice", part.string(), "--profile", kReference5.string(), "-o", program.string()});
+    ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+    EXPECT_NE(r.err.find("the part as given cannot be built: no collision-free build order"),
+              std::string::npos)
+        << r.err;
+    const std::string line = "orientation     along ";
+    const std::size_t at = r.out.find(line);
+    ASSERT_NE(at, std::string::npos) << r.out;
+    const std::string name = r.out.substr(at + line.size(), 2);
+    ASSERT_TRUE(name[0] == '+' || name[0] == '-') << r.out;
+    const std::map<char, std::string> axis{{'X', "1,0,0"}, {'Y', "0,1,0"}, {'Z', "0,0,1"}};
+    ASSERT_TRUE(axis.contains(name[1])) << r.out;
+    const std::string direction = (name[0] == '-' ? "-" : "") + axis.at(name[1]);
+    const CliRun v = run_cli({"verify", program.string(), "--model", part.string(), "--profile",
+                              kReference5.string(), "--direction", direction});
+    EXPECT_EQ(v.exit_code, 0) << v.out << v.err;
+    for (const std::vector<std::string>& keep :
+         {std::vector<std::string>{"--orient", "given"},
+          std::vector<std::string>{"--direction", "0,0,1"}}) {
+        const fs::path none = dir / "none.gm";
+        std::vector<std::string> args{"slice", part.string(), "--profile", kReference5.string(),
+                                      "-o",    none.string()};
+        args.insert(args.end(), keep.begin(), keep.end());
+        const CliRun g = run_cli(args);
+        EXPECT_EQ(g.exit_code, 2) << g.err;
+        EXPECT_FALSE(fs::exists(none));
+    }
 }
 
 // A written program with one deposit block moved 5 mm down into the part, and one with a travel

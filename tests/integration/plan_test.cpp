@@ -169,10 +169,24 @@ TEST(PlanCli, ThreeAxisProgramIsRefusedForAPartThatNeedsASplit) {
     const fs::path dir = temp_dir("three_axis");
     const fs::path seat = fixture_stl(dir, "bearing_seat", maxslice::test::bearing_seat().mesh);
     const fs::path out = dir / "seat.gm";
-    const CliRun refused = run_cli({"slice", seat.string(), "-o", out.string()});
+    const CliRun refused =
+        run_cli({"slice", seat.string(), "-o", out.string(), "--orient", "given"});
     EXPECT_EQ(refused.exit_code, 2) << refused.err;
     EXPECT_NE(refused.err.find("multi-axis build"), std::string::npos) << refused.err;
+    EXPECT_EQ(refused.err.find("other orientations"), std::string::npos)
+        << "--orient given tries no other: " << refused.err;
     EXPECT_FALSE(fs::exists(out)) << "no program is written for a part that needs more axes";
+    // By default the job stands it on another base where every layer rests on the one below,
+    // says so, and the program it writes has passed the verifier.
+    const CliRun turned = run_cli({"slice", seat.string(), "-o", out.string()});
+    EXPECT_EQ(turned.exit_code, 0) << turned.err;
+    EXPECT_NE(turned.err.find("the part as given cannot be built: overhangs"), std::string::npos)
+        << turned.err;
+    EXPECT_NE(turned.out.find("orientation     along "), std::string::npos) << turned.out;
+    EXPECT_NE(turned.out.find("verified        0 collisions, 0 unsupported"), std::string::npos)
+        << turned.out;
+    EXPECT_TRUE(fs::exists(out));
+    fs::remove(out);
     // The same part planned: three regions; forced on 3 axes: a program and a warning.
     const CliRun planned = run_cli({"plan", seat.string(), "--plan", (dir / "p.json").string()});
     ASSERT_EQ(planned.exit_code, 0) << planned.err;

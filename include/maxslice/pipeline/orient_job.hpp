@@ -1,0 +1,80 @@
+// The program job's base orientation: the part as given, and when that cannot be built
+// another way to stand it on the plate (docs/decisions/0015-orientation-fallback.md).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "maxslice/core/progress.hpp"
+#include "maxslice/core/result.hpp"
+#include "maxslice/core/vec3.hpp"
+#include "maxslice/machine/profile.hpp"
+#include "maxslice/mesh/triangle_mesh.hpp"
+#include "maxslice/pipeline/plan_job.hpp"
+#include "maxslice/pipeline/slice_job.hpp"
+#include "maxslice/plan/planner.hpp"
+
+namespace maxslice::pipeline {
+
+/// Which base orientations a program job may use.
+enum class OrientPolicy {
+    kGiven,     ///< only the given direction
+    kFallback,  ///< the given direction; the candidates when it cannot be built
+    kAuto,      ///< the candidates from the start (the given direction is not preferred)
+};
+
+/// One base direction the job tried, in the part file's frame.
+struct OrientTry {
+    core::Vec3d direction;
+    std::string source;   ///< "as given", "+Y", "largest flat face 1" ...
+    std::string refusal;  ///< why it cannot be built; empty when it can
+};
+
+/// A multi-axis plan of the part standing on the plate along a chosen direction.
+struct OrientedPlan {
+    mesh::TriangleMesh placed;  ///< the part on the plate, the chosen direction up
+    PlannedPart planned;        ///< planned along +Z of `placed`, with its build order
+    std::vector<OrientTry> tries;
+    int chosen = 0;  ///< index into tries: the direction kept
+    /// The kept plan leaves no layer on nothing and has a complete build order.
+    [[nodiscard]] bool buildable() const;
+};
+
+/// Plans and orders the part for a table-tilt machine. kGiven: along `given` only. kFallback:
+/// along `given`; when that plan leaves layers resting on nothing or has no collision-free
+/// order, the candidates of orientation_candidates are planned, ranked by buildable plan
+/// first, then fewest splits, then fewest tilts wanted, then the order tried, and ordered in
+/// that rank until one is buildable. kAuto: the same without trying `given` first. When none
+/// is buildable the given direction's plan is returned (kAuto: the best ranked), with every
+/// try and its refusal. Errors: those of plan_mesh and order_plan for the given direction
+/// (a candidate that fails to plan is recorded as a try).
+[[nodiscard]] core::Result<OrientedPlan> orient_multiaxis(const mesh::TriangleMesh& part,
+                                                          const core::Vec3d& given,
+                                                          OrientPolicy policy,
+                                                          const machine::Profiles& profiles,
+                                                          const core::Progress* progress = nullptr);
+
+/// A planar stack of the part standing on the plate along a chosen direction.
+struct OrientedStack {
+    mesh::TriangleMesh placed;
+    SliceStack stack;  ///< sliced along +Z of `placed`
+    plan::PlanarCheck check;
+    std::vector<OrientTry> tries;
+    int chosen = 0;  ///< index into tries: the direction kept
+};
+
+/// Slices the part for a 3-axis machine and checks the stack with plan::check_planar.
+/// kFallback: along `given`; when the stack has overhangs a planar build cannot hold, every
+/// candidate is sliced and checked, and of those without overhangs the one with the fewest
+/// tilts wanted is kept, then the first tried (plan --orient auto's ranking). kAuto: the same
+/// without preferring `given`. kGiven: `given` only. When none passes the given direction's
+/// stack is returned. Errors: those of slice_part and check_planar for the given direction.
+[[nodiscard]] core::Result<OrientedStack> orient_planar(
+    const mesh::TriangleMesh& part, const core::Vec3d& given, OrientPolicy policy,
+    const SliceSettings& settings, const machine::Profiles& profiles,
+    const core::Progress* progress = nullptr, StageTimes* times = nullptr);
+
+/// "(x, y, z)" of a direction, and "+Y" style names for the axis directions.
+[[nodiscard]] std::string direction_text(const core::Vec3d& d);
+
+}  // namespace maxslice::pipeline

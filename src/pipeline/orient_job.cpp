@@ -1,0 +1,250 @@
+#include "maxslice/pipeline/orient_job.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <tuple>
+#include <utility>
+
+#include "maxslice/pipeline/program_job.hpp"
+
+namespace maxslice::pipeline {
+namespace {
+
+using core::Vec3d;
+
+/// Directions this close (1 - cos) are the given one again.
+constexpr double kSameDirectionCos = 1e-9;
+
+bool same_direction(const Vec3d& a, const Vec3d& b) {
+    return core::dot(core::normalized(a), core::normalized(b)) > 1.0 - kSameDirectionCos;
+}
+
+// Why a multi-axis plan cannot be built, or "" when it can.
+std::string multiaxis_refusal(const PlannedPart& p) {
+    if (!p.plan.unsupported_layers.empty()) {
+        return fmt::format("{} layers rest on nothing", p.plan.unsupported_layers.size());
+    }
+    if (p.order && !p.order->complete()) {
+        return fmt::format("no collision-free build order ({} conflicts)",
+                           p.order->conflicts.size());
+    }
+    return {};
+}
+
+struct Placed {
+    mesh::TriangleMesh placed;
+    PlannedPart planned;
+};
+
+core::Result<Placed> plan_along(const mesh::TriangleMesh& part, const Vec3d& direction,
+                                const machine::Profiles& profiles, const core::Progress* progress) {
+    Placed out;
+    out.placed = place_on_plate(part, direction, machine::plate_center(profiles.machine));
+    PlanJobSettings ps;
+    ps.plan = plan_settings(profiles.process);
+    auto planned = plan_mesh(out.placed, ps, progress);
+    if (!planned) return std::unexpected(planned.error());
+    out.planned = std::move(*planned);
+    return out;
+}
+
+core::Result<void> order(Placed& p, const machine::Profiles& profiles,
+                         const core::Progress* progress) {
+    std::string source;
+    const plan::Nozzle nozzle = nozzle_of(profiles.machine, &source);
+    return order_plan(p.planned, nozzle, std::move(source), progress);
+}
+
+// An error's message up to its first ": " (the rest is detail for the direction kept).
+std::string first_clause(const core::Error& e) {
+    const std::size_t colon = e.message.find(": ");
+    return colon == std::string::npos ? e.message : e.message.substr(0, colon);
+}
+
+std::string planar_refusal(const plan::PlanarCheck& check) {
+    if (check.overhangs == 0) return {};
+    return fmt::format("overhangs a planar build cannot hold from {:.3f} mm up",
+                       check.heights_mm.empty() ? 0.0 : check.heights_mm.front());
+}
+
+}  // namespace
+
+bool OrientedPlan::buildable() const {
+    return multiaxis_refusal(planned).empty() && planned.order.has_value();
+}
+
+std::string direction_text(const Vec3d& d) {
+    const Vec3d u = core::normalized(d);
+    static const std::pair<Vec3d, const char*> kAxes[] = {{{1, 0, 0}, "+X"}, {{-1, 0, 0}, "-X"},
+                                                          {{0, 1, 0}, "+Y"}, {{0, -1, 0}, "-Y"},
+                                                          {{0, 0, 1}, "+Z"}, {{0, 0, -1}, "-Z"}};
+    for (const auto& [axis, name] : kAxes) {
+        if (same_direction(u, axis)) return name;
+    }
+    return fmt::format("({:.4f}, {:.4f}, {:.4f})", u.x, u.y, u.z);
+}
+
+core::Result<OrientedPlan> orient_multiaxis(const mesh::TriangleMesh& part, const Vec3d& given,
+                                            OrientPolicy policy, const machine::Profiles& profiles,
+                                            const core::Progress* progress) {
+    OrientedPlan out;
+    std::optional<Placed> as_given;
+    if (policy != OrientPolicy::kAuto) {
+        auto g = plan_along(part, given, profiles, progress);
+        if (!g) return std::unexpected(g.error());
+        if (auto ok = order(*g, profiles, progress); !ok) return std::unexpected(ok.error());
+        std::string refusal = multiaxis_refusal(g->planned);
+        out.tries.push_back({core::normalized(given), "as given", refusal});
+        if (refusal.empty() || policy == OrientPolicy::kGiven) {
+            out.placed = std::move(g->placed);
+            out.planned = std::move(g->planned);
+            return out;
+        }
+        as_given = std::move(*g);
+    }
+    // Every other candidate planned, then ranked: no layer on nothing first, then the fewest
+    // splits, then the fewest tilts wanted, then the order of orientation_candidates.
+    struct Ranked {
+        std::size_t index;
+        OrientCandidate candidate;
+        Placed placed;
+    };
+    std::vector<Ranked> ranked;
+    const std::vector<OrientCandidate> candidates = orientation_candidates(part);
+    for (std::size_t i = 0; i < candidates.size(); ++i) {
+        const OrientCandidate& c = candidates[i];
+        if (as_given && same_direction(c.direction, given)) continue;
+        auto p = plan_along(part, c.direction, profiles, progress);
+        if (!p) {
+            out.tries.push_back({c.direction, c.source, "no plan: " + first_clause(p.error())});
+            continue;
+        }
+        ranked.push_back({i, c, std::move(*p)});
+    }
+    const auto key = [](const Ranked& r) {
+        const plan::Plan& p = r.placed.planned.plan;
+        return std::tuple(!p.unsupported_layers.empty(), p.split_count(), p.tilt_wanted_count(),
+                          r.index);
+    };
+    std::sort(ranked.begin(), ranked.end(),
+              [&](const Ranked& a, const Ranked& b) { return key(a) < key(b); });
+    for (Ranked& r : ranked) {
+        std::string refusal = multiaxis_refusal(r.placed.planned);
+        if (refusal.empty()) {
+            if (auto ok = order(r.placed, profiles, progress); !ok) {
+                refusal = "no build order: " + first_clause(ok.error());
+            } else {
+                refusal = multiaxis_refusal(r.placed.planned);
+            }
+        }
+        out.tries.push_back({r.candidate.direction, r.candidate.source, refusal});
+        if (refusal.empty()) {
+            out.placed = std::move(r.placed.placed);
+            out.planned = std::move(r.placed.planned);
+            out.chosen = static_cast<int>(out.tries.size()) - 1;
+            return out;
+        }
+    }
+    // Nothing builds: the given direction's plan (kAuto: the best ranked) carries the refusal.
+    if (as_given) {
+        out.placed = std::move(as_given->placed);
+        out.planned = std::move(as_given->planned);
+        out.chosen = 0;
+        return out;
+    }
+    if (ranked.empty()) {
+        return core::fail(
+            core::ErrorCode::kInvalidInput,
+            "no base orientation of the part can be planned: " +
+                (out.tries.empty() ? std::string("no candidates") : out.tries.front().refusal));
+    }
+    Ranked& best = ranked.front();
+    if (!best.placed.planned.order) {
+        if (auto ok = order(best.placed, profiles, progress); !ok) {
+            return std::unexpected(ok.error());
+        }
+    }
+    for (std::size_t t = 0; t < out.tries.size(); ++t) {
+        if (same_direction(out.tries[t].direction, best.candidate.direction)) {
+            out.chosen = static_cast<int>(t);
+        }
+    }
+    out.placed = std::move(best.placed.placed);
+    out.planned = std::move(best.placed.planned);
+    return out;
+}
+
+core::Result<OrientedStack> orient_planar(const mesh::TriangleMesh& part, const Vec3d& given,
+                                          OrientPolicy policy, const SliceSettings& settings,
+                                          const machine::Profiles& profiles,
+                                          const core::Progress* progress, StageTimes* times) {
+    const plan::PlanSettings ps = plan_settings(profiles.process);
+    SliceSettings along_z = settings;
+    along_z.direction = {0.0, 0.0, 1.0};
+    const auto slice_along = [&](const Vec3d& d, StageTimes* t) -> core::Result<OrientedStack> {
+        OrientedStack s;
+        s.placed = place_on_plate(part, d, machine::plate_center(profiles.machine));
+        auto stack = slice_part(s.placed, along_z, progress, t);
+        if (!stack) return std::unexpected(stack.error());
+        s.stack = std::move(*stack);
+        auto check = plan::check_planar(s.stack.slices, ps);
+        if (!check) return std::unexpected(check.error());
+        s.check = std::move(*check);
+        return s;
+    };
+    std::optional<OrientedStack> as_given;
+    std::vector<OrientTry> tries;
+    if (policy != OrientPolicy::kAuto) {
+        auto g = slice_along(given, times);
+        if (!g) return std::unexpected(g.error());
+        std::string refusal = planar_refusal(g->check);
+        tries.push_back({core::normalized(given), "as given", refusal});
+        if (refusal.empty() || policy == OrientPolicy::kGiven) {
+            g->tries = std::move(tries);
+            return std::move(*g);
+        }
+        as_given = std::move(*g);
+    }
+    // Of the candidates without overhangs: the fewest tilts wanted, then the first tried (the
+    // ranking of plan --orient auto, all of them needing no split).
+    std::optional<OrientedStack> best;
+    std::optional<OrientedStack> first;  // kAuto when none passes: the first that slices
+    for (const OrientCandidate& c : orientation_candidates(part)) {
+        if (as_given && same_direction(c.direction, given)) continue;
+        auto s = slice_along(c.direction, nullptr);
+        if (!s) {
+            tries.push_back(
+                {c.direction, c.source, "cannot be sliced: " + first_clause(s.error())});
+            continue;
+        }
+        std::string refusal = planar_refusal(s->check);
+        tries.push_back({c.direction, c.source, refusal});
+        s->chosen = static_cast<int>(tries.size()) - 1;
+        if (!refusal.empty()) {
+            if (!first) first = std::move(*s);
+            continue;
+        }
+        if (!best || s->check.tilts_wanted < best->check.tilts_wanted) best = std::move(*s);
+    }
+    OrientedStack out;
+    if (best) {
+        out = std::move(*best);
+    } else if (as_given) {
+        out = std::move(*as_given);
+        out.chosen = 0;
+    } else if (first) {
+        out = std::move(*first);
+    } else {
+        return core::fail(
+            core::ErrorCode::kInvalidInput,
+            "no base orientation of the part can be sliced: " +
+                (tries.empty() ? std::string("no candidates") : tries.front().refusal));
+    }
+    out.tries = std::move(tries);
+    return out;
+}
+
+}  // namespace maxslice::pipeline
