@@ -284,16 +284,23 @@ std::string other_tries(const std::vector<pipeline::OrientTry>& tries, int chose
     return out.empty() ? out : "; other orientations tried: " + out;
 }
 
-// Says which base direction a job kept when it is not the part as given.
+// Says which base direction a job kept when it is not the part as given: a warning and a
+// summary line when the given one could not be built, the summary line with --orient auto.
 void print_orientation(const std::vector<pipeline::OrientTry>& tries, int chosen) {
     if (tries.empty()) return;
     const pipeline::OrientTry& kept = tries[static_cast<std::size_t>(chosen)];
     if (kept.source == "as given") return;
     std::string where = pipeline::direction_text(kept.direction);
-    if (kept.source != where) where += ", " + kept.source;
-    const std::string why = tries.front().source == "as given"
-                                ? "the part as given cannot be built: " + tries.front().refusal
-                                : "--orient auto";
+    if (kept.source.rfind(where, 0) == 0) {
+        where = kept.source;  // "+Z (as given)", "-X"
+    } else {
+        where += " (" + kept.source + ")";  // "(0.7071, 0.0000, 0.7071) (largest flat face 2)"
+    }
+    if (tries.front().source != "as given") {
+        std::printf("orientation     along %s (--orient auto)\n", where.c_str());
+        return;
+    }
+    const std::string why = "the part as given cannot be built: " + tries.front().refusal;
     std::fprintf(stderr,
                  "maxslice: warning: %s; it is built standing along %s instead (--orient given "
                  "keeps the file's orientation)\n",
@@ -391,6 +398,12 @@ int run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
 int run_slice(const PartOptions& opt, const SliceOptions& so) {
     auto settings = opt.settings();
     if (!settings) return report_error(settings.error());
+    const auto policy = orient_policy(so);
+    if (!policy) {
+        return report_error({core::ErrorCode::kInvalidInput,
+                             "unknown orientation '" + so.orient + "' (use given or auto)",
+                             "--orient"});
+    }
     pipeline::SliceSettings ss;
     ss.direction = {so.direction[0], so.direction[1], so.direction[2]};
     ss.layers.layer_mm = so.layer;
@@ -420,12 +433,6 @@ int run_slice(const PartOptions& opt, const SliceOptions& so) {
     auto part = pipeline::prepare_part(opt.path, *settings, &times);
     if (!part) return report_error(part.error());
     print_warnings(*part);
-    const auto policy = orient_policy(so);
-    if (!policy) {
-        return report_error({core::ErrorCode::kInvalidInput,
-                             "unknown orientation '" + so.orient + "' (use given or auto)",
-                             "--orient"});
-    }
     const core::Vec3d given = ss.direction;
     if (program_mode && machine::is_table_tilt(profiles->machine.kinematics)) {
         return run_multiaxis_slice(opt, so, *part, *profiles, times, given, *policy);

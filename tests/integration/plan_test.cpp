@@ -196,6 +196,16 @@ TEST(PlanCli, ThreeAxisProgramIsRefusedForAPartThatNeedsASplit) {
     EXPECT_EQ(forced.exit_code, 0) << forced.err;
     EXPECT_NE(forced.err.find("--allow-overhangs"), std::string::npos);
     EXPECT_TRUE(fs::exists(out));
+    // --orient auto picks among the candidates from the start and says which; an unknown
+    // value is refused before anything is read.
+    const CliRun chosen = run_cli({"slice", seat.string(), "-o", out.string(), "--orient", "auto"});
+    EXPECT_EQ(chosen.exit_code, 0) << chosen.err;
+    EXPECT_NE(chosen.out.find("(--orient auto)"), std::string::npos) << chosen.out;
+    const CliRun unknown =
+        run_cli({"slice", seat.string(), "-o", out.string(), "--orient", "sideways"});
+    EXPECT_EQ(unknown.exit_code, 2);
+    EXPECT_NE(unknown.err.find("unknown orientation 'sideways'"), std::string::npos) << unknown.err;
+    fs::remove(out);
     // A prism needs no split: written without a word.
     const fs::path prism = fixture_stl(dir, "prism", maxslice::test::vertical_prism().mesh);
     const CliRun ok = run_cli({"slice", prism.string(), "-o", out.string()});
