@@ -69,6 +69,8 @@ struct OrientedStack {
 /// tilts wanted is kept, then the first tried (plan --orient auto's ranking). kAuto: the same
 /// without preferring `given`. kGiven: `given` only. When none passes the given direction's
 /// stack is returned. Errors: those of slice_part and check_planar for the given direction.
+/// `times` gets the given direction's slicing only (as without the search: the `slice` stage
+/// the benchmarks compare).
 [[nodiscard]] core::Result<OrientedStack> orient_planar(
     const mesh::TriangleMesh& part, const core::Vec3d& given, OrientPolicy policy,
     const SliceSettings& settings, const machine::Profiles& profiles,
