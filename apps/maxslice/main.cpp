@@ -755,7 +755,7 @@ int run(int argc, char** argv) {
         ->check(CLI::Range(0.0, 180.0));
     plan_cmd->add_option("--orient", po.orient,
                          "Base orientation: given (stand as the file has it, along --direction) "
-                         "or auto (fewest splits, then fewest tilts)");
+                         "or auto (no layer on nothing, then fewest splits, then fewest tilts)");
     plan_cmd->add_option("--direction", po.direction, "Base (build) direction X,Y,Z when given")
         ->delimiter(',')
         ->expected(3);

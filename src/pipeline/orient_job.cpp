@@ -118,6 +118,7 @@ core::Result<OrientedPlan> orient_multiaxis(const mesh::TriangleMesh& part, cons
         const OrientCandidate& c = candidates[i];
         if (as_given && same_direction(c.direction, given)) continue;
         auto p = plan_along(part, c.direction, profiles, progress);
+        if (!p && p.error().code == core::ErrorCode::kCancelled) return std::unexpected(p.error());
         if (!p) {
             out.tries.push_back({c.direction, c.source, "no plan: " + first_clause(p.error())});
             continue;
@@ -215,6 +216,7 @@ core::Result<OrientedStack> orient_planar(const mesh::TriangleMesh& part, const 
     for (const OrientCandidate& c : orientation_candidates(part)) {
         if (as_given && same_direction(c.direction, given)) continue;
         auto s = slice_along(c.direction, nullptr);
+        if (!s && s.error().code == core::ErrorCode::kCancelled) return std::unexpected(s.error());
         if (!s) {
             tries.push_back(
                 {c.direction, c.source, "cannot be sliced: " + first_clause(s.error())});

@@ -8,6 +8,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <system_error>
+#include <tuple>
 
 #include "maxslice/core/units.hpp"
 #include "output.hpp"
@@ -164,11 +165,13 @@ core::Result<PlannedPart> plan_mesh(const mesh::TriangleMesh& mesh, const PlanJo
             c.splits = p->split_count();
             c.tilts_wanted = p->tilt_wanted_count();
             c.regions = static_cast<int>(p->regions.size());
+            c.unsupported_layers = static_cast<int>(p->unsupported_layers.size());
+            const auto rank = [](const OrientCandidate& o) {
+                return std::tuple{o.unsupported_layers > 0, o.splits, o.tilts_wanted};
+            };
             const bool better =
                 out.chosen < 0 ||
-                std::pair{c.splits, c.tilts_wanted} <
-                    std::pair{out.candidates[static_cast<std::size_t>(out.chosen)].splits,
-                              out.candidates[static_cast<std::size_t>(out.chosen)].tilts_wanted};
+                rank(c) < rank(out.candidates[static_cast<std::size_t>(out.chosen)]);
             if (better) {
                 out.chosen = static_cast<int>(i);
                 out.plan = std::move(*p);
@@ -293,6 +296,7 @@ std::string plan_json(const PlannedPart& planned, const PreparedPart& part) {
                 cj["splits"] = c.splits;
                 cj["tilts_wanted"] = c.tilts_wanted;
                 cj["regions"] = c.regions;
+                cj["unsupported_layers"] = c.unsupported_layers;
             } else {
                 cj["error"] = c.error;
             }
@@ -300,7 +304,9 @@ std::string plan_json(const PlannedPart& planned, const PreparedPart& part) {
         }
         orient["candidates"] = std::move(cands);
         orient["chosen"] = planned.chosen;
-        orient["rule"] = "fewest splits, then fewest tilts wanted, then the first tried";
+        orient["rule"] =
+            "no layer on nothing, then fewest splits, then fewest tilts wanted, then the first "
+            "tried";
     }
     j["orientation"] = std::move(orient);
     j["summary"] = {{"regions", p.regions.size()},
@@ -634,9 +640,13 @@ std::string plan_summary(const PlannedPart& planned, const mesh::ValidationRepor
             const OrientCandidate& c = planned.candidates[i];
             put(out, "  {} {:<32} {}\n", static_cast<int>(i) == planned.chosen ? "*" : " ",
                 c.source,
-                c.planned ? fmt::format("{} splits, {} tilts wanted, {} regions", c.splits,
-                                        c.tilts_wanted, c.regions)
-                          : "failed: " + c.error);
+                c.planned
+                    ? fmt::format("{} splits, {} tilts wanted, {} regions{}", c.splits,
+                                  c.tilts_wanted, c.regions,
+                                  c.unsupported_layers > 0
+                                      ? fmt::format(", {} layers on nothing", c.unsupported_layers)
+                                      : "")
+                    : "failed: " + c.error);
         }
     }
     put(out, "base direction  {}\n", direction_label(p.base_direction));

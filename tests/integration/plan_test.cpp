@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <tuple>
 
 #include "cli_runner.hpp"
 #include "maxslice/io/read_mesh.hpp"
@@ -233,6 +234,23 @@ TEST(PlanCli, OrientAutoFindsTheSameBuildForATurnedPart) {
     EXPECT_EQ(a.at("summary").at("splits"), b.at("summary").at("splits"));
     EXPECT_EQ(a.at("summary").at("tilted_layers").get<int>() > 0,
               b.at("summary").at("tilted_layers").get<int>() > 0);
+    // The rule: no layer on nothing first, then the fewest splits, then the fewest tilts.
+    for (const nlohmann::json* j : {&a, &b}) {
+        const auto& orient = j->at("orientation");
+        const auto& cands = orient.at("candidates");
+        const auto rank = [](const nlohmann::json& c) {
+            return std::tuple{c.at("unsupported_layers").get<int>() > 0, c.at("splits").get<int>(),
+                              c.at("tilts_wanted").get<int>()};
+        };
+        const auto& chosen = cands.at(orient.at("chosen").get<std::size_t>());
+        for (const auto& c : cands) {
+            if (c.at("planned").get<bool>()) {
+                EXPECT_LE(rank(chosen), rank(c)) << c.dump();
+            }
+        }
+        EXPECT_EQ(j->at("summary").at("unsupported_layers").get<int>(),
+                  chosen.at("unsupported_layers").get<int>());
+    }
 }
 
 TEST(PlanCli, BadOptionsExitTwo) {

@@ -21,7 +21,7 @@ namespace maxslice::pipeline {
 /// How the base direction is chosen.
 enum class Orient {
     kGiven,  ///< the part stands as given: build along `direction` (default +Z)
-    kAuto,   ///< the candidate with the fewest splits, then the fewest tilts wanted
+    kAuto,   ///< no layer on nothing, then the fewest splits, then the fewest tilts wanted
 };
 
 /// The planner's settings for a process profile: its layer height, h_min and h_max (widened
@@ -42,7 +42,8 @@ struct OrientCandidate {
     int splits = 0;
     int tilts_wanted = 0;
     int regions = 0;
-    bool planned = false;  ///< false when planning failed for it (error below)
+    int unsupported_layers = 0;  ///< layers its plan leaves resting on nothing
+    bool planned = false;        ///< false when planning failed for it (error below)
     std::string error;
 };
 
@@ -74,7 +75,8 @@ struct PlannedPart {
 [[nodiscard]] std::vector<OrientCandidate> orientation_candidates(const mesh::TriangleMesh& mesh);
 
 /// Plans the part (see plan::plan_part); with Orient::kAuto plans every candidate and keeps
-/// the one with the fewest splits, then the fewest tilts wanted, then the first tried.
+/// the one whose plan leaves no layer resting on nothing, then the fewest splits, then the
+/// fewest tilts wanted, then the first tried.
 /// Errors: those of plan_part; with kAuto, the first candidate's error when none plans.
 [[nodiscard]] core::Result<PlannedPart> plan_mesh(const mesh::TriangleMesh& mesh,
                                                   const PlanJobSettings& settings,
