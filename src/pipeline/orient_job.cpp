@@ -92,18 +92,32 @@ core::Result<OrientedPlan> orient_multiaxis(const mesh::TriangleMesh& part, cons
                                             const core::Progress* progress) {
     OrientedPlan out;
     std::optional<Placed> as_given;
+    std::optional<core::Error> given_error;  // the given direction could not be planned
     if (policy != OrientPolicy::kAuto) {
         auto g = plan_along(part, given, profiles, progress);
-        if (!g) return std::unexpected(g.error());
-        if (auto ok = order(*g, profiles, progress); !ok) return std::unexpected(ok.error());
-        std::string refusal = multiaxis_refusal(g->planned);
+        if (g) {
+            if (auto ok = order(*g, profiles, progress); !ok) return std::unexpected(ok.error());
+        }
+        // A plan the planner refuses along this direction (a piece nothing can reach) may
+        // exist along another: with kFallback the search goes on, and the error stands if
+        // nothing builds.
+        if (!g &&
+            (policy == OrientPolicy::kGiven || g.error().code != core::ErrorCode::kInvalidInput)) {
+            return std::unexpected(g.error());
+        }
+        std::string refusal =
+            g ? multiaxis_refusal(g->planned) : "no plan: " + first_clause(g.error());
         out.tries.push_back({core::normalized(given), "as given", refusal});
-        if (refusal.empty() || policy == OrientPolicy::kGiven) {
+        if (g && (refusal.empty() || policy == OrientPolicy::kGiven)) {
             out.placed = std::move(g->placed);
             out.planned = std::move(g->planned);
             return out;
         }
-        as_given = std::move(*g);
+        if (g) {
+            as_given = std::move(*g);
+        } else {
+            given_error = g.error();
+        }
     }
     // Every other candidate planned, then ranked: no layer on nothing first, then the fewest
     // splits, then the fewest tilts wanted, then the order of orientation_candidates.
@@ -116,7 +130,7 @@ core::Result<OrientedPlan> orient_multiaxis(const mesh::TriangleMesh& part, cons
     const std::vector<OrientCandidate> candidates = orientation_candidates(part);
     for (std::size_t i = 0; i < candidates.size(); ++i) {
         const OrientCandidate& c = candidates[i];
-        if (as_given && same_direction(c.direction, given)) continue;
+        if (policy != OrientPolicy::kAuto && same_direction(c.direction, given)) continue;
         auto p = plan_along(part, c.direction, profiles, progress);
         if (!p && p.error().code == core::ErrorCode::kCancelled) return std::unexpected(p.error());
         if (!p) {
@@ -156,6 +170,7 @@ core::Result<OrientedPlan> orient_multiaxis(const mesh::TriangleMesh& part, cons
         out.chosen = 0;
         return out;
     }
+    if (given_error) return std::unexpected(*given_error);
     if (ranked.empty()) {
         return core::fail(
             core::ErrorCode::kInvalidInput,

@@ -46,8 +46,9 @@ struct OrientedPlan {
 /// first, then fewest splits, then fewest tilts wanted, then the order tried, and ordered in
 /// that rank until one is buildable. kAuto: the same without trying `given` first. When none
 /// is buildable the given direction's plan is returned (kAuto: the best ranked), with every
-/// try and its refusal. Errors: those of plan_mesh and order_plan for the given direction
-/// (a candidate that fails to plan is recorded as a try).
+/// try and its refusal. Errors: those of plan_mesh and order_plan for the given direction; with
+/// kFallback a plan the planner refuses as invalid input along the given direction is
+/// recorded as a try like the candidates' and its error returned only when nothing builds.
 [[nodiscard]] core::Result<OrientedPlan> orient_multiaxis(const mesh::TriangleMesh& part,
                                                           const core::Vec3d& given,
                                                           OrientPolicy policy,
