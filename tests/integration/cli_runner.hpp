@@ -10,6 +10,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <system_error>
 #include <vector>
 
 namespace maxslice::test {
@@ -26,12 +27,26 @@ inline std::string shell_quote(const std::string& s) {
     return q + "'";
 }
 
-/// A fresh, empty folder under the system's temporary folder: maxslice_<suite>_<name>.
+/// A fresh, empty folder under the system's temporary folder, maxslice_<suite>_<name>_<pid>,
+/// removed when the test process ends. The process id keeps two test runs at the same time
+/// (two checkouts, or ctest -j over one) out of each other's files.
 inline std::filesystem::path fresh_temp_dir(const std::string& suite, const std::string& name) {
+    struct Cleanup {
+        std::vector<std::filesystem::path> dirs;
+        ~Cleanup() {
+            for (const auto& d : dirs) {
+                std::error_code ec;
+                std::filesystem::remove_all(d, ec);
+            }
+        }
+    };
+    static Cleanup cleanup;
     const std::filesystem::path d =
-        std::filesystem::temp_directory_path() / ("maxslice_" + suite + "_" + name);
+        std::filesystem::temp_directory_path() /
+        ("maxslice_" + suite + "_" + name + "_" + std::to_string(::getpid()));
     std::filesystem::remove_all(d);
     std::filesystem::create_directories(d);
+    cleanup.dirs.push_back(d);
     return d;
 }
 

@@ -1,6 +1,7 @@
 #include "maxslice/verify/replay.hpp"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <array>
 #include <cmath>
@@ -204,7 +205,8 @@ TEST(Replay, GarbageNeverCrashes) {
 // canonical STRAIGHT_FEED / STRAIGHT_TRAVERSE calls, or nothing when it fails.
 std::optional<std::vector<std::array<double, 6>>> rs274_moves(const std::string& program,
                                                               const std::string& name) {
-    const fs::path dir = fs::temp_directory_path() / ("maxslice_verify_rs274_" + name);
+    const fs::path dir = fs::temp_directory_path() /
+                         ("maxslice_verify_rs274_" + name + "_" + std::to_string(::getpid()));
     fs::create_directories(dir);
     const fs::path ngc = dir / "program.ngc", canon = dir / "canon.txt";
     std::ofstream(ngc) << program;
