@@ -262,8 +262,6 @@ void print_verification(const std::optional<verify::Report>& report) {
                 report->idle_time_s / 60.0, report->dwell_time_s / 60.0);
 }
 
-// A table-tilt machine: plan the placed part (regions, tilts, splits), order its layers with
-// the nozzle check, turn them into moves and write the 5-axis program.
 // The orientation policy of a program job: --orient, or the default (the given direction,
 // others when it cannot be built, unless --direction was given).
 std::optional<pipeline::OrientPolicy> orient_policy(const SliceOptions& so) {
@@ -290,12 +288,12 @@ void print_orientation(const std::vector<pipeline::OrientTry>& tries, int chosen
     if (tries.empty()) return;
     const pipeline::OrientTry& kept = tries[static_cast<std::size_t>(chosen)];
     if (kept.source == "as given") return;
-    std::string where = pipeline::direction_text(kept.direction);
-    if (kept.source.rfind(where, 0) == 0) {
-        where = kept.source;  // "+Z (as given)", "-X"
-    } else {
-        where += " (" + kept.source + ")";  // "(0.7071, 0.0000, 0.7071) (largest flat face 2)"
-    }
+    // Axis candidates are named by their direction ("-Z", "+Z (as given)"); flat faces are not.
+    const core::Vec3d& d = kept.direction;
+    const std::string where =
+        kept.source.starts_with('+') || kept.source.starts_with('-')
+            ? kept.source
+            : fmt::format("({:.4f}, {:.4f}, {:.4f}), {}", d.x, d.y, d.z, kept.source);
     if (tries.front().source != "as given") {
         std::printf("orientation     along %s (--orient auto)\n", where.c_str());
         return;
@@ -308,6 +306,8 @@ void print_orientation(const std::vector<pipeline::OrientTry>& tries, int chosen
     std::printf("orientation     along %s (%s)\n", where.c_str(), why.c_str());
 }
 
+// A table-tilt machine: plan the placed part (regions, tilts, splits), order its layers with
+// the nozzle check, turn them into moves and write the 5-axis program.
 int run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
                         pipeline::PreparedPart& part, const machine::Profiles& profiles,
                         pipeline::StageTimes& times, const core::Vec3d& given,
@@ -318,10 +318,10 @@ int run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
         pipeline::orient_multiaxis(part.imported.mesh, given, policy, profiles, progress.get());
     if (!oriented) return report_error(oriented.error());
     part.imported.mesh = std::move(oriented->placed);
-    const std::optional<pipeline::PlannedPart> planned = std::move(oriented->planned);
+    const pipeline::PlannedPart& planned = oriented->planned;
     times.slice_s = seconds_since(t0);
     const std::string tried = other_tries(oriented->tries, oriented->chosen);
-    const plan::Plan& plan = planned->plan;
+    const plan::Plan& plan = planned.plan;
     if (!plan.unsupported_layers.empty()) {
         const plan::Layer& l = plan.layers[static_cast<std::size_t>(plan.unsupported_layers[0])];
         return report_error({core::ErrorCode::kInvalidInput,
@@ -331,20 +331,20 @@ int run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
                                          plan.unsupported_layers.size(), l.id, l.region, tried),
                              opt.path});
     }
-    if (!planned->order->complete()) {
-        const plan::Conflict& c = planned->order->conflicts.front();
+    if (!planned.order->complete()) {
+        const plan::Conflict& c = planned.order->conflicts.front();
         return report_error(
             {core::ErrorCode::kInvalidInput,
              fmt::format("no collision-free build order exists with this nozzle ({} "
                          "conflicts), so no program is written: {}. See the partial order: "
                          "maxslice plan PART --profile FILE --plan plan.json{}",
-                         planned->order->conflicts.size(), c.reason, tried),
+                         planned.order->conflicts.size(), c.reason, tried),
              opt.path});
     }
     print_orientation(oriented->tries, oriented->chosen);
     const std::string name = std::filesystem::path(opt.path).filename().string();
     t0 = std::chrono::steady_clock::now();
-    auto p = pipeline::plan_multiaxis_program(plan, *planned->order, part.imported.mesh, profiles,
+    auto p = pipeline::plan_multiaxis_program(plan, *planned.order, part.imported.mesh, profiles,
                                               name, progress.get());
     if (!p) return report_error(p.error());
     times.paths_s = seconds_since(t0);
@@ -370,7 +370,7 @@ int run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
     std::printf("regions         %zu (%d splits), %zu layers (%d tilted)\n", plan.regions.size(),
                 plan.split_count(), plan.layers.size(), plan.tilted_layer_count());
     std::printf("build order     %d jumps (fewest %d), %zu sections, %d section travels\n",
-                planned->order->jumps, planned->order->min_jumps, planned->order->sections.size(),
+                planned.order->jumps, planned.order->min_jumps, planned.order->sections.size(),
                 p->section_changes);
     std::printf("program         %s (%s, %s, %zu moves)\n", so.output.c_str(),
                 std::string(machine::dialect_name(profiles.machine.dialect)).c_str(),

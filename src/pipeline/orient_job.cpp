@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
-#include <tuple>
 #include <utility>
 
 #include "maxslice/pipeline/program_job.hpp"
@@ -14,13 +13,6 @@ namespace maxslice::pipeline {
 namespace {
 
 using core::Vec3d;
-
-/// Directions this close (1 - cos) are the given one again.
-constexpr double kSameDirectionCos = 1e-9;
-
-bool same_direction(const Vec3d& a, const Vec3d& b) {
-    return core::dot(core::normalized(a), core::normalized(b)) > 1.0 - kSameDirectionCos;
-}
 
 // Why a multi-axis plan cannot be built, or "" when it can.
 std::string multiaxis_refusal(const PlannedPart& p) {
@@ -72,21 +64,6 @@ std::string planar_refusal(const plan::PlanarCheck& check) {
 
 }  // namespace
 
-bool OrientedPlan::buildable() const {
-    return multiaxis_refusal(planned).empty() && planned.order.has_value();
-}
-
-std::string direction_text(const Vec3d& d) {
-    const Vec3d u = core::normalized(d);
-    static const std::pair<Vec3d, const char*> kAxes[] = {{{1, 0, 0}, "+X"}, {{-1, 0, 0}, "-X"},
-                                                          {{0, 1, 0}, "+Y"}, {{0, -1, 0}, "-Y"},
-                                                          {{0, 0, 1}, "+Z"}, {{0, 0, -1}, "-Z"}};
-    for (const auto& [axis, name] : kAxes) {
-        if (same_direction(u, axis)) return name;
-    }
-    return fmt::format("({:.4f}, {:.4f}, {:.4f})", u.x, u.y, u.z);
-}
-
 core::Result<OrientedPlan> orient_multiaxis(const mesh::TriangleMesh& part, const Vec3d& given,
                                             OrientPolicy policy, const machine::Profiles& profiles,
                                             const core::Progress* progress) {
@@ -122,14 +99,11 @@ core::Result<OrientedPlan> orient_multiaxis(const mesh::TriangleMesh& part, cons
     // Every other candidate planned, then ranked: no layer on nothing first, then the fewest
     // splits, then the fewest tilts wanted, then the order of orientation_candidates.
     struct Ranked {
-        std::size_t index;
         OrientCandidate candidate;
         Placed placed;
     };
     std::vector<Ranked> ranked;
-    const std::vector<OrientCandidate> candidates = orientation_candidates(part);
-    for (std::size_t i = 0; i < candidates.size(); ++i) {
-        const OrientCandidate& c = candidates[i];
+    for (const OrientCandidate& c : orientation_candidates(part)) {
         if (policy != OrientPolicy::kAuto && same_direction(c.direction, given)) continue;
         auto p = plan_along(part, c.direction, profiles, progress);
         if (!p && p.error().code == core::ErrorCode::kCancelled) return std::unexpected(p.error());
@@ -137,15 +111,11 @@ core::Result<OrientedPlan> orient_multiaxis(const mesh::TriangleMesh& part, cons
             out.tries.push_back({c.direction, c.source, "no plan: " + first_clause(p.error())});
             continue;
         }
-        ranked.push_back({i, c, std::move(*p)});
+        ranked.push_back({c, std::move(*p)});
     }
-    const auto key = [](const Ranked& r) {
-        const plan::Plan& p = r.placed.planned.plan;
-        return std::tuple(!p.unsupported_layers.empty(), p.split_count(), p.tilt_wanted_count(),
-                          r.index);
-    };
-    std::sort(ranked.begin(), ranked.end(),
-              [&](const Ranked& a, const Ranked& b) { return key(a) < key(b); });
+    std::stable_sort(ranked.begin(), ranked.end(), [](const Ranked& a, const Ranked& b) {
+        return orientation_rank(a.placed.planned.plan) < orientation_rank(b.placed.planned.plan);
+    });
     for (Ranked& r : ranked) {
         std::string refusal = multiaxis_refusal(r.placed.planned);
         if (refusal.empty()) {

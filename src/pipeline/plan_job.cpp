@@ -84,12 +84,20 @@ plan::PlanSettings plan_settings(const machine::ProcessProfile& process) {
     return s;
 }
 
+bool same_direction(const core::Vec3d& a, const core::Vec3d& b) {
+    return core::dot(core::normalized(a), core::normalized(b)) > 1.0 - kSameDirectionCos;
+}
+
+std::tuple<bool, int, int> orientation_rank(const plan::Plan& plan) {
+    return {!plan.unsupported_layers.empty(), plan.split_count(), plan.tilt_wanted_count()};
+}
+
 std::vector<OrientCandidate> orientation_candidates(const mesh::TriangleMesh& mesh) {
     std::vector<OrientCandidate> out;
     const auto add = [&](core::Vec3d d, std::string source) {
         d = core::normalized(d);
         for (const OrientCandidate& c : out) {
-            if (core::dot(c.direction, d) > 1.0 - kSameDirectionCos) return;
+            if (same_direction(c.direction, d)) return;
         }
         out.push_back({d, std::move(source)});
     };
@@ -166,13 +174,7 @@ core::Result<PlannedPart> plan_mesh(const mesh::TriangleMesh& mesh, const PlanJo
             c.tilts_wanted = p->tilt_wanted_count();
             c.regions = static_cast<int>(p->regions.size());
             c.unsupported_layers = static_cast<int>(p->unsupported_layers.size());
-            const auto rank = [](const OrientCandidate& o) {
-                return std::tuple{o.unsupported_layers > 0, o.splits, o.tilts_wanted};
-            };
-            const bool better =
-                out.chosen < 0 ||
-                rank(c) < rank(out.candidates[static_cast<std::size_t>(out.chosen)]);
-            if (better) {
+            if (out.chosen < 0 || orientation_rank(*p) < orientation_rank(out.plan)) {
                 out.chosen = static_cast<int>(i);
                 out.plan = std::move(*p);
             }

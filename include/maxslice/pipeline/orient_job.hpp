@@ -36,8 +36,6 @@ struct OrientedPlan {
     PlannedPart planned;        ///< planned along +Z of `placed`, with its build order
     std::vector<OrientTry> tries;
     int chosen = 0;  ///< index into tries: the direction kept
-    /// The kept plan leaves no layer on nothing and has a complete build order.
-    [[nodiscard]] bool buildable() const;
 };
 
 /// Plans and orders the part for a table-tilt machine. kGiven: along `given` only. kFallback:
@@ -76,8 +74,5 @@ struct OrientedStack {
     const mesh::TriangleMesh& part, const core::Vec3d& given, OrientPolicy policy,
     const SliceSettings& settings, const machine::Profiles& profiles,
     const core::Progress* progress = nullptr, StageTimes* times = nullptr);
-
-/// "(x, y, z)" of a direction, and "+Y" style names for the axis directions.
-[[nodiscard]] std::string direction_text(const core::Vec3d& d);
 
 }  // namespace maxslice::pipeline

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "maxslice/core/progress.hpp"
@@ -68,6 +69,14 @@ struct PlannedPart {
 [[nodiscard]] core::Result<void> order_plan(PlannedPart& planned, const plan::Nozzle& nozzle,
                                             std::string nozzle_source,
                                             const core::Progress* progress = nullptr);
+
+/// Whether two base directions (not necessarily unit) are one for the orientation search.
+[[nodiscard]] bool same_direction(const core::Vec3d& a, const core::Vec3d& b);
+
+/// A candidate plan's rank in the orientation search, lower first: no layer resting on nothing,
+/// then the fewest splits, then the fewest tilts wanted (plan --orient auto and the program
+/// job's search, decision 0015).
+[[nodiscard]] std::tuple<bool, int, int> orientation_rank(const plan::Plan& plan);
 
 /// The candidate base directions of --orient auto: the 6 axis directions and the directions
 /// that stand the part on each of its largest flat faces (up to 4 faces of at least 5% of
