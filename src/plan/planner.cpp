@@ -130,6 +130,24 @@ struct RegionJob {
     Seed seed;
 };
 
+// What a walk or a march of a region asks for next. plan_region runs them in a loop (they
+// used to call each other: a bunny scan nested thousands of calls deep and overflowed the
+// stack).
+struct Next {
+    enum class Kind {
+        kDone,    // walked to the top, or split after some layers
+        kRewalk,  // split at the region's first layer: its cell changed, walk it again
+        kMarch,   // tilted layers from layer `lower` up
+        kResume,  // planar layers again from layer `lower`'s top
+    };
+    Kind kind = Kind::kDone;
+    int lower = -1;
+};
+
+Next done_or_rewalk(bool rewalk) {
+    return {rewalk ? Next::Kind::kRewalk : Next::Kind::kDone};
+}
+
 // A region's uniform slices, cut in batches as the walk asks for them: a walk that stops
 // at a split (most do, in parts that split) does not pay for the slices above it. Each
 // plane's section depends only on its own height (slice::slice_mesh cuts planes
@@ -220,18 +238,42 @@ private:
         if (!(hi > 0.0)) return {};
         SliceStack slices(mesh_, r.base,
                           slice::uniform_layers(0.0, hi, s_.layer_mm, s_.h_min_mm, s_.h_max_mm));
+        std::optional<SliceStack> resumed;
         for (;;) {
-            auto outcome = walk(job, slices);
-            if (!outcome) return std::unexpected(outcome.error());
-            if (!*outcome) return {};  // walked to the top, or split after some layers
-            // Split at the region's first layer: its cell changed (not its slices), walk it
-            // again.
+            auto next = walk(job, slices, -1);
+            for (;;) {
+                if (!next) return std::unexpected(next.error());
+                if (next->kind == Next::Kind::kMarch) {
+                    next = march(job.region, next->lower);
+                } else if (next->kind == Next::Kind::kResume) {
+                    // A march met an empty section: the part's top, or a gap with more of
+                    // the part above (another body, a branch): the region goes on in planar
+                    // layers from L's top, as a walk does (empty sections skipped; what
+                    // comes next is analysed against L).
+                    const int lower = next->lower;
+                    const slice::PlaneFrame top = plan_.layers[static_cast<std::size_t>(lower)].top;
+                    const double above = slice::extent_along(mesh_, top).second;
+                    if (!(above > s_.layer_mm / 2)) return {};
+                    resumed.emplace(
+                        mesh_, top,
+                        slice::uniform_layers(0.0, above, s_.layer_mm, s_.h_min_mm, s_.h_max_mm));
+                    // Its first slice is the one the march found empty; the planar slicer
+                    // may still find some of the part there (an open mesh's loops are
+                    // closed differently in the two): no march from L again, or the two
+                    // would hand L back and forth for ever.
+                    next = walk({job.region, {lower}}, *resumed, lower);
+                } else {
+                    break;
+                }
+            }
+            if (next->kind == Next::Kind::kDone) return {};
+            // kRewalk: split at the region's first layer; its cell changed (not its slices).
         }
     }
 
-    // Walks a region's slices. Returns true when the region must be walked again (its cell
-    // changed before it had any layer), false when done.
-    core::Result<bool> walk(const RegionJob& job, SliceStack& slices) {
+    // Walks a region's slices (no tilt towards the centroid chain from layer
+    // `no_march_from`). Ends at the top, at a split, or where a march takes over.
+    core::Result<Next> walk(const RegionJob& job, SliceStack& slices, int no_march_from) {
         const int rid = job.region;
         int lower = job.seed.layer;  // L: a layer id, or -1
         for (std::size_t i = 0; i < slices.size(); ++i) {
@@ -249,9 +291,9 @@ private:
                 // the two; the layers in between go to the new regions.
                 auto splits = check_splits(rid, lower, clipped, s);
                 if (!splits) return std::unexpected(splits.error());
-                if (*splits) return **splits;
+                if (*splits) return done_or_rewalk(**splits);
             }
-            if (lower >= 0 && s_.tilt_trigger_deg > 0.0) {
+            if (lower >= 0 && lower != no_march_from && s_.tilt_trigger_deg > 0.0) {
                 // The centroid chain over a track's height (METHOD.md section 4).
                 const Region& rr = plan_.regions[static_cast<std::size_t>(rid)];
                 const auto k = static_cast<std::size_t>(look_back_);
@@ -271,7 +313,7 @@ private:
                         "direction (> {:.0f}): tilted 3D layers follow it from here",
                         lower, angle_deg(d, lr.plane.normal), s_.tilt_trigger_deg);
                     plan_.decisions.push_back(std::move(dec));
-                    return march(rid, lower);
+                    return Next{Next::Kind::kMarch, lower};
                 }
             }
             Layer layer;
@@ -292,7 +334,7 @@ private:
             lower = layer.id;
             plan_.layers.push_back(std::move(layer));
         }
-        return false;
+        return Next{};
     }
 
     // One section of the mesh by an arbitrary plane, clipped to region rid's cell. Marches
@@ -343,9 +385,9 @@ private:
     // turns towards the chain of centroids by at most what keeps its local thickness in
     // [h_min, h_max] over the layer below (the per-layer bound atan((h_max - h_min) / W));
     // a tilt that breaks the range is halved, up to max_tilt_tries times, then dropped for
-    // that layer (recorded). Each plane is cut on its own. Ends at the top of the part or at
-    // a split.
-    core::Result<bool> march(int rid, int lower) {
+    // that layer (recorded). Each plane is cut on its own. Ends at a split, or at an empty
+    // section (the top of the part, or a gap: planar layers resume there).
+    core::Result<Next> march(int rid, int lower) {
         const double h = s_.layer_mm;
         const auto k = static_cast<std::size_t>(look_back_);
         for (;;) {
@@ -354,7 +396,7 @@ private:
             const slice::PlaneFrame flat_mid = l.top.shifted(h / 2);
             auto u0 = section(rid, flat_mid, h);
             if (!u0) return std::unexpected(u0.error());
-            if (geom2d::signed_area_mm2(*u0) <= 0.0) return resume_walk(rid, lower);
+            if (geom2d::signed_area_mm2(*u0) <= 0.0) return Next{Next::Kind::kResume, lower};
 
             const Region& rr = plan_.regions[static_cast<std::size_t>(rid)];
             const int ref = rr.layers.size() >= k ? rr.layers[rr.layers.size() - k] : lower;
@@ -431,7 +473,7 @@ private:
                     slice::PlaneFrame::from_normal((c_top + g) * 0.5, core::normalized(nl + n_new));
                 auto ut = section(rid, mid, h);
                 if (!ut) return std::unexpected(ut.error());
-                if (geom2d::signed_area_mm2(*ut) <= 0.0) return resume_walk(rid, lower);
+                if (geom2d::signed_area_mm2(*ut) <= 0.0) return Next{Next::Kind::kResume, lower};
                 u = std::move(*ut);
             }
             Region& r = plan_.regions[static_cast<std::size_t>(rid)];
@@ -439,7 +481,7 @@ private:
             const slice::Slice s{0, mid, {cut - h / 2, cut + h / 2, cut}, {}, 0, 0};
             auto splits = check_splits(rid, lower, u, s);
             if (!splits) return std::unexpected(splits.error());
-            if (*splits) return **splits;
+            if (*splits) return done_or_rewalk(**splits);
 
             Layer layer;
             layer.id = static_cast<int>(plan_.layers.size());
@@ -464,21 +506,6 @@ private:
                                fmt::format("region {}", rid));
             }
         }
-    }
-
-    // A march met an empty section: the part's top, or a gap with more of the part above
-    // (another body, a branch): the region goes on in planar layers from L's top, as a walk
-    // does (empty sections skipped; what comes next is analysed against L).
-    core::Result<bool> resume_walk(int rid, int lower) {
-        const Layer& l = plan_.layers[static_cast<std::size_t>(lower)];
-        const slice::PlaneFrame base = l.top;
-        const auto [lo, hi] = slice::extent_along(mesh_, base);
-        (void)lo;
-        if (!(hi > s_.layer_mm / 2)) return false;
-        SliceStack slices(mesh_, base,
-                          slice::uniform_layers(0.0, hi, s_.layer_mm, s_.h_min_mm, s_.h_max_mm));
-        // The first of them is the empty one the march met.
-        return walk({rid, {lower}}, slices);
     }
 
     // Removes region rid's layers above layer `keep` (the last ones made), and the tilt
