@@ -3,7 +3,8 @@
 # toolpaths, program, and the independent verifier on the written text) on the planner's
 # fixtures and on every part under the shared test data's meshes/ (and the large lattice
 # cone), and prints a Markdown table of the verifier's figures and the job's wall time.
-# Parts are read with --repair (the shared set has open scans).
+# Parts are read with --repair (the shared set has open scans); those MANIFEST.md says are
+# in other units run a second time with --units.
 #
 #   bench/verify_all.sh [-b MAXSLICE] [-p PROFILE] [-d TESTDATA_DIR]
 set -euo pipefail
@@ -34,12 +35,32 @@ echo "machine: $(nproc) cores, load $(cut -d' ' -f1-3 /proc/loadavg); profile: $
 echo
 echo "| part | exit | regions | layers (tilted) | collisions | unsupported | limit violations | coverage % | excess % | build time min | verify s | job wall s | note |"
 echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"
-{ ls "$work"/fixtures/*.stl; find "$data/meshes" -type f | sort; echo "$data/large/Spiral_lattice_cone_2_occt.stl"; } | while read -r f; do
+# The units MANIFEST.md states for parts not in millimetres.
+stated_units() {
+    case ${1##*/} in
+        bunny.bin.stl) echo m ;;
+        angle_block.STL | featuretype.STL | idler_riser.STL) echo in ;;
+    esac
+}
+{
+    ls "$work"/fixtures/*.stl
+    find "$data/meshes" -type f | sort | while read -r f; do
+        echo "$f"
+        u=$(stated_units "$f")
+        [ -z "$u" ] || printf '%s\t%s\n' "$f" "$u"
+    done
+    echo "$data/large/Spiral_lattice_cone_2_occt.stl"
+} | while IFS=$'\t' read -r f units; do
     [ -f "$f" ] || continue
     case $f in "$work"/*) rel="fixture ${f##*/}"; rel=${rel%.stl} ;; *) rel=${f#"$data/"} ;; esac
+    extra=()
+    if [ -n "$units" ]; then
+        extra=(--units "$units")
+        rel="$rel --units $units"
+    fi
     t0=$EPOCHREALTIME
     rc=0
-    "$maxslice" slice "$f" --repair --profile "$profile" -o "$work/p.gm" --timings \
+    "$maxslice" slice "$f" --repair "${extra[@]}" --profile "$profile" -o "$work/p.gm" --timings \
         > "$work/out" 2> "$work/err" || rc=$?
     t1=$EPOCHREALTIME
     wall=$(awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.2f", b - a }')

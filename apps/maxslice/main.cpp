@@ -271,17 +271,6 @@ std::optional<pipeline::OrientPolicy> orient_policy(const SliceOptions& so) {
     return so.direction_given ? pipeline::OrientPolicy::kGiven : pipeline::OrientPolicy::kFallback;
 }
 
-// "; other orientations tried: -Z (14 layers rest on nothing), ..." (empty without others).
-std::string other_tries(const std::vector<pipeline::OrientTry>& tries, int chosen) {
-    std::string out;
-    for (std::size_t i = 0; i < tries.size(); ++i) {
-        if (static_cast<int>(i) == chosen || tries[i].source == "as given") continue;
-        out += fmt::format("{}{} ({})", out.empty() ? "" : ", ", tries[i].source,
-                           tries[i].refusal.empty() ? "builds" : tries[i].refusal);
-    }
-    return out.empty() ? out : "; other orientations tried: " + out;
-}
-
 // Says which base direction a job kept when it is not the part as given: a warning and a
 // summary line when the given one could not be built, the summary line with --orient auto.
 void print_orientation(const std::vector<pipeline::OrientTry>& tries, int chosen) {
@@ -320,7 +309,7 @@ int run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
     part.imported.mesh = std::move(oriented->placed);
     const pipeline::PlannedPart& planned = oriented->planned;
     times.slice_s = seconds_since(t0);
-    const std::string tried = other_tries(oriented->tries, oriented->chosen);
+    const std::string tried = pipeline::other_tries(oriented->tries, oriented->chosen);
     const plan::Plan& plan = planned.plan;
     if (!plan.unsupported_layers.empty()) {
         const plan::Layer& l = plan.layers[static_cast<std::size_t>(plan.unsupported_layers[0])];
@@ -330,6 +319,22 @@ int run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
                                          "plate): no program without support is possible{}",
                                          plan.unsupported_layers.size(), l.id, l.region, tried),
                              opt.path});
+    }
+    if (!oriented->bare_plate_layers.empty()) {
+        const plan::Layer& l =
+            plan.layers[static_cast<std::size_t>(oriented->bare_plate_layers.front())];
+        const geom2d::Centroid2 c = geom2d::centroid_um(l.wires.paths());
+        const core::Vec3d at = l.plane.to_3d({std::llround(c.x), std::llround(c.y)});
+        return report_error(
+            {core::ErrorCode::kInvalidInput,
+             fmt::format("the part stands on {} piece(s) where no {:.2f} mm track fits (the first: "
+                         "{:.1f} mm2 near ({:.3f}, {:.3f}, {:.3f}), an edge or a tip): nothing can "
+                         "be laid there, and what stands on it would rest on nothing; stand the "
+                         "part on a face (--direction) or use a narrower track "
+                         "(process.track_width_mm){}",
+                         oriented->bare_plate_layers.size(), profiles.process.track_width_mm,
+                         l.area_mm2, at.x, at.y, at.z, tried),
+             opt.path});
     }
     if (!planned.order->complete()) {
         const plan::Conflict& c = planned.order->conflicts.front();
@@ -485,7 +490,8 @@ int run_slice(const PartOptions& opt, const SliceOptions& so) {
                              "written. See where it splits: maxslice plan PART --orient auto{}",
                              check->heights_mm.front(), check->overhangs, check->checked_up_to,
                              p.area_mm2, p.C.x, p.C.y, p.C.z, p.ang_deg, ps.beta_deg,
-                             p.touches_lower ? "" : ", floating", other_tries(tries, chosen)),
+                             p.touches_lower ? "" : ", floating",
+                             pipeline::other_tries(tries, chosen)),
                  opt.path});
         }
         print_orientation(tries, chosen);
@@ -556,7 +562,7 @@ int run_slice(const PartOptions& opt, const SliceOptions& so) {
     std::printf("thickness       %.4f - %.4f mm\n", hmin, hmax);
     std::printf("most wires      %zu outer, %zu holes in one layer\n", outers, holes);
     std::printf("sliced volume   %.6g mm3 %s\n", volume,
-                pipeline::volume_against_mesh(volume, part->report).c_str());
+                pipeline::volume_against_mesh(volume, part->final_report()).c_str());
     if (gaps > 0) std::printf("gaps closed     %d (open mesh)\n", gaps);
     if (planned) {
         const auto& sum = planned->summary;
@@ -669,7 +675,7 @@ int run_plan(const PartOptions& opt, const PlanOptions& po, bool layer_given) {
             return report_error(ok.error());
         }
     }
-    std::fputs(pipeline::plan_summary(*planned, part->report).c_str(), stdout);
+    std::fputs(pipeline::plan_summary(*planned, part->final_report()).c_str(), stdout);
     if (opt.timings) print_timings(times);
     if (!planned->order->complete()) {
         const plan::Conflict& c = planned->order->conflicts.front();

@@ -15,9 +15,12 @@ namespace {
 using core::Vec3d;
 
 // Why a multi-axis plan cannot be built, or "" when it can.
-std::string multiaxis_refusal(const PlannedPart& p) {
+std::string multiaxis_refusal(const PlannedPart& p, const std::vector<int>& bare_plate) {
     if (!p.plan.unsupported_layers.empty()) {
         return fmt::format("{} layers rest on nothing", p.plan.unsupported_layers.size());
+    }
+    if (!bare_plate.empty()) {
+        return fmt::format("stands on {} piece(s) where no track fits", bare_plate.size());
     }
     if (p.order && !p.order->complete()) {
         return fmt::format("no collision-free build order ({} conflicts)",
@@ -26,9 +29,61 @@ std::string multiaxis_refusal(const PlannedPart& p) {
     return {};
 }
 
+// The layers on the plate whose toolpaths have no track (every feature narrower than the
+// track) when something with a track stands on them, directly or over more such layers: a
+// part standing on a knife edge or a tip. The toolpath stage would leave them bare and cut
+// every track above them (decision 0013), layer after layer. Parts where no track fits
+// anywhere above them (too fine for the track, or in other units) give none: the toolpath
+// stage names that case.
+core::Result<std::vector<int>> bare_plate_layers(const plan::Plan& plan,
+                                                 const machine::Profiles& profiles) {
+    const path::PathSettings settings = path_settings(profiles.process);
+    // Which of `ids` have no track.
+    const auto bare_of = [&](const std::vector<int>& ids) -> core::Result<std::vector<int>> {
+        std::vector<const geom2d::WireTree*> regions;
+        regions.reserve(ids.size());
+        for (const int id : ids)
+            regions.push_back(&plan.layers[static_cast<std::size_t>(id)].wires);
+        auto tracks = path::plan_layers(regions, settings, geom2d::Point2{});
+        if (!tracks) return std::unexpected(tracks.error());
+        std::vector<int> bare;
+        for (std::size_t i = 0; i < ids.size(); ++i) {
+            if ((*tracks)[i].strokes.empty()) bare.push_back(ids[i]);
+        }
+        return bare;
+    };
+    std::vector<int> plate;
+    for (const plan::Layer& l : plan.layers) {
+        if (l.on_plate) plate.push_back(l.id);
+    }
+    auto bare_plate = bare_of(plate);
+    if (!bare_plate) return std::unexpected(bare_plate.error());
+    // Up from them, one generation of children at a time, while the children are bare too.
+    std::vector<char> seen(plan.layers.size(), 0);
+    std::vector<int> level = *bare_plate;
+    for (const int id : level) seen[static_cast<std::size_t>(id)] = 1;
+    while (!level.empty()) {
+        std::vector<int> children;
+        for (const int id : level) {
+            for (const int c : plan.layers[static_cast<std::size_t>(id)].children) {
+                if (seen[static_cast<std::size_t>(c)] == 0) {
+                    seen[static_cast<std::size_t>(c)] = 1;
+                    children.push_back(c);
+                }
+            }
+        }
+        auto bare = bare_of(children);
+        if (!bare) return std::unexpected(bare.error());
+        if (bare->size() < children.size()) return bare_plate;  // a track stands on them
+        level = std::move(*bare);
+    }
+    return std::vector<int>{};
+}
+
 struct Placed {
     mesh::TriangleMesh placed;
     PlannedPart planned;
+    std::vector<int> bare_plate;
 };
 
 core::Result<Placed> plan_along(const mesh::TriangleMesh& part, const Vec3d& direction,
@@ -40,6 +95,9 @@ core::Result<Placed> plan_along(const mesh::TriangleMesh& part, const Vec3d& dir
     auto planned = plan_mesh(out.placed, ps, progress);
     if (!planned) return std::unexpected(planned.error());
     out.planned = std::move(*planned);
+    auto bare = bare_plate_layers(out.planned.plan, profiles);
+    if (!bare) return std::unexpected(bare.error());
+    out.bare_plate = std::move(*bare);
     return out;
 }
 
@@ -64,6 +122,16 @@ std::string planar_refusal(const plan::PlanarCheck& check) {
 
 }  // namespace
 
+std::string other_tries(const std::vector<OrientTry>& tries, int chosen) {
+    std::string out;
+    for (std::size_t i = 0; i < tries.size(); ++i) {
+        if (static_cast<int>(i) == chosen || tries[i].source == "as given") continue;
+        out += fmt::format("{}{} ({})", out.empty() ? "" : ", ", tries[i].source,
+                           tries[i].refusal.empty() ? "builds" : tries[i].refusal);
+    }
+    return out.empty() ? out : "; other orientations tried: " + out;
+}
+
 core::Result<OrientedPlan> orient_multiaxis(const mesh::TriangleMesh& part, const Vec3d& given,
                                             OrientPolicy policy, const machine::Profiles& profiles,
                                             const core::Progress* progress) {
@@ -82,12 +150,13 @@ core::Result<OrientedPlan> orient_multiaxis(const mesh::TriangleMesh& part, cons
             (policy == OrientPolicy::kGiven || g.error().code != core::ErrorCode::kInvalidInput)) {
             return std::unexpected(g.error());
         }
-        std::string refusal =
-            g ? multiaxis_refusal(g->planned) : "no plan: " + first_clause(g.error());
+        std::string refusal = g ? multiaxis_refusal(g->planned, g->bare_plate)
+                                : "no plan: " + first_clause(g.error());
         out.tries.push_back({core::normalized(given), "as given", refusal});
         if (g && (refusal.empty() || policy == OrientPolicy::kGiven)) {
             out.placed = std::move(g->placed);
             out.planned = std::move(g->planned);
+            out.bare_plate_layers = std::move(g->bare_plate);
             return out;
         }
         if (g) {
@@ -117,18 +186,19 @@ core::Result<OrientedPlan> orient_multiaxis(const mesh::TriangleMesh& part, cons
         return orientation_rank(a.placed.planned.plan) < orientation_rank(b.placed.planned.plan);
     });
     for (Ranked& r : ranked) {
-        std::string refusal = multiaxis_refusal(r.placed.planned);
+        std::string refusal = multiaxis_refusal(r.placed.planned, r.placed.bare_plate);
         if (refusal.empty()) {
             if (auto ok = order(r.placed, profiles, progress); !ok) {
                 refusal = "no build order: " + first_clause(ok.error());
             } else {
-                refusal = multiaxis_refusal(r.placed.planned);
+                refusal = multiaxis_refusal(r.placed.planned, r.placed.bare_plate);
             }
         }
         out.tries.push_back({r.candidate.direction, r.candidate.source, refusal});
         if (refusal.empty()) {
             out.placed = std::move(r.placed.placed);
             out.planned = std::move(r.placed.planned);
+            out.bare_plate_layers = std::move(r.placed.bare_plate);
             out.chosen = static_cast<int>(out.tries.size()) - 1;
             return out;
         }
@@ -137,10 +207,14 @@ core::Result<OrientedPlan> orient_multiaxis(const mesh::TriangleMesh& part, cons
     if (as_given) {
         out.placed = std::move(as_given->placed);
         out.planned = std::move(as_given->planned);
+        out.bare_plate_layers = std::move(as_given->bare_plate);
         out.chosen = 0;
         return out;
     }
-    if (given_error) return std::unexpected(*given_error);
+    if (given_error) {
+        given_error->message += other_tries(out.tries, 0);
+        return std::unexpected(*given_error);
+    }
     if (ranked.empty()) {
         return core::fail(
             core::ErrorCode::kInvalidInput,
@@ -160,6 +234,7 @@ core::Result<OrientedPlan> orient_multiaxis(const mesh::TriangleMesh& part, cons
     }
     out.placed = std::move(best.placed.placed);
     out.planned = std::move(best.placed.planned);
+    out.bare_plate_layers = std::move(best.placed.bare_plate);
     return out;
 }
 

@@ -84,8 +84,7 @@ core::Result<PreparedPart> prepare_part(const std::filesystem::path& path,
     auto part = read_part(path, settings, times);
     if (!part) return part;
     const std::string context = "file " + path.filename().string();
-    const mesh::ValidationReport& final_report =
-        part->repaired_report ? *part->repaired_report : part->report;
+    const mesh::ValidationReport& final_report = part->final_report();
     if (auto ok = check_sliceable(final_report, settings.repair); !ok) {
         return std::unexpected(core::with_context(
             ok.error(), settings.repair ? context + " (after repair)" : context));

@@ -295,6 +295,40 @@ TEST(FiveAxis, APartThatCannotBeBuiltAsGivenIsStoodOnAnotherBase) {
     }
 }
 
+// A wedge standing on a strip 0.5 mm wide: no 2.5 mm track fits on the plate, and the wider
+// layers above would rest on nothing (the toolpath stage cuts them, decision 0013, and most of
+// the part went missing; the angle block of the shared set in inches had 174 beads in mid-air).
+// The job stands it on a face instead and its program verifies; --orient given refuses,
+// naming the strip.
+TEST(FiveAxis, APartStandingOnAnEdgeIsStoodOnAFace) {
+    const fs::path dir = temp_dir("edge");
+    maxslice::test::RampSpec spec;
+    spec.base_length = 0.5;
+    spec.lean_deg = 30.0;
+    const fs::path part = export_fixture(maxslice::test::ramp_45(spec), dir);
+    const fs::path program = dir / "p.gm";
+    const CliRun r = run_cli(
+        {"slice", part.string(), "--profile", kReference5.string(), "-o", program.string()});
+    ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+    EXPECT_NE(r.err.find("the part as given cannot be built: stands on 1 piece(s) where no "
+                         "track fits"),
+              std::string::npos)
+        << r.err;
+    const Figures f = read_figures(r.out);
+    expect_clean(f, r.out);
+    // Standing on a face, only the sharp edge narrower than a track stays bare (95 %).
+    EXPECT_GE(f.coverage_pct, 90.0) << r.out;
+
+    const fs::path none = dir / "none.gm";
+    const CliRun g = run_cli({"slice", part.string(), "--profile", kReference5.string(), "-o",
+                              none.string(), "--orient", "given"});
+    EXPECT_EQ(g.exit_code, 2) << g.out << g.err;
+    EXPECT_NE(g.err.find("the part stands on 1 piece(s) where no 2.50 mm track fits"),
+              std::string::npos)
+        << g.err;
+    EXPECT_FALSE(fs::exists(none));
+}
+
 // A written program with one deposit block moved 5 mm down into the part, and one with a travel
 // down through it: `maxslice verify` exits 2 and names the collision at that line; the
 // unchanged program passes.
@@ -398,23 +432,34 @@ TEST(FiveAxis, NoVerifyWritesTheProgramAndSaysSo) {
 // verifier passes, or a refusal with a reason and no file; never a crash or an internal error.
 // Coverage is only asserted positive: parts with features narrower than the track cannot reach
 // 97%. Where the job's verifier refused a program, --no-verify writes it and `maxslice verify`
-// refuses it too. (About a minute; the ASan run skips the EverySharedModel tests.)
+// refuses it too. The parts MANIFEST.md says are in other units run a second time with
+// --units (the bunny in metres once nested the planner's walks until the stack overflowed).
+// (About a minute; the ASan run skips the EverySharedModel tests.)
 TEST(FiveAxis, EverySharedModelIsBuiltOrRefusedCleanly) {
     const fs::path dir = temp_dir("shared");
-    std::vector<fs::path> parts;
+    const std::map<std::string, std::string> stated_units = {{"bunny.bin.stl", "m"},
+                                                             {"angle_block.STL", "in"},
+                                                             {"featuretype.STL", "in"},
+                                                             {"idler_riser.STL", "in"}};
+    std::vector<std::pair<fs::path, std::string>> parts;  // path, --units or ""
     for (const auto& e : fs::recursive_directory_iterator(kTestData / "meshes")) {
-        if (e.is_regular_file()) parts.push_back(e.path());
+        if (!e.is_regular_file()) continue;
+        parts.emplace_back(e.path(), "");
+        const auto u = stated_units.find(e.path().filename().string());
+        if (u != stated_units.end()) parts.emplace_back(e.path(), u->second);
     }
     std::sort(parts.begin(), parts.end());
-    ASSERT_GE(parts.size(), 20u);
+    ASSERT_GE(parts.size(), 20u + stated_units.size());
     int written = 0, refused = 0;
-    for (const fs::path& part : parts) {
-        SCOPED_TRACE(part.string());
+    for (const auto& [part, units] : parts) {
+        SCOPED_TRACE(part.string() + (units.empty() ? "" : " --units " + units));
         const fs::path program = dir / "p.gm";
         fs::remove(program);
-        const CliRun r = run_cli({"slice", part.string(), "--repair", "--profile",
-                                  kReference5.string(), "-o", program.string()},
-                                 300);
+        std::vector<std::string> args = {"slice",         part.string(),        "--repair",
+                                         "--profile",     kReference5.string(), "-o",
+                                         program.string()};
+        if (!units.empty()) args.insert(args.end(), {"--units", units});
+        const CliRun r = run_cli(args, 300);
         ASSERT_TRUE(r.exit_code == 0 || r.exit_code == 2) << "exit " << r.exit_code << "\n"
                                                           << r.out << r.err;
         if (r.exit_code == 2) {
@@ -422,15 +467,16 @@ TEST(FiveAxis, EverySharedModelIsBuiltOrRefusedCleanly) {
             EXPECT_FALSE(fs::exists(program)) << "no program is written when the job fails";
             EXPECT_NE(r.err.find("maxslice: error:"), std::string::npos) << r.err;
             if (r.err.find("the verifier refused the program") != std::string::npos) {
-                const CliRun nv =
-                    run_cli({"slice", part.string(), "--repair", "--profile", kReference5.string(),
-                             "-o", program.string(), "--no-verify"},
-                            300);
+                std::vector<std::string> nv_args = args;
+                nv_args.push_back("--no-verify");
+                const CliRun nv = run_cli(nv_args, 300);
                 ASSERT_EQ(nv.exit_code, 0) << nv.err;
                 ASSERT_TRUE(fs::exists(program));
-                const CliRun v = run_cli({"verify", program.string(), "--model", part.string(),
-                                          "--profile", kReference5.string()},
-                                         300);
+                std::vector<std::string> v_args = {"verify",    program.string(),
+                                                   "--model",   part.string(),
+                                                   "--profile", kReference5.string()};
+                if (!units.empty()) v_args.insert(v_args.end(), {"--units", units});
+                const CliRun v = run_cli(v_args, 300);
                 EXPECT_EQ(v.exit_code, 2) << "slice's verifier refused it\n" << v.out << v.err;
             }
             continue;

@@ -259,6 +259,24 @@ TEST(PlanCli, BadOptionsExitTwo) {
     EXPECT_EQ(run_cli({"plan", (kTestData / "no_such_file.stl").string()}).exit_code, 2);
 }
 
+// The plan's volume is compared with the mesh the job works on: a mesh --repair closes (the
+// angle block's cracks are welded shut) is compared, one still open is not.
+TEST(PlanCli, PlanVolumeIsComparedWithTheRepairedMesh) {
+    const fs::path block = kTestData / "meshes" / "trimesh" / "angle_block.STL";
+    const CliRun r = run_cli({"plan", block.string(), "--units", "in", "--repair"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const std::size_t at = r.out.find("plan volume");
+    ASSERT_NE(at, std::string::npos) << r.out;
+    const std::string line = r.out.substr(at, r.out.find('\n', at) - at);
+    EXPECT_NE(line.find("(mesh "), std::string::npos) << line;
+    EXPECT_EQ(line.find("not closed"), std::string::npos) << line;
+
+    const fs::path open = kTestData / "meshes" / "trimesh" / "featuretype.3MF";
+    const CliRun o = run_cli({"plan", open.string(), "--repair"}, 300);
+    EXPECT_EQ(o.exit_code, 0) << o.err;
+    EXPECT_NE(o.out.find("the mesh is not closed"), std::string::npos) << o.out << o.err;
+}
+
 TEST(PlanCli, EverySharedMeshPlans) {
     const fs::path dir = temp_dir("shared");
     int planned = 0, conflicted = 0;

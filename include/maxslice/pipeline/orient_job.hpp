@@ -30,23 +30,30 @@ struct OrientTry {
     std::string refusal;  ///< why it cannot be built; empty when it can
 };
 
+/// "; other orientations tried: -Z (14 layers rest on nothing), ..." for the tries but
+/// `chosen` and the part as given (empty without others).
+std::string other_tries(const std::vector<OrientTry>& tries, int chosen);
+
 /// A multi-axis plan of the part standing on the plate along a chosen direction.
 struct OrientedPlan {
     mesh::TriangleMesh placed;  ///< the part on the plate, the chosen direction up
     PlannedPart planned;        ///< planned along +Z of `placed`, with its build order
+    /// Layers on the plate where no track fits (a part standing on an edge or a tip): nothing
+    /// is laid there, and what stands on them would rest on nothing.
+    std::vector<int> bare_plate_layers;
     std::vector<OrientTry> tries;
     int chosen = 0;  ///< index into tries: the direction kept
 };
 
 /// Plans and orders the part for a table-tilt machine. kGiven: along `given` only. kFallback:
-/// along `given`; when that plan leaves layers resting on nothing or has no collision-free
-/// order, the candidates of orientation_candidates are planned, ranked by buildable plan
-/// first, then fewest splits, then fewest tilts wanted, then the order tried, and ordered in
-/// that rank until one is buildable. kAuto: the same without trying `given` first. When none
-/// is buildable the given direction's plan is returned (kAuto: the best ranked), with every
-/// try and its refusal. Errors: those of plan_mesh and order_plan for the given direction; with
-/// kFallback a plan the planner refuses as invalid input along the given direction is
-/// recorded as a try like the candidates' and its error returned only when nothing builds.
+/// along `given`; when that plan leaves layers resting on nothing, stands on a piece where no
+/// track fits, or has no collision-free order, the candidates of orientation_candidates are
+/// planned, ranked by buildable plan first, then fewest splits, then fewest tilts wanted, then the
+/// order tried, and ordered in that rank until one is buildable. kAuto: the same without trying
+/// `given` first. When none is buildable the given direction's plan is returned (kAuto: the best
+/// ranked), with every try and its refusal. Errors: those of plan_mesh and order_plan for the given
+/// direction; with kFallback a plan the planner refuses as invalid input along the given direction
+/// is recorded as a try like the candidates' and its error returned only when nothing builds.
 [[nodiscard]] core::Result<OrientedPlan> orient_multiaxis(const mesh::TriangleMesh& part,
                                                           const core::Vec3d& given,
                                                           OrientPolicy policy,

@@ -32,6 +32,11 @@ struct PreparedPart {
     std::vector<std::string> repairs;   ///< what --repair changed, one line each
     std::vector<std::string> warnings;  ///< import warnings and accepted defects
     std::optional<mesh::ValidationReport> repaired_report;  ///< after --repair
+
+    /// The report of the mesh the job works on: after --repair when it was repaired.
+    [[nodiscard]] const mesh::ValidationReport& final_report() const {
+        return repaired_report ? *repaired_report : report;
+    }
 };
 
 /// How to read and check a part.
