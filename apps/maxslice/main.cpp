@@ -214,6 +214,29 @@ int check_tracks(const machine::ProgramSummary& sum, double uncovered_mm2, doubl
 // The independent verifier replays the program text before it is kept: a program that
 // collides, deposits on nothing (unless --allow-overhangs) or leaves an axis' travel is never
 // written. Skipped with --no-verify.
+// Whether the verifier's report lets the program be written (--allow-overhangs tolerates
+// unsupported beads, nothing else).
+bool verifier_keeps(const verify::Report& report, const SliceOptions& so) {
+    return report.passed() || (so.allow_overhangs && report.collisions.count == 0 &&
+                               report.limit_violations.count == 0);
+}
+
+// "(2 collisions, 0 unsupported beads, 0 axis-limit violations)"
+std::string verifier_counts(const verify::Report& report) {
+    return fmt::format("({} collisions, {} unsupported beads, {} axis-limit violations)",
+                       report.collisions.count, report.unsupported.count,
+                       report.limit_violations.count);
+}
+
+// Prints the verifier's report of a program it refused and the error.
+int refuse_unverified(const verify::Report& report, const SliceOptions& so) {
+    std::fputs(verify::report_text(report).c_str(), stderr);
+    return report_error({core::ErrorCode::kInvalidInput,
+                         fmt::format("the verifier refused the program {}: nothing written",
+                                     verifier_counts(report)),
+                         so.output});
+}
+
 int verify_program_text(const std::string& text, const mesh::TriangleMesh& placed,
                         const machine::Profiles& profiles, const SliceOptions& so,
                         pipeline::StageTimes& times, std::optional<verify::Report>& report) {
@@ -223,17 +246,7 @@ int verify_program_text(const std::string& text, const mesh::TriangleMesh& place
     if (!r) return report_error(core::with_context(r.error(), "verifying the program"));
     report = std::move(*r);
     times.verify_s = seconds_since(t0);
-    const bool tolerated =
-        so.allow_overhangs && report->collisions.count == 0 && report->limit_violations.count == 0;
-    if (report->passed() || tolerated) return kExitOk;
-    std::fputs(verify::report_text(*report).c_str(), stderr);
-    return report_error({core::ErrorCode::kInvalidInput,
-                         fmt::format("the verifier refused the program ({} collisions, {} "
-                                     "unsupported beads, {} axis-limit violations): nothing "
-                                     "written",
-                                     report->collisions.count, report->unsupported.count,
-                                     report->limit_violations.count),
-                         so.output});
+    return verifier_keeps(*report, so) ? kExitOk : refuse_unverified(*report, so);
 }
 
 void print_verification(const std::optional<verify::Report>& report) {
@@ -302,13 +315,62 @@ int run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
                         pipeline::StageTimes& times, const core::Vec3d& given,
                         pipeline::OrientPolicy policy) {
     const auto progress = make_progress();
+    const std::string name = std::filesystem::path(opt.path).filename().string();
+    // The program of the last plan the orientation search asked about, written and replayed
+    // in the verifier: a plan whose program the verifier refuses is not kept while another
+    // orientation builds (decision 0015).
+    struct Written {
+        std::optional<pipeline::MultiAxisProgram> program;
+        std::string text;
+        std::optional<verify::Report> report;
+        bool kept = false;  // the verifier passed it (or --no-verify, or no track at all)
+        double paths_s = 0.0, write_s = 0.0, verify_s = 0.0;
+    };
+    Written w;
+    double checks_s = 0.0;  // all of them, out of the planning time
+    const auto write_and_verify =
+        [&](const mesh::TriangleMesh& placed,
+            const pipeline::PlannedPart& planned) -> core::Result<std::string> {
+        const auto start = std::chrono::steady_clock::now();
+        w = {};
+        auto p = pipeline::plan_multiaxis_program(planned.plan, *planned.order, placed, profiles,
+                                                  name, progress.get());
+        if (!p) return std::unexpected(p.error());
+        w.program = std::move(*p);
+        w.paths_s = seconds_since(start);
+        // No track at all is refused below whatever the orientation (check_tracks).
+        w.kept = w.program->summary.laser_on_count == 0;
+        if (!w.kept) {
+            auto t = std::chrono::steady_clock::now();
+            machine::WriteOptions wo;
+            wo.clear_z_mm = machine::clear_height_mm(profiles.machine, placed.vertices);
+            auto text =
+                machine::write_program(w.program->program, profiles.machine, profiles.process, wo);
+            if (!text) return std::unexpected(text.error());
+            w.text = std::move(*text);
+            w.write_s = seconds_since(t);
+            w.kept = so.no_verify;
+            if (!w.kept) {
+                t = std::chrono::steady_clock::now();
+                auto r = verify::verify_program(w.text, placed, profiles);
+                if (!r)
+                    return std::unexpected(core::with_context(r.error(), "verifying the program"));
+                w.verify_s = seconds_since(t);
+                w.report = std::move(*r);
+                w.kept = verifier_keeps(*w.report, so);
+            }
+        }
+        checks_s += seconds_since(start);
+        return w.kept ? std::string()
+                      : "the verifier refused its program " + verifier_counts(*w.report);
+    };
     auto t0 = std::chrono::steady_clock::now();
-    auto oriented =
-        pipeline::orient_multiaxis(part.imported.mesh, given, policy, profiles, progress.get());
+    auto oriented = pipeline::orient_multiaxis(part.imported.mesh, given, policy, profiles,
+                                               progress.get(), write_and_verify);
     if (!oriented) return report_error(oriented.error());
     part.imported.mesh = std::move(oriented->placed);
     const pipeline::PlannedPart& planned = oriented->planned;
-    times.slice_s = seconds_since(t0);
+    times.slice_s = seconds_since(t0) - checks_s;
     const std::string tried = pipeline::other_tries(oriented->tries, oriented->chosen);
     const plan::Plan& plan = planned.plan;
     if (!plan.unsupported_layers.empty()) {
@@ -347,29 +409,24 @@ int run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
              opt.path});
     }
     print_orientation(oriented->tries, oriented->chosen);
-    const std::string name = std::filesystem::path(opt.path).filename().string();
-    t0 = std::chrono::steady_clock::now();
-    auto p = pipeline::plan_multiaxis_program(plan, *planned.order, part.imported.mesh, profiles,
-                                              name, progress.get());
-    if (!p) return report_error(p.error());
-    times.paths_s = seconds_since(t0);
+    // The search stops at the first plan it keeps, so `w` is that plan's program; otherwise
+    // (nothing kept: the given plan comes back with its refusal) it is made again here.
+    if (!w.kept) {
+        auto again = write_and_verify(part.imported.mesh, planned);
+        if (!again) return report_error(again.error());
+    }
+    times.paths_s = w.paths_s;
+    times.write_s = w.write_s;
+    times.verify_s = w.verify_s;
+    const pipeline::MultiAxisProgram* p = &*w.program;
     if (const int rc = check_tracks(p->summary, p->uncovered_mm2, p->region_area_mm2,
                                     p->layers_with_uncovered, profiles.process, opt.path);
         rc != kExitOk) {
         return rc;
     }
-    t0 = std::chrono::steady_clock::now();
-    machine::WriteOptions wo;
-    wo.clear_z_mm = machine::clear_height_mm(profiles.machine, part.imported.mesh.vertices);
-    auto text = machine::write_program(p->program, profiles.machine, profiles.process, wo);
-    if (!text) return report_error(text.error());
-    times.write_s = seconds_since(t0);
-    std::optional<verify::Report> report;
-    if (const int rc = verify_program_text(*text, part.imported.mesh, profiles, so, times, report);
-        rc != kExitOk) {
-        return rc;
-    }
-    if (const int rc = write_text_file(so.output, *text); rc != kExitOk) return rc;
+    if (!w.kept) return refuse_unverified(*w.report, so);
+    const std::optional<verify::Report>& report = w.report;
+    if (const int rc = write_text_file(so.output, w.text); rc != kExitOk) return rc;
 
     const auto& sum = p->summary;
     std::printf("regions         %zu (%d splits), %zu layers (%d tilted)\n", plan.regions.size(),

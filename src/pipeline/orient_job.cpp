@@ -134,7 +134,13 @@ std::string other_tries(const std::vector<OrientTry>& tries, int chosen) {
 
 core::Result<OrientedPlan> orient_multiaxis(const mesh::TriangleMesh& part, const Vec3d& given,
                                             OrientPolicy policy, const machine::Profiles& profiles,
-                                            const core::Progress* progress) {
+                                            const core::Progress* progress,
+                                            const ProgramCheck& check) {
+    // "" when `p` (buildable as planned) passes `check` too.
+    const auto checked = [&](const Placed& p) -> core::Result<std::string> {
+        if (!check) return std::string();
+        return check(p.placed, p.planned);
+    };
     OrientedPlan out;
     std::optional<Placed> as_given;
     std::optional<core::Error> given_error;  // the given direction could not be planned
@@ -152,6 +158,11 @@ core::Result<OrientedPlan> orient_multiaxis(const mesh::TriangleMesh& part, cons
         }
         std::string refusal = g ? multiaxis_refusal(g->planned, g->bare_plate)
                                 : "no plan: " + first_clause(g.error());
+        if (g && refusal.empty()) {
+            auto c = checked(*g);
+            if (!c) return std::unexpected(c.error());
+            refusal = std::move(*c);
+        }
         out.tries.push_back({core::normalized(given), "as given", refusal});
         if (g && (refusal.empty() || policy == OrientPolicy::kGiven)) {
             out.placed = std::move(g->placed);
@@ -193,6 +204,11 @@ core::Result<OrientedPlan> orient_multiaxis(const mesh::TriangleMesh& part, cons
             } else {
                 refusal = multiaxis_refusal(r.placed.planned, r.placed.bare_plate);
             }
+        }
+        if (refusal.empty()) {
+            auto c = checked(r.placed);
+            if (!c) return std::unexpected(c.error());
+            refusal = std::move(*c);
         }
         out.tries.push_back({r.candidate.direction, r.candidate.source, refusal});
         if (refusal.empty()) {

@@ -2,6 +2,7 @@
 // another way to stand it on the plate (docs/decisions/0015-orientation-fallback.md).
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -45,6 +46,12 @@ struct OrientedPlan {
     int chosen = 0;  ///< index into tries: the direction kept
 };
 
+/// A further judgement of a plan the search would keep (the program job writes its program and
+/// replays it in the verifier): "" keeps it, anything else is why not, and the search goes on
+/// as for a plan that cannot be built. Errors end the search.
+using ProgramCheck = std::function<core::Result<std::string>(const mesh::TriangleMesh& placed,
+                                                             const PlannedPart& planned)>;
+
 /// Plans and orders the part for a table-tilt machine. kGiven: along `given` only. kFallback:
 /// along `given`; when that plan leaves layers resting on nothing, stands on a piece where no
 /// track fits, or has no collision-free order, the candidates of orientation_candidates are
@@ -54,11 +61,14 @@ struct OrientedPlan {
 /// ranked), with every try and its refusal. Errors: those of plan_mesh and order_plan for the given
 /// direction; with kFallback a plan the planner refuses as invalid input along the given direction
 /// is recorded as a try like the candidates' and its error returned only when nothing builds.
+/// `check`, when given, is asked about every plan before it is kept (kGiven: its answer is
+/// recorded and the given plan kept).
 [[nodiscard]] core::Result<OrientedPlan> orient_multiaxis(const mesh::TriangleMesh& part,
                                                           const core::Vec3d& given,
                                                           OrientPolicy policy,
                                                           const machine::Profiles& profiles,
-                                                          const core::Progress* progress = nullptr);
+                                                          const core::Progress* progress = nullptr,
+                                                          const ProgramCheck& check = {});
 
 /// A planar stack of the part standing on the plate along a chosen direction.
 struct OrientedStack {

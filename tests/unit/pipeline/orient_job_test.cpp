@@ -1,0 +1,129 @@
+// The program job's orientation search (docs/decisions/0015-orientation-fallback.md): the
+// plan check that the job fills with its program and verifier, and the refusal of a part
+// standing on a strip where no track fits.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "maxslice/machine/profile.hpp"
+#include "maxslice/pipeline/orient_job.hpp"
+#include "support/planner_fixtures.hpp"
+
+namespace maxslice::pipeline {
+namespace {
+
+machine::Profiles reference_profiles() {
+    const std::array<std::filesystem::path, 1> files{std::filesystem::path(MAXSLICE_SOURCE_DIR) /
+                                                     "examples/profiles/reference_5axis_ac.toml"};
+    auto profiles = machine::load_profiles(files);
+    EXPECT_TRUE(profiles.has_value()) << (profiles ? "" : profiles.error().describe());
+    return profiles ? *profiles : machine::Profiles{};
+}
+
+// The top of the placed part along +Z (mm).
+double top_z(const mesh::TriangleMesh& m) {
+    double z = -1e300;
+    for (const core::Vec3d& v : m.vertices) z = std::max(z, v.z);
+    return z;
+}
+
+// A check that refuses plans whose placed part is as tall as `refused_height_mm` (within
+// 1e-6 mm), and counts the calls.
+struct RefuseByHeight {
+    double refused_height_mm = 0.0;
+    std::vector<double> heights;
+    core::Result<std::string> operator()(const mesh::TriangleMesh& placed, const PlannedPart& p) {
+        EXPECT_TRUE(p.order.has_value()) << "only ordered plans are checked";
+        const double h = top_z(placed);
+        heights.push_back(h);
+        return std::abs(h - refused_height_mm) < 1e-6 ? std::string("refused by the test")
+                                                      : std::string();
+    }
+};
+
+// The L-bracket builds as given (along +Z). A check that refuses it sends the search on: the
+// part is kept along another candidate, the given try carries the check's words, and the
+// check was asked about the given plan first, then about the one kept.
+TEST(OrientJob, APlanTheCheckRefusesIsNotKept) {
+    const machine::Profiles profiles = reference_profiles();
+    const mesh::TriangleMesh part = test::l_bracket().mesh;
+    auto given = orient_multiaxis(part, {0, 0, 1}, OrientPolicy::kGiven, profiles);
+    ASSERT_TRUE(given.has_value()) << given.error().describe();
+    ASSERT_EQ(given->tries.size(), 1u);
+    ASSERT_TRUE(given->tries[0].refusal.empty()) << given->tries[0].refusal;
+    const double given_height = top_z(given->placed);
+
+    RefuseByHeight check{given_height, {}};
+    auto o = orient_multiaxis(
+        part, {0, 0, 1}, OrientPolicy::kFallback, profiles, nullptr,
+        [&](const mesh::TriangleMesh& m, const PlannedPart& p) { return check(m, p); });
+    ASSERT_TRUE(o.has_value()) << o.error().describe();
+    ASSERT_GE(o->tries.size(), 2u);
+    EXPECT_EQ(o->tries[0].source, "as given");
+    EXPECT_EQ(o->tries[0].refusal, "refused by the test");
+    ASSERT_GT(o->chosen, 0);
+    EXPECT_TRUE(o->tries[static_cast<std::size_t>(o->chosen)].refusal.empty());
+    EXPECT_GT(std::abs(top_z(o->placed) - given_height), 1e-6);
+    ASSERT_GE(check.heights.size(), 2u);
+    EXPECT_NEAR(check.heights.front(), given_height, 1e-6);
+    EXPECT_NEAR(check.heights.back(), top_z(o->placed), 1e-6);
+    // Nothing is checked after the plan kept.
+    for (std::size_t i = 1; i + 1 < check.heights.size(); ++i) {
+        EXPECT_NEAR(check.heights[i], given_height, 1e-6) << "a refused plan in between";
+    }
+
+    // --orient given: the answer is recorded, the given plan kept.
+    RefuseByHeight again{given_height, {}};
+    auto g = orient_multiaxis(
+        part, {0, 0, 1}, OrientPolicy::kGiven, profiles, nullptr,
+        [&](const mesh::TriangleMesh& m, const PlannedPart& p) { return again(m, p); });
+    ASSERT_TRUE(g.has_value());
+    ASSERT_EQ(g->tries.size(), 1u);
+    EXPECT_EQ(g->tries[0].refusal, "refused by the test");
+    EXPECT_NEAR(top_z(g->placed), given_height, 1e-6);
+    EXPECT_EQ(again.heights.size(), 1u);
+}
+
+// An error of the check ends the search with that error.
+TEST(OrientJob, AnErrorOfTheCheckEndsTheSearch) {
+    const machine::Profiles profiles = reference_profiles();
+    auto o = orient_multiaxis(
+        test::l_bracket().mesh, {0, 0, 1}, OrientPolicy::kFallback, profiles, nullptr,
+        [](const mesh::TriangleMesh&, const PlannedPart&) -> core::Result<std::string> {
+            return core::fail(core::ErrorCode::kInternal, "test error", "check");
+        });
+    ASSERT_FALSE(o.has_value());
+    EXPECT_EQ(o.error().message, "test error");
+}
+
+// A wedge standing on a strip 0.5 mm wide, wider above: its plate layer has no track and
+// layers with tracks stand on it. As given it is refused for that; the search stands it on
+// a face. A block on its 12 mm wide foot has no such layer.
+TEST(OrientJob, APartOnAStripNarrowerThanATrackIsStoodOnAFace) {
+    const machine::Profiles profiles = reference_profiles();
+    test::RampSpec spec;
+    spec.base_length = 0.5;
+    spec.lean_deg = 30.0;
+    const mesh::TriangleMesh wedge = test::ramp_45(spec).mesh;
+    auto given = orient_multiaxis(wedge, {0, 0, 1}, OrientPolicy::kGiven, profiles);
+    ASSERT_TRUE(given.has_value()) << given.error().describe();
+    EXPECT_FALSE(given->bare_plate_layers.empty());
+    EXPECT_EQ(given->tries[0].refusal, "stands on 1 piece(s) where no track fits");
+
+    auto o = orient_multiaxis(wedge, {0, 0, 1}, OrientPolicy::kFallback, profiles);
+    ASSERT_TRUE(o.has_value()) << o.error().describe();
+    EXPECT_GT(o->chosen, 0);
+    EXPECT_TRUE(o->bare_plate_layers.empty());
+
+    auto block =
+        orient_multiaxis(test::vertical_prism().mesh, {0, 0, 1}, OrientPolicy::kGiven, profiles);
+    ASSERT_TRUE(block.has_value());
+    EXPECT_TRUE(block->bare_plate_layers.empty());
+    EXPECT_TRUE(block->tries[0].refusal.empty());
+}
+
+}  // namespace
+}  // namespace maxslice::pipeline
