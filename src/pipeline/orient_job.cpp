@@ -7,6 +7,8 @@
 #include <optional>
 #include <utility>
 
+#include <tbb/parallel_for.h>
+
 #include "maxslice/pipeline/program_job.hpp"
 
 namespace maxslice::pipeline {
@@ -182,10 +184,22 @@ core::Result<OrientedPlan> orient_multiaxis(const mesh::TriangleMesh& part, cons
         OrientCandidate candidate;
         Placed placed;
     };
-    std::vector<Ranked> ranked;
+    std::vector<OrientCandidate> candidates;
     for (const OrientCandidate& c : orientation_candidates(part)) {
-        if (policy != OrientPolicy::kAuto && same_direction(c.direction, given)) continue;
-        auto p = plan_along(part, c.direction, profiles, progress);
+        if (policy == OrientPolicy::kAuto || !same_direction(c.direction, given)) {
+            candidates.push_back(c);
+        }
+    }
+    // Planned side by side (each plan is the same whatever runs beside it), then taken in the
+    // candidates' order.
+    std::vector<std::optional<core::Result<Placed>>> plans(candidates.size());
+    tbb::parallel_for(std::size_t{0}, candidates.size(), [&](std::size_t i) {
+        plans[i] = plan_along(part, candidates[i].direction, profiles, progress);
+    });
+    std::vector<Ranked> ranked;
+    for (std::size_t i = 0; i < candidates.size(); ++i) {
+        const OrientCandidate& c = candidates[i];
+        core::Result<Placed>& p = *plans[i];
         if (!p && p.error().code == core::ErrorCode::kCancelled) return std::unexpected(p.error());
         if (!p) {
             out.tries.push_back({c.direction, c.source, "no plan: " + first_clause(p.error())});

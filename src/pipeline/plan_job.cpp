@@ -7,8 +7,11 @@
 #include <cmath>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <system_error>
 #include <tuple>
+
+#include <tbb/parallel_for.h>
 
 #include "maxslice/core/units.hpp"
 #include "output.hpp"
@@ -158,10 +161,16 @@ core::Result<PlannedPart> plan_mesh(const mesh::TriangleMesh& mesh, const PlanJo
         out.plan = std::move(*p);
     } else {
         out.candidates = orientation_candidates(mesh);
+        // Planned side by side (each plan is the same whatever runs beside it), then taken in
+        // the candidates' order.
+        std::vector<std::optional<core::Result<plan::Plan>>> plans(out.candidates.size());
+        tbb::parallel_for(std::size_t{0}, out.candidates.size(), [&](std::size_t i) {
+            plans[i] = plan::plan_part(mesh, out.candidates[i].direction, s.plan, progress);
+        });
         std::optional<core::Error> first_error;
         for (std::size_t i = 0; i < out.candidates.size(); ++i) {
             OrientCandidate& c = out.candidates[i];
-            auto p = plan::plan_part(mesh, c.direction, s.plan, progress);
+            core::Result<plan::Plan>& p = *plans[i];
             if (!p) {
                 if (p.error().code == core::ErrorCode::kCancelled)
                     return std::unexpected(p.error());
