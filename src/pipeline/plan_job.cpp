@@ -366,6 +366,7 @@ std::string plan_json(const PlannedPart& planned, const PreparedPart& part) {
                           {"top", frame_json(l.top)},
                           {"area_mm2", l.area_mm2},
                           {"on_plate", l.on_plate},
+                          {"after_gap", l.after_gap},
                           {"parents", l.parents},
                           {"children", l.children},
                           {"wires", std::move(wires)}});

@@ -276,13 +276,17 @@ private:
     core::Result<Next> walk(const RegionJob& job, SliceStack& slices, int no_march_from) {
         const int rid = job.region;
         int lower = job.seed.layer;  // L: a layer id, or -1
+        bool gap = false;            // empty sections since L
         for (std::size_t i = 0; i < slices.size(); ++i) {
             auto next = slices.at(i);
             if (!next) return std::unexpected(next.error());
             const slice::Slice& s = **next;
             Region& r = plan_.regions[static_cast<std::size_t>(rid)];
             const Paths2 clipped = detail::clip_to_cell(s.wires.paths(), r.cell, s.plane);
-            if (geom2d::signed_area_mm2(clipped) <= 0.0) continue;
+            if (geom2d::signed_area_mm2(clipped) <= 0.0) {
+                gap = gap || lower >= 0;
+                continue;
+            }
             if (lower >= 0) {
                 // U against L, then against the layer a track's height below (look-back):
                 // an overhang that grows by less than a track per layer (the underside of a
@@ -330,6 +334,8 @@ private:
             layer.wires = geom2d::build_wire_tree(clipped, geom2d::FillRule::kPositive);
             layer.area_mm2 = layer.wires.area_mm2();
             layer.on_plate = rid == 0 && r.layers.empty();
+            layer.after_gap = gap;
+            gap = false;
             r.layers.push_back(layer.id);
             lower = layer.id;
             plan_.layers.push_back(std::move(layer));
@@ -801,7 +807,7 @@ private:
         std::int64_t grown_by = -1;
         for (std::size_t k = 0; k < t.uppers.size(); ++k) {
             const Layer& upper = plan_.layers[static_cast<std::size_t>(t.uppers[k])];
-            if (!may_overlap(lower, upper)) continue;
+            if (upper.after_gap || !may_overlap(lower, upper)) continue;
             const Paths2 u = projected(upper, lower);
             const std::int64_t grow = growth_um(lower, upper);
             // The grown region lies within twice the growth of lower (mitred corners): a

@@ -77,6 +77,9 @@ struct Layer {
     std::vector<int> parents;   ///< layers it is deposited directly on
     std::vector<int> children;  ///< layers deposited directly on it
     bool on_plate = false;      ///< the first layer of the base region stands on the plate
+    /// Empty sections lie between it and the layer below it in its region (a body above a
+    /// gap): it does not rest on that layer.
+    bool after_gap = false;
 };
 
 /// What the planner decided at a layer, and why.

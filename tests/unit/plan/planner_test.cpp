@@ -116,6 +116,28 @@ void expect_volume(const Plan& p, double volume_mm3) {
 
 // ---- Fixtures --------------------------------------------------------------------------------
 
+// Two blocks one above the other with a 5 mm gap: the upper one's first layer rests on
+// nothing (the layer below it in the region lies 5 mm lower; the walk used to link the two
+// because their footprints overlap, and the verifier found the beads in mid-air). Along +X
+// both blocks stand on the plate.
+TEST(Planner, ABodyAboveAGapRestsOnNothing) {
+    const mesh::TriangleMesh m =
+        merged(box({0, 0, 0}, {20, 20, 20}), box({0, 0, 25}, {20, 20, 45}));
+    const Plan p = plan_of(m);
+    ASSERT_EQ(p.unsupported_layers.size(), 1u);
+    const Layer& l = p.layers[static_cast<std::size_t>(p.unsupported_layers[0])];
+    EXPECT_TRUE(l.after_gap);
+    EXPECT_TRUE(l.parents.empty());
+    EXPECT_NEAR(l.span.bottom, 25.0, 1e-6);
+    int after_gap = 0;
+    for (const Layer& q : p.layers) after_gap += q.after_gap ? 1 : 0;
+    EXPECT_EQ(after_gap, 1);
+
+    const Plan side = plan_of(m, {1, 0, 0});
+    EXPECT_TRUE(side.unsupported_layers.empty());
+    for (const Layer& q : side.layers) EXPECT_FALSE(q.after_gap);
+}
+
 TEST(Planner, PrismAndTubeAreOneRegion) {
     for (const auto& [name, m] : {std::pair{"box", box({0, 0, 0}, {30, 20, 15})},
                                   std::pair{"tube", test::tube(15, 6, 20, 64)}}) {
