@@ -284,7 +284,9 @@ private:
             Region& r = plan_.regions[static_cast<std::size_t>(rid)];
             const Paths2 clipped = detail::clip_to_cell(s.wires.paths(), r.cell, s.plane);
             if (geom2d::signed_area_mm2(clipped) <= 0.0) {
-                gap = gap || lower >= 0;
+                // Empty sections after a layer, or at the base plane of a region split from
+                // another: what comes next does not touch what lies below them.
+                gap = gap || lower >= 0 || rid != 0;
                 continue;
             }
             if (lower >= 0) {
@@ -736,6 +738,9 @@ private:
                 continue;
             }
             const Layer& first = layers[static_cast<std::size_t>(r.layers.front())];
+            // Empty sections between the base plane and the first layer: nothing across the
+            // base plane touches it (a body beside the part, reached across the air).
+            if (first.after_gap) continue;
             std::vector<int> others;
             for (const Region& other : plan_.regions) {
                 if (other.id == r.id || descends_from(other.id, r.id)) continue;

@@ -120,6 +120,25 @@ void expect_volume(const Plan& p, double volume_mm3) {
 // nothing (the layer below it in the region lies 5 mm lower; the walk used to link the two
 // because their footprints overlap, and the verifier found the beads in mid-air). Along +X
 // both blocks stand on the plate.
+// A block beside the part, 20 mm from it and from 10 mm up: the split towards it makes a region
+// along +X whose base plane is the part's face; its first layer lies 20 mm in front of that
+// plane and rests on nothing (it was linked to the face it is 20 mm from, and the verifier
+// found 22 beads in mid-air). Along +Y both blocks stand on the plate.
+TEST(Planner, ABodyBesideThePartReachedAcrossTheAirRestsOnNothing) {
+    const mesh::TriangleMesh m =
+        merged(box({0, 0, 0}, {20, 20, 20}), box({40, 0, 10}, {60, 20, 30}));
+    const Plan p = plan_of(m);
+    ASSERT_FALSE(p.unsupported_layers.empty());
+    const Layer& l = p.layers[static_cast<std::size_t>(p.unsupported_layers[0])];
+    EXPECT_TRUE(l.after_gap);
+    EXPECT_EQ(l.index_in_region, 0);
+    EXPECT_NE(l.region, 0);
+    EXPECT_TRUE(l.parents.empty());
+
+    const Plan side = plan_of(m, {0, 1, 0});
+    EXPECT_TRUE(side.unsupported_layers.empty());
+}
+
 TEST(Planner, ABodyAboveAGapRestsOnNothing) {
     const mesh::TriangleMesh m =
         merged(box({0, 0, 0}, {20, 20, 20}), box({0, 0, 25}, {20, 20, 45}));
