@@ -213,9 +213,8 @@ int check_tracks(const machine::ProgramSummary& sum, double uncovered_mm2, doubl
 
 // The independent verifier replays the program text before it is kept: a program that
 // collides, deposits on nothing (unless --allow-overhangs) or leaves an axis' travel is never
-// written. Skipped with --no-verify.
-// Whether the verifier's report lets the program be written (--allow-overhangs tolerates
-// unsupported beads, nothing else).
+// written (skipped with --no-verify). Whether the verifier's report lets the program be
+// written (--allow-overhangs tolerates unsupported beads, nothing else):
 bool verifier_keeps(const verify::Report& report, const SliceOptions& so) {
     return report.passed() || (so.allow_overhangs && report.collisions.count == 0 &&
                                report.limit_violations.count == 0);
@@ -237,16 +236,43 @@ int refuse_unverified(const verify::Report& report, const SliceOptions& so) {
                          so.output});
 }
 
-int verify_program_text(const std::string& text, const mesh::TriangleMesh& placed,
-                        const machine::Profiles& profiles, const SliceOptions& so,
-                        pipeline::StageTimes& times, std::optional<verify::Report>& report) {
-    if (so.no_verify) return kExitOk;
-    const auto t0 = std::chrono::steady_clock::now();
-    auto r = verify::verify_program(text, placed, profiles);
-    if (!r) return report_error(core::with_context(r.error(), "verifying the program"));
-    report = std::move(*r);
-    times.verify_s = seconds_since(t0);
-    return verifier_keeps(*report, so) ? kExitOk : refuse_unverified(*report, so);
+// The program of the last plan (or planar stack) the orientation search asked about,
+// written and replayed in the verifier: one the verifier refuses is not kept while another
+// orientation builds (decision 0015).
+template <class Planned>
+struct Written {
+    std::optional<Planned> program;
+    std::string text;
+    std::optional<verify::Report> report;
+    bool kept = false;  // the verifier passed it (or --no-verify, or no track at all)
+    double paths_s = 0.0, write_s = 0.0, verify_s = 0.0;
+};
+
+// Writes w.program's text and replays it in the verifier (unless --no-verify); "" when it
+// is kept, else the verifier's refusal for the orientation search. A program without any
+// track is "kept": check_tracks refuses it whatever the orientation.
+template <class Planned>
+core::Result<std::string> write_and_verify(Written<Planned>& w, const mesh::TriangleMesh& placed,
+                                           const machine::Profiles& profiles,
+                                           const SliceOptions& so,
+                                           const machine::WriteOptions& wo) {
+    w.kept = w.program->summary.laser_on_count == 0;
+    if (w.kept) return std::string();
+    auto t = std::chrono::steady_clock::now();
+    auto text = machine::write_program(w.program->program, profiles.machine, profiles.process, wo);
+    if (!text) return std::unexpected(text.error());
+    w.text = std::move(*text);
+    w.write_s = seconds_since(t);
+    w.kept = so.no_verify;
+    if (w.kept) return std::string();
+    t = std::chrono::steady_clock::now();
+    auto r = verify::verify_program(w.text, placed, profiles);
+    if (!r) return std::unexpected(core::with_context(r.error(), "verifying the program"));
+    w.verify_s = seconds_since(t);
+    w.report = std::move(*r);
+    w.kept = verifier_keeps(*w.report, so);
+    return w.kept ? std::string()
+                  : "the verifier refused its program " + verifier_counts(*w.report);
 }
 
 void print_verification(const std::optional<verify::Report>& report) {
@@ -316,21 +342,10 @@ int run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
                         pipeline::OrientPolicy policy) {
     const auto progress = make_progress();
     const std::string name = std::filesystem::path(opt.path).filename().string();
-    // The program of the last plan the orientation search asked about, written and replayed
-    // in the verifier: a plan whose program the verifier refuses is not kept while another
-    // orientation builds (decision 0015).
-    struct Written {
-        std::optional<pipeline::MultiAxisProgram> program;
-        std::string text;
-        std::optional<verify::Report> report;
-        bool kept = false;  // the verifier passed it (or --no-verify, or no track at all)
-        double paths_s = 0.0, write_s = 0.0, verify_s = 0.0;
-    };
-    Written w;
+    Written<pipeline::MultiAxisProgram> w;
     double checks_s = 0.0;  // all of them, out of the planning time
-    const auto write_and_verify =
-        [&](const mesh::TriangleMesh& placed,
-            const pipeline::PlannedPart& planned) -> core::Result<std::string> {
+    const auto check = [&](const mesh::TriangleMesh& placed,
+                           const pipeline::PlannedPart& planned) -> core::Result<std::string> {
         const auto start = std::chrono::steady_clock::now();
         w = {};
         auto p = pipeline::plan_multiaxis_program(planned.plan, *planned.order, placed, profiles,
@@ -338,35 +353,15 @@ int run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
         if (!p) return std::unexpected(p.error());
         w.program = std::move(*p);
         w.paths_s = seconds_since(start);
-        // No track at all is refused below whatever the orientation (check_tracks).
-        w.kept = w.program->summary.laser_on_count == 0;
-        if (!w.kept) {
-            auto t = std::chrono::steady_clock::now();
-            machine::WriteOptions wo;
-            wo.clear_z_mm = machine::clear_height_mm(profiles.machine, placed.vertices);
-            auto text =
-                machine::write_program(w.program->program, profiles.machine, profiles.process, wo);
-            if (!text) return std::unexpected(text.error());
-            w.text = std::move(*text);
-            w.write_s = seconds_since(t);
-            w.kept = so.no_verify;
-            if (!w.kept) {
-                t = std::chrono::steady_clock::now();
-                auto r = verify::verify_program(w.text, placed, profiles);
-                if (!r)
-                    return std::unexpected(core::with_context(r.error(), "verifying the program"));
-                w.verify_s = seconds_since(t);
-                w.report = std::move(*r);
-                w.kept = verifier_keeps(*w.report, so);
-            }
-        }
+        machine::WriteOptions wo;
+        wo.clear_z_mm = machine::clear_height_mm(profiles.machine, placed.vertices);
+        auto refusal = write_and_verify(w, placed, profiles, so, wo);
         checks_s += seconds_since(start);
-        return w.kept ? std::string()
-                      : "the verifier refused its program " + verifier_counts(*w.report);
+        return refusal;
     };
     auto t0 = std::chrono::steady_clock::now();
     auto oriented = pipeline::orient_multiaxis(part.imported.mesh, given, policy, profiles,
-                                               progress.get(), write_and_verify);
+                                               progress.get(), check);
     if (!oriented) return report_error(oriented.error());
     part.imported.mesh = std::move(oriented->placed);
     const pipeline::PlannedPart& planned = oriented->planned;
@@ -412,7 +407,7 @@ int run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
     // The search stops at the first plan it keeps, so `w` is that plan's program; otherwise
     // (nothing kept: the given plan comes back with its refusal) it is made again here.
     if (!w.kept) {
-        auto again = write_and_verify(part.imported.mesh, planned);
+        auto again = check(part.imported.mesh, planned);
         if (!again) return report_error(again.error());
     }
     times.paths_s = w.paths_s;
@@ -506,14 +501,27 @@ int run_slice(const PartOptions& opt, const SliceOptions& so) {
     int chosen = 0;
     const plan::PlanSettings ps =
         profiles ? pipeline::plan_settings(profiles->process) : plan::PlanSettings{};
+    const std::string name = std::filesystem::path(opt.path).filename().string();
+    Written<pipeline::PlannedProgram> w;
+    const auto write_stack = [&](const mesh::TriangleMesh& placed,
+                                 const pipeline::SliceStack& s) -> core::Result<std::string> {
+        w = {};
+        const auto start = std::chrono::steady_clock::now();
+        auto p = pipeline::plan_program(s, *profiles, name, progress.get());
+        if (!p) return std::unexpected(p.error());
+        w.program = std::move(*p);
+        w.paths_s = seconds_since(start);
+        return write_and_verify(w, placed, *profiles, so, machine::WriteOptions{});
+    };
     if (program_mode) {
         // A 3-axis machine builds every layer along one direction: the part stands on the
         // plate along the given direction (or, when that has overhangs a planar build cannot
-        // hold and --orient allows it, along another), checked with the planner's analysis.
+        // hold, or a program the verifier refuses, and --orient allows it, along another),
+        // checked with the planner's analysis.
         auto oriented =
             pipeline::orient_planar(part->imported.mesh, given,
                                     so.allow_overhangs ? pipeline::OrientPolicy::kGiven : *policy,
-                                    ss, *profiles, progress.get(), &times);
+                                    ss, *profiles, progress.get(), &times, write_stack);
         if (!oriented) return report_error(oriented.error());
         part->imported.mesh = std::move(oriented->placed);
         stack = std::move(oriented->stack);
@@ -561,27 +569,25 @@ int run_slice(const PartOptions& opt, const SliceOptions& so) {
         }
     }
     if (program_mode) {
-        const std::string name = std::filesystem::path(opt.path).filename().string();
-        auto t0 = std::chrono::steady_clock::now();
-        auto p = pipeline::plan_program(*stack, *profiles, name, progress.get());
-        if (!p) return report_error(p.error());
-        times.paths_s = seconds_since(t0);
-        if (const int rc = check_tracks(p->summary, p->uncovered_mm2, p->region_area_mm2,
-                                        p->layers_with_uncovered, profiles->process, opt.path);
+        // The search stops at the first stack it keeps, so `w` is that stack's program;
+        // otherwise (nothing kept) it is made again here.
+        if (!w.kept) {
+            auto again = write_stack(part->imported.mesh, *stack);
+            if (!again) return report_error(again.error());
+        }
+        times.paths_s = w.paths_s;
+        times.write_s = w.write_s;
+        times.verify_s = w.verify_s;
+        const pipeline::PlannedProgram& p = *w.program;
+        if (const int rc = check_tracks(p.summary, p.uncovered_mm2, p.region_area_mm2,
+                                        p.layers_with_uncovered, profiles->process, opt.path);
             rc != kExitOk) {
             return rc;
         }
-        t0 = std::chrono::steady_clock::now();
-        auto text = machine::write_program(p->program, profiles->machine, profiles->process);
-        if (!text) return report_error(text.error());
-        times.write_s = seconds_since(t0);
-        if (const int rc =
-                verify_program_text(*text, part->imported.mesh, *profiles, so, times, report);
-            rc != kExitOk) {
-            return rc;
-        }
-        if (const int rc = write_text_file(so.output, *text); rc != kExitOk) return rc;
-        planned = std::move(*p);
+        if (!w.kept) return refuse_unverified(*w.report, so);
+        if (const int rc = write_text_file(so.output, w.text); rc != kExitOk) return rc;
+        report = std::move(w.report);
+        planned = std::move(*w.program);
     }
 
     double volume = 0.0, hmin = 1e300, hmax = 0.0;

@@ -271,7 +271,8 @@ core::Result<OrientedPlan> orient_multiaxis(const mesh::TriangleMesh& part, cons
 core::Result<OrientedStack> orient_planar(const mesh::TriangleMesh& part, const Vec3d& given,
                                           OrientPolicy policy, const SliceSettings& settings,
                                           const machine::Profiles& profiles,
-                                          const core::Progress* progress, StageTimes* times) {
+                                          const core::Progress* progress, StageTimes* times,
+                                          const StackCheck& check) {
     const plan::PlanSettings ps = plan_settings(profiles.process);
     SliceSettings along_z = settings;
     along_z.direction = {0.0, 0.0, 1.0};
@@ -292,6 +293,11 @@ core::Result<OrientedStack> orient_planar(const mesh::TriangleMesh& part, const 
         auto g = slice_along(given, times);
         if (!g) return std::unexpected(g.error());
         std::string refusal = planar_refusal(g->check);
+        if (refusal.empty() && check) {
+            auto c = check(g->placed, g->stack);
+            if (!c) return std::unexpected(c.error());
+            refusal = std::move(*c);
+        }
         tries.push_back({core::normalized(given), "as given", refusal});
         if (refusal.empty() || policy == OrientPolicy::kGiven) {
             g->tries = std::move(tries);
@@ -300,8 +306,8 @@ core::Result<OrientedStack> orient_planar(const mesh::TriangleMesh& part, const 
         as_given = std::move(*g);
     }
     // Of the candidates without overhangs: the fewest tilts wanted, then the first tried (the
-    // ranking of plan --orient auto, all of them needing no split).
-    std::optional<OrientedStack> best;
+    // ranking of plan --orient auto, all of them needing no split), the first `check` keeps.
+    std::vector<OrientedStack> passing;
     std::optional<OrientedStack> first;  // kAuto when none passes: the first that slices
     for (const OrientCandidate& c : orientation_candidates(part)) {
         if (as_given && same_direction(c.direction, given)) continue;
@@ -319,7 +325,24 @@ core::Result<OrientedStack> orient_planar(const mesh::TriangleMesh& part, const 
             if (!first) first = std::move(*s);
             continue;
         }
-        if (!best || s->check.tilts_wanted < best->check.tilts_wanted) best = std::move(*s);
+        passing.push_back(std::move(*s));
+    }
+    std::stable_sort(passing.begin(), passing.end(),
+                     [](const OrientedStack& a, const OrientedStack& b) {
+                         return a.check.tilts_wanted < b.check.tilts_wanted;
+                     });
+    std::optional<OrientedStack> best;
+    for (OrientedStack& s : passing) {
+        if (check) {
+            auto c = check(s.placed, s.stack);
+            if (!c) return std::unexpected(c.error());
+            if (!c->empty()) {
+                tries[static_cast<std::size_t>(s.chosen)].refusal = std::move(*c);
+                continue;
+            }
+        }
+        best = std::move(s);
+        break;
     }
     OrientedStack out;
     if (best) {
@@ -329,6 +352,8 @@ core::Result<OrientedStack> orient_planar(const mesh::TriangleMesh& part, const 
         out.chosen = 0;
     } else if (first) {
         out = std::move(*first);
+    } else if (!passing.empty()) {
+        out = std::move(passing.front());
     } else {
         return core::fail(
             core::ErrorCode::kInvalidInput,

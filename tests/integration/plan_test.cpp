@@ -166,6 +166,34 @@ fs::path fixture_stl(const fs::path& dir, const std::string& name,
     return file;
 }
 
+// A wedge standing on a strip 0.5 mm wide passes the planar overhang check (its face leans 30
+// degrees) but no track fits on the strip, so the tracks above it rest on nothing: the
+// verifier refuses that program, and the 3-axis job stands the wedge on a face instead (it
+// used to fail with the verifier's refusal). --orient given still refuses.
+TEST(PlanCli, ThreeAxisPartOnAStripIsStoodOnAFace) {
+    const fs::path dir = temp_dir("strip");
+    maxslice::test::RampSpec spec;
+    spec.base_length = 0.5;
+    spec.lean_deg = 30.0;
+    const fs::path wedge = fixture_stl(dir, "wedge", maxslice::test::ramp_45(spec).mesh);
+    const fs::path out = dir / "wedge.gm";
+    const CliRun turned = run_cli({"slice", wedge.string(), "-o", out.string()});
+    ASSERT_EQ(turned.exit_code, 0) << turned.out << turned.err;
+    EXPECT_NE(turned.err.find("the part as given cannot be built: the verifier refused its "
+                              "program (0 collisions, "),
+              std::string::npos)
+        << turned.err;
+    EXPECT_NE(turned.out.find("verified        0 collisions, 0 unsupported"), std::string::npos)
+        << turned.out;
+    EXPECT_TRUE(fs::exists(out));
+    fs::remove(out);
+    const CliRun given =
+        run_cli({"slice", wedge.string(), "-o", out.string(), "--orient", "given"});
+    EXPECT_EQ(given.exit_code, 2) << given.out << given.err;
+    EXPECT_NE(given.err.find("the verifier refused the program"), std::string::npos) << given.err;
+    EXPECT_FALSE(fs::exists(out));
+}
+
 TEST(PlanCli, ThreeAxisProgramIsRefusedForAPartThatNeedsASplit) {
     const fs::path dir = temp_dir("three_axis");
     const fs::path seat = fixture_stl(dir, "bearing_seat", maxslice::test::bearing_seat().mesh);

@@ -86,10 +86,14 @@ struct OrientedStack {
 /// without preferring `given`. kGiven: `given` only. When none passes the given direction's
 /// stack is returned. Errors: those of slice_part and check_planar for the given direction.
 /// `times` gets the given direction's slicing only (as without the search: the `slice` stage
-/// the benchmarks compare).
+/// the benchmarks compare). `check`, when given, is asked about every stack before it is kept,
+/// in the search's order; one it refuses is a refused try (kGiven: recorded, the given kept).
+using StackCheck = std::function<core::Result<std::string>(const mesh::TriangleMesh& placed,
+                                                           const SliceStack& stack)>;
 [[nodiscard]] core::Result<OrientedStack> orient_planar(
     const mesh::TriangleMesh& part, const core::Vec3d& given, OrientPolicy policy,
     const SliceSettings& settings, const machine::Profiles& profiles,
-    const core::Progress* progress = nullptr, StageTimes* times = nullptr);
+    const core::Progress* progress = nullptr, StageTimes* times = nullptr,
+    const StackCheck& check = {});
 
 }  // namespace maxslice::pipeline

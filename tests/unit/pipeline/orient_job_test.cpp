@@ -125,5 +125,42 @@ TEST(OrientJob, APartOnAStripNarrowerThanATrackIsStoodOnAFace) {
     EXPECT_TRUE(block->tries[0].refusal.empty());
 }
 
+// The 3-axis search: the block builds as given; a check refusing the given stack sends the
+// search to the candidates (kept: one the check passes, after the given), and --orient given
+// records the answer and keeps the given stack.
+TEST(OrientJob, AStackTheCheckRefusesIsNotKept) {
+    const machine::Profiles profiles = reference_profiles();
+    const mesh::TriangleMesh part = test::vertical_prism().mesh;
+    SliceSettings settings;
+    settings.layers.layer_mm = profiles.process.layer_height_mm;
+    auto given = orient_planar(part, {0, 0, 1}, OrientPolicy::kGiven, settings, profiles);
+    ASSERT_TRUE(given.has_value()) << given.error().describe();
+    ASSERT_TRUE(given->tries[0].refusal.empty());
+    const double given_height = top_z(given->placed);
+    int calls = 0;
+    const StackCheck check = [&](const mesh::TriangleMesh& placed,
+                                 const SliceStack&) -> core::Result<std::string> {
+        ++calls;
+        return std::abs(top_z(placed) - given_height) < 1e-6 ? std::string("refused by the test")
+                                                             : std::string();
+    };
+    auto o = orient_planar(part, {0, 0, 1}, OrientPolicy::kFallback, settings, profiles, nullptr,
+                           nullptr, check);
+    ASSERT_TRUE(o.has_value()) << o.error().describe();
+    EXPECT_EQ(o->tries[0].refusal, "refused by the test");
+    ASSERT_GT(o->chosen, 0);
+    EXPECT_TRUE(o->tries[static_cast<std::size_t>(o->chosen)].refusal.empty());
+    EXPECT_GT(std::abs(top_z(o->placed) - given_height), 1e-6);
+    EXPECT_GE(calls, 2);
+
+    calls = 0;
+    auto g = orient_planar(part, {0, 0, 1}, OrientPolicy::kGiven, settings, profiles, nullptr,
+                           nullptr, check);
+    ASSERT_TRUE(g.has_value());
+    EXPECT_EQ(g->tries[0].refusal, "refused by the test");
+    EXPECT_NEAR(top_z(g->placed), given_height, 1e-6);
+    EXPECT_EQ(calls, 1);
+}
+
 }  // namespace
 }  // namespace maxslice::pipeline
