@@ -294,6 +294,58 @@ MachinePose MachineKinematics::pose_at(const Vec3d& tip_mm, double a_or_b_deg, d
     return pose;
 }
 
+core::Result<void> MachineKinematics::check_reach(const std::vector<Vec3d>& points,
+                                                  const std::vector<Vec3d>& plate_points,
+                                                  double slack_mm) const {
+    if (kinematics_ == Kinematics::kXyz) return {};
+    const Limits& x = limits_[0];
+    const Limits& y = limits_[1];
+    const Limits& z = limits_[2];
+    // (1) Anywhere: the farthest corner of the travel from the pivot.
+    double reach = 0.0;
+    for (int k = 0; k < 8; ++k) {
+        const Vec3d corner{(k & 1) != 0 ? x.max : x.min, (k & 2) != 0 ? y.max : y.min,
+                           (k & 4) != 0 ? z.max : z.min};
+        reach = std::max(reach, core::norm(corner - pivot_mm_));
+    }
+    const double o = core::norm(c_offset_mm_);
+    for (const Vec3d& q : points) {
+        const double d = core::norm(q - c_offset_mm_) - o;
+        if (d > reach + slack_mm) {
+            return core::fail(
+                ErrorCode::kInvalidInput,
+                fmt::format("the part does not fit the machine: its point ({:.3f}, {:.3f}, "
+                            "{:.3f}) mm is {:.1f} mm from the table's axes, and no table pose "
+                            "brings a point farther than {:.1f} mm from the pivot within the "
+                            "travel of {}, {} and {}",
+                            q.x, q.y, q.z, d, reach, x.name, y.name, z.name),
+                "machine.axes");
+        }
+    }
+    // (2) The lowest layer, tilt 0: the C axis sits at pivot + o in X and Y.
+    const double ax = pivot_mm_.x + c_offset_mm_.x, ay = pivot_mm_.y + c_offset_mm_.y;
+    double reach_xy = 0.0;
+    for (const double cx : {x.min, x.max}) {
+        for (const double cy : {y.min, y.max}) {
+            reach_xy = std::max(reach_xy, std::hypot(cx - ax, cy - ay));
+        }
+    }
+    for (const Vec3d& q : plate_points) {
+        const double r = std::hypot(q.x - c_offset_mm_.x, q.y - c_offset_mm_.y);
+        if (r > reach_xy + slack_mm) {
+            return core::fail(
+                ErrorCode::kInvalidInput,
+                fmt::format("the part does not fit the machine: its point ({:.3f}, {:.3f}, "
+                            "{:.3f}) mm on the plate is {:.1f} mm from the C axis, and with the "
+                            "table flat no turn of C brings a point farther than {:.1f} mm from "
+                            "it within the travel of {} and {}",
+                            q.x, q.y, q.z, r, reach_xy, x.name, y.name),
+                "machine.axes");
+        }
+    }
+    return {};
+}
+
 core::Result<double> MachineKinematics::safe_height(double z_from_mm, double z_to_mm,
                                                     double clear_z_mm) const {
     if (std::isnan(z_from_mm) || std::isnan(z_to_mm) || std::isnan(clear_z_mm)) {

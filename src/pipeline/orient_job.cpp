@@ -9,6 +9,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include "maxslice/machine/kinematics.hpp"
 #include "maxslice/pipeline/program_job.hpp"
 
 namespace maxslice::pipeline {
@@ -92,6 +93,20 @@ core::Result<Placed> plan_along(const mesh::TriangleMesh& part, const Vec3d& dir
                                 const machine::Profiles& profiles, const core::Progress* progress) {
     Placed out;
     out.placed = place_on_plate(part, direction, machine::plate_center(profiles.machine));
+    // A part the table cannot bring under the nozzle is refused before it is planned.
+    auto kinematics = machine::MachineKinematics::create(profiles.machine);
+    if (!kinematics) return std::unexpected(kinematics.error());
+    double bottom = INFINITY;
+    for (const Vec3d& v : out.placed.vertices) bottom = std::min(bottom, v.z);
+    std::vector<Vec3d> plate;
+    for (const Vec3d& v : out.placed.vertices) {
+        if (v.z <= bottom + profiles.process.layer_height_mm) plate.push_back(v);
+    }
+    if (auto ok =
+            kinematics->check_reach(out.placed.vertices, plate, profiles.process.track_width_mm);
+        !ok) {
+        return std::unexpected(ok.error());
+    }
     PlanJobSettings ps;
     ps.plan = plan_settings(profiles.process);
     auto planned = plan_mesh(out.placed, ps, progress);

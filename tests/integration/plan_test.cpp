@@ -194,6 +194,24 @@ TEST(PlanCli, ThreeAxisPartOnAStripIsStoodOnAFace) {
     EXPECT_FALSE(fs::exists(out));
 }
 
+// A slab 1.2 m square on the 800 x 800 mm travel of the reference A/C cell: refused before
+// anything is planned (it used to be planned and ordered first: a 2 m block ran for minutes),
+// in every orientation, naming a point and the reach.
+TEST(PlanCli, APartLargerThanTheMachineIsRefusedAtOnce) {
+    const fs::path dir = temp_dir("large");
+    const fs::path slab =
+        fixture_stl(dir, "slab", maxslice::test::box({0, 0, 0}, {1200, 1200, 10}));
+    const fs::path out = dir / "slab.gm";
+    const CliRun r =
+        run_cli({"slice", slab.string(), "-o", out.string(), "--profile",
+                 (kSource / "examples" / "profiles" / "reference_5axis_ac.toml").string()});
+    EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+    EXPECT_NE(r.err.find("the part does not fit the machine"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("other orientations tried"), std::string::npos) << r.err;
+    EXPECT_EQ(r.out.find("regions"), std::string::npos) << "nothing planned: " << r.out;
+    EXPECT_FALSE(fs::exists(out));
+}
+
 TEST(PlanCli, ThreeAxisProgramIsRefusedForAPartThatNeedsASplit) {
     const fs::path dir = temp_dir("three_axis");
     const fs::path seat = fixture_stl(dir, "bearing_seat", maxslice::test::bearing_seat().mesh);

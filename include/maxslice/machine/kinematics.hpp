@@ -82,6 +82,19 @@ public:
     [[nodiscard]] MachinePose pose_at(const core::Vec3d& tip_mm, double a_or_b_deg,
                                       double c_deg) const;
 
+    /// A quick test, before anything is planned, that the table can bring the part's points
+    /// under the nozzle at all (a part larger than the machine is refused in milliseconds,
+    /// not after planning it). Two necessary conditions on part-frame points, each with
+    /// `slack_mm` (a track's width: tracks lie inside the outline): (1) every point: the
+    /// rotations keep |q - o| (o = (c_offset, 0) on the C axis), so |q - o| - |o| must not
+    /// exceed the largest distance from the pivot to a corner of the X, Y, Z travel; (2) the
+    /// points of `plate_points` (the part's lowest layer, deposited along the table's +Z, tilt
+    /// 0): their distance from the C axis must not exceed the largest distance from the C
+    /// axis to a corner of the X, Y travel. For "xyz" nothing is tested (the program's limit
+    /// check names the move). Errors (kInvalidInput) name the point and the distances.
+    [[nodiscard]] core::Result<void> check_reach(const std::vector<core::Vec3d>& points,
+                                                 const std::vector<core::Vec3d>& plate_points,
+                                                 double slack_mm) const;
     /// The safe re-orientation from `from` to `to` (METHOD.md section 11,
     /// docs/program-dialects.md): the poses to pass through between them. When a rotary axis
     /// changes: retract straight up along the tool axis (+Z) to

@@ -145,6 +145,50 @@ TEST(Kinematics, COffsetIsTheCAxisPosition) {
 // Random poses inside the limits, for both tables, every sign and non-zero pivot and offset:
 // forward, then inverse from an unrelated previous pose, then forward again returns the same
 // tip and direction; from the pose itself as previous the inverse returns the pose.
+// check_reach is a necessary condition: it never refuses a point that a pose inside the
+// limits puts under the nozzle (any pose for the part's points; the table flat for its plate
+// points), and it refuses points beyond what any pose reaches, naming them.
+TEST(Kinematics, ReachTestRefusesOnlyWhatNoPoseReaches) {
+    std::mt19937_64 rng(20261201);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    const auto in = [&](double lo, double hi) { return lo + (hi - lo) * unit(rng); };
+    for (const Kinematics kin : {Kinematics::kTableAc, Kinematics::kTableBc}) {
+        TableSetup s{
+            .kinematics = kin, .pivot = {12.5, -40.0, -80.0}, .offset_x = 7.0, .offset_y = -3.0};
+        const MachineKinematics k = make(s);
+        for (int i = 0; i < 2000; ++i) {
+            const MachinePose pose{in(-1000, 1000), in(-1000, 1000), in(-1000, 1000),
+                                   in(s.tilt_min, s.tilt_max), in(s.c_min, s.c_max)};
+            const Vec3d tip = k.forward(pose).tip_mm;
+            ASSERT_TRUE(k.check_reach({tip}, {}, 0.0).has_value()) << i;
+            MachinePose flat = pose;
+            flat.a_or_b_deg = 0.0;
+            const Vec3d on_plate = k.forward(flat).tip_mm;
+            ASSERT_TRUE(k.check_reach({}, {on_plate}, 0.0).has_value()) << i;
+        }
+        // Far beyond the travel (more than 2000 mm from the pivot whatever the pose).
+        const auto far = k.check_reach({{4000.0, 0.0, 0.0}}, {}, 0.0);
+        ASSERT_FALSE(far.has_value());
+        EXPECT_NE(far.error().message.find("does not fit the machine"), std::string::npos);
+        EXPECT_NE(far.error().message.find("(4000.000, 0.000, 0.000)"), std::string::npos)
+            << far.error().message;
+        // 1500 mm from the C axis: within the bound for a tilted table (the travel's corners
+        // lie up to 1810 mm from the pivot), but not on the plate with the table flat (the
+        // X-Y travel's corners lie at most 1459 mm from the C axis).
+        const Vec3d wide{1500.0 + 7.0, -3.0, 0.0};
+        EXPECT_TRUE(k.check_reach({wide}, {}, 0.0).has_value());
+        const auto flat_far = k.check_reach({}, {wide}, 0.0);
+        ASSERT_FALSE(flat_far.has_value());
+        EXPECT_NE(flat_far.error().message.find("on the plate"), std::string::npos);
+        // The slack lets the outline overhang the travel by up to a track.
+        EXPECT_TRUE(k.check_reach({}, {wide}, 100.0).has_value());
+    }
+    // "xyz": nothing tested here.
+    auto xyz = MachineKinematics::create(testing::gm_machine());
+    ASSERT_TRUE(xyz.has_value());
+    EXPECT_TRUE(xyz->check_reach({{1e6, 0, 0}}, {{1e6, 0, 0}}, 0.0).has_value());
+}
+
 TEST(Kinematics, RoundTripOfRandomPosesInsideTheLimits) {
     std::mt19937_64 rng(20240611);
     std::uniform_real_distribution<double> unit(0.0, 1.0);
