@@ -492,6 +492,12 @@ int run_slice(const PartOptions& opt, const SliceOptions& so) {
     print_warnings(*part);
     const core::Vec3d given = ss.direction;
     if (program_mode && machine::is_table_tilt(profiles->machine.kinematics)) {
+        if (so.adaptive) {
+            std::fprintf(stderr,
+                         "maxslice: warning: --adaptive is not used on a table-tilt machine: its "
+                         "layers are the planner's (process.layer_height_mm, tilted where the "
+                         "part leans, METHOD.md section 4)\n");
+        }
         return run_multiaxis_slice(opt, so, *part, *profiles, times, given, *policy);
     }
     const auto progress = make_progress();

@@ -426,6 +426,16 @@ TEST(FiveAxis, NoVerifyWritesTheProgramAndSaysSo) {
     EXPECT_FALSE(read_figures(b.out).coverage_line) << b.out;
     EXPECT_TRUE(read_figures(a.out).verified) << a.out;
     EXPECT_EQ(slurp(checked), slurp(unchecked));
+    EXPECT_EQ(a.err.find("--adaptive"), std::string::npos) << a.err;
+
+    // --adaptive has no effect on a table-tilt machine: said, and the same program written.
+    const fs::path adaptive = dir / "adaptive.gm";
+    const CliRun c = run_cli({"slice", part.string(), "--profile", kReference5.string(), "-o",
+                              adaptive.string(), "--adaptive"});
+    ASSERT_EQ(c.exit_code, 0) << c.err;
+    EXPECT_NE(c.err.find("--adaptive is not used on a table-tilt machine"), std::string::npos)
+        << c.err;
+    EXPECT_EQ(slurp(checked), slurp(adaptive));
 }
 
 // Every part of the shared set with the 5-axis reference profile (--repair): a program the
