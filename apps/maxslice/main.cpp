@@ -312,10 +312,20 @@ std::optional<pipeline::OrientPolicy> orient_policy(const SliceOptions& so) {
 
 // Says which base direction a job kept when it is not the part as given: a warning and a
 // summary line when the given one could not be built, the summary line with --orient auto.
-void print_orientation(const std::vector<pipeline::OrientTry>& tries, int chosen) {
+void print_orientation(const std::vector<pipeline::OrientTry>& tries, int chosen,
+                       const std::string& program, const std::string& part) {
     if (tries.empty()) return;
     const pipeline::OrientTry& kept = tries[static_cast<std::size_t>(chosen)];
     if (kept.source == "as given") return;
+    // The program builds the part placed along this direction: the verifier must place the
+    // model the same way (shortest round-trip digits: the same placement bit for bit).
+    const auto replay = [&] {
+        std::printf(
+            "verify with     maxslice verify %s --model %s --direction %s (and the "
+            "same --profile)\n",
+            program.c_str(), part.c_str(),
+            fmt::format("{},{},{}", kept.direction.x, kept.direction.y, kept.direction.z).c_str());
+    };
     // Axis candidates are named by their direction ("-Z", "+Z (as given)"); flat faces are not.
     const core::Vec3d& d = kept.direction;
     const std::string where =
@@ -324,6 +334,7 @@ void print_orientation(const std::vector<pipeline::OrientTry>& tries, int chosen
             : fmt::format("({:.4f}, {:.4f}, {:.4f}), {}", d.x, d.y, d.z, kept.source);
     if (tries.front().source != "as given") {
         std::printf("orientation     along %s (--orient auto)\n", where.c_str());
+        replay();
         return;
     }
     const std::string why = "the part as given cannot be built: " + tries.front().refusal;
@@ -332,6 +343,7 @@ void print_orientation(const std::vector<pipeline::OrientTry>& tries, int chosen
                  "keeps the file's orientation)\n",
                  why.c_str(), where.c_str());
     std::printf("orientation     along %s (%s)\n", where.c_str(), why.c_str());
+    replay();
 }
 
 // A table-tilt machine: plan the placed part (regions, tilts, splits), order its layers with
@@ -403,7 +415,7 @@ int run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
                          planned.order->conflicts.size(), c.reason, tried),
              opt.path});
     }
-    print_orientation(oriented->tries, oriented->chosen);
+    print_orientation(oriented->tries, oriented->chosen, so.output, opt.path);
     // The search stops at the first plan it keeps, so `w` is that plan's program; otherwise
     // (nothing kept: the given plan comes back with its refusal) it is made again here.
     if (!w.kept) {
@@ -565,7 +577,7 @@ int run_slice(const PartOptions& opt, const SliceOptions& so) {
                              pipeline::other_tries(tries, chosen)),
                  opt.path});
         }
-        print_orientation(tries, chosen);
+        print_orientation(tries, chosen, so.output, opt.path);
         if (check->tilts_wanted > 0) {
             std::fprintf(
                 stderr,

@@ -282,6 +282,28 @@ TEST(FiveAxis, APartThatCannotBeBuiltAsGivenIsStoodOnAnotherBase) {
     const CliRun v = run_cli({"verify", program.string(), "--model", part.string(), "--profile",
                               kReference5.string(), "--direction", direction});
     EXPECT_EQ(v.exit_code, 0) << v.out << v.err;
+    // The job prints the replay command with that direction; the verifier's coverage then is
+    // the job's, and a replay of the model as the file has it is warned as misplaced.
+    const std::smatch m = [&] {
+        std::smatch found;
+        std::regex_search(
+            r.out, found,
+            std::regex(R"(verify with +maxslice verify \S+ --model \S+ --direction (\S+))"));
+        return found;
+    }();
+    ASSERT_EQ(m.size(), 2u) << r.out;
+    const CliRun printed = run_cli({"verify", program.string(), "--model", part.string(),
+                                    "--profile", kReference5.string(), "--direction", m[1].str()});
+    EXPECT_EQ(printed.exit_code, 0) << printed.out << printed.err;
+    std::smatch cov;
+    ASSERT_TRUE(std::regex_search(printed.out, cov, std::regex(R"(coverage +([0-9.]+)%)")))
+        << printed.out;
+    EXPECT_NEAR(std::stod(cov[1].str()), read_figures(r.out).coverage_pct, 0.01) << printed.out;
+    EXPECT_EQ(printed.err.find("is the model placed"), std::string::npos) << printed.err;
+    const CliRun as_file = run_cli(
+        {"verify", program.string(), "--model", part.string(), "--profile", kReference5.string()});
+    EXPECT_NE(as_file.err.find("is the model placed as the program builds it?"), std::string::npos)
+        << as_file.out << as_file.err;
     for (const std::vector<std::string>& keep :
          {std::vector<std::string>{"--orient", "given"},
           std::vector<std::string>{"--direction", "0,0,1"}}) {
