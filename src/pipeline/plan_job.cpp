@@ -47,6 +47,7 @@ const char* kind_name(plan::Decision::Kind k) {
         case plan::Decision::Kind::kTilt: return "tilt";
         case plan::Decision::Kind::kTiltGaveUp: return "tilt_gave_up";
         case plan::Decision::Kind::kFloating: return "split_floating";
+        case plan::Decision::Kind::kUnreachable: return "unreachable";
     }
     return "unknown";
 }

@@ -372,6 +372,12 @@ private:
                     a.error(), fmt::format("region {}, height {:.3f} mm", rid, s.span.cut)));
             }
             for (const OverhangPiece& p : a->pieces) {
+                if (!p.touches_lower && !has_sideways(ref, p)) {
+                    // Nothing can reach it: it stays in its layer and rests on nothing there
+                    // (the plan says so; a refusal of this base, not of the whole plan).
+                    record_unreachable(rid, ref, s, p);
+                    continue;
+                }
                 if (p.ang_deg > s_.beta_deg || !p.touches_lower) {
                     roll_back(rid, ref);
                     auto again = split(rid, ref, s, p);
@@ -525,8 +531,38 @@ private:
             plan_.layers.pop_back();
         }
         std::erase_if(plan_.decisions, [&](const Decision& d) {
-            return d.kind == Decision::Kind::kTiltWanted && d.region == rid && d.layer > keep;
+            return (d.kind == Decision::Kind::kTiltWanted ||
+                    d.kind == Decision::Kind::kUnreachable) &&
+                   d.region == rid && d.layer > keep;
         });
+    }
+
+    // Whether piece p above layer `lower` has a direction sideways to build it from (V_i not
+    // along L's normal).
+    bool has_sideways(int lower, const OverhangPiece& p) const {
+        const core::Vec3d n = plan_.layers[static_cast<std::size_t>(lower)].top.normal;
+        return core::norm(p.V - n * core::dot(p.V, n)) >= kMinSidewaysNorm;
+    }
+
+    void record_unreachable(int rid, int lower, const slice::Slice& s, const OverhangPiece& p) {
+        for (const Decision& e : plan_.decisions) {  // seen from the look-back layer too
+            if (e.kind == Decision::Kind::kUnreachable && e.region == rid &&
+                e.height_mm == s.span.cut && core::norm(e.piece.C - p.C) < 1e-9) {
+                return;
+            }
+        }
+        Decision d;
+        d.kind = Decision::Kind::kUnreachable;
+        d.region = rid;
+        d.layer = lower;
+        d.height_mm = s.span.cut;
+        d.piece = p;
+        d.reason = fmt::format(
+            "above layer L{} at {:.3f} mm: a piece of {:.1f} mm2 at ({:.3f}, {:.3f}, {:.3f}) "
+            "floats straight above the layer below: no sideways build direction reaches it; "
+            "left in its layer, where it rests on nothing",
+            lower, s.span.cut, p.area_mm2, p.C.x, p.C.y, p.C.z);
+        plan_.decisions.push_back(std::move(d));
     }
 
     void record_tilt(int rid, int lower, const slice::Slice& s, const OverhangPiece& p) {

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <tuple>
@@ -323,16 +324,59 @@ TEST(PlanCli, PlanVolumeIsComparedWithTheRepairedMesh) {
     EXPECT_NE(o.out.find("the mesh is not closed"), std::string::npos) << o.out << o.err;
 }
 
+// NIST FTC-6 along +Z has a piece floating straight above the layer below (its centroid over
+// that layer's material, clear of it): no sideways region reaches it. The planner failed
+// with an error there; it now leaves the piece in its layer, records why ("unreachable"), and
+// the plan lists layers resting on nothing (a refusal of this base the job's orientation
+// search ranks like the others). About 12 s: not in the ASan run.
+TEST(PlanCliSlow, APieceNoSidewaysRegionReachesIsLeftInPlace) {
+    const fs::path dir = temp_dir("unreachable");
+    const fs::path part = kTestData / "step" / "nist" / "nist_ftc_06_asme1_rd.stp";
+    const fs::path out = dir / "plan.json";
+    const CliRun r = run_cli({"plan", part.string(), "--plan", out.string(), "--profile",
+                              (kSource / "examples/profiles/reference_5axis_ac.toml").string()},
+                             300);
+    ASSERT_TRUE(r.exit_code == 0 || (r.exit_code == 2 && r.err.find("no collision-free build "
+                                                                    "order") != std::string::npos))
+        << r.err;
+    ASSERT_TRUE(fs::exists(out)) << r.err;
+    const nlohmann::json plan = nlohmann::json::parse(slurp(out));
+    int unreachable = 0;
+    for (const auto& d : plan.at("decisions")) {
+        if (d.at("kind") != "unreachable") continue;
+        ++unreachable;
+        EXPECT_NE(d.at("reason").get<std::string>().find("floats straight above"),
+                  std::string::npos);
+    }
+    EXPECT_GE(unreachable, 1);
+    EXPECT_GT(plan.at("summary").at("unsupported_layers").get<int>(), 0);
+}
+
+// Every shared mesh plans, also in the units MANIFEST.md states for those not in millimetres
+// (the bunny in metres has a piece floating straight above the layer below, which no sideways
+// region reaches: the planner failed on it; it is now left in its layer, resting on nothing).
 TEST(PlanCli, EverySharedMeshPlans) {
     const fs::path dir = temp_dir("shared");
-    int planned = 0, conflicted = 0;
+    const std::map<std::string, std::string> stated_units = {{"bunny.bin.stl", "m"},
+                                                             {"angle_block.STL", "in"},
+                                                             {"featuretype.STL", "in"},
+                                                             {"idler_riser.STL", "in"}};
+    std::vector<std::pair<fs::path, std::string>> parts;  // path, --units or ""
     for (const auto& e : fs::recursive_directory_iterator(kTestData / "meshes")) {
         if (!e.is_regular_file()) continue;
-        SCOPED_TRACE(e.path().string());
+        parts.emplace_back(e.path(), "");
+        const auto u = stated_units.find(e.path().filename().string());
+        if (u != stated_units.end()) parts.emplace_back(e.path(), u->second);
+    }
+    std::sort(parts.begin(), parts.end());
+    int planned = 0, conflicted = 0;
+    for (const auto& [part, units] : parts) {
+        SCOPED_TRACE(part.string() + (units.empty() ? "" : " --units " + units));
         const fs::path out = dir / "plan.json";
         fs::remove(out);
-        const CliRun r =
-            run_cli({"plan", e.path().string(), "--repair", "--plan", out.string()}, 300);
+        std::vector<std::string> args = {"plan", part.string(), "--repair", "--plan", out.string()};
+        if (!units.empty()) args.insert(args.end(), {"--units", units});
+        const CliRun r = run_cli(args, 300);
         // A part no nozzle order can build is refused (exit 2) after the partial plan is
         // written; anything else is a failure.
         if (r.exit_code == 2 && r.err.find("no collision-free build order") != std::string::npos) {

@@ -90,6 +90,9 @@ struct Decision {
         kFloating,    ///< a piece that does not touch the layer below: a split towards it
         kTilt,        ///< the centroid chain leans: tilted 3D layers start here
         kTiltGaveUp,  ///< no tilt kept the thickness in [h_min, h_max]: a planar layer there
+        /// A floating piece straight above L: no sideways direction reaches it; left in its
+        /// layer, where it rests on nothing (listed in unsupported_layers)
+        kUnreachable,
     };
     Kind kind = Kind::kSplit;
     int region = 0;          ///< the region in which the overhang was found
