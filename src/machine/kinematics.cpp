@@ -308,19 +308,26 @@ core::Result<void> MachineKinematics::check_reach(const std::vector<Vec3d>& poin
                            (k & 4) != 0 ? z.max : z.min};
         reach = std::max(reach, core::norm(corner - pivot_mm_));
     }
-    const double o = core::norm(c_offset_mm_);
-    for (const Vec3d& q : points) {
-        const double d = core::norm(q - c_offset_mm_) - o;
-        if (d > reach + slack_mm) {
-            return core::fail(
-                ErrorCode::kInvalidInput,
-                fmt::format("the part does not fit the machine: its point ({:.3f}, {:.3f}, "
-                            "{:.3f}) mm is {:.1f} mm from the table's axes, and no table pose "
-                            "brings a point farther than {:.1f} mm from the pivot within the "
-                            "travel of {}, {} and {}",
-                            q.x, q.y, q.z, d, reach, x.name, y.name, z.name),
-                "machine.axes");
+    // The first point farther than `limit` (plus the slack) by `distance`, with its distance.
+    const auto beyond = [&](const std::vector<Vec3d>& pts, const auto& distance,
+                            double limit) -> std::optional<std::pair<Vec3d, double>> {
+        for (const Vec3d& q : pts) {
+            if (const double d = distance(q); d > limit + slack_mm) return std::pair{q, d};
         }
+        return std::nullopt;
+    };
+    const double o = core::norm(c_offset_mm_);
+    const auto far = beyond(
+        points, [&](const Vec3d& q) { return core::norm(q - c_offset_mm_) - o; }, reach);
+    if (far) {
+        const auto& [q, d] = *far;
+        return core::fail(
+            ErrorCode::kInvalidInput,
+            fmt::format("the part does not fit the machine: its point ({:.3f}, {:.3f}, {:.3f}) "
+                        "mm is {:.1f} mm from the table's axes, and no table pose brings a point "
+                        "farther than {:.1f} mm from the pivot within the travel of {}, {} and {}",
+                        q.x, q.y, q.z, d, reach, x.name, y.name, z.name),
+            "machine.axes");
     }
     // (2) The lowest layer, tilt 0: the C axis sits at pivot + o in X and Y.
     const double ax = pivot_mm_.x + c_offset_mm_.x, ay = pivot_mm_.y + c_offset_mm_.y;
@@ -330,18 +337,20 @@ core::Result<void> MachineKinematics::check_reach(const std::vector<Vec3d>& poin
             reach_xy = std::max(reach_xy, std::hypot(cx - ax, cy - ay));
         }
     }
-    for (const Vec3d& q : plate_points) {
-        const double r = std::hypot(q.x - c_offset_mm_.x, q.y - c_offset_mm_.y);
-        if (r > reach_xy + slack_mm) {
-            return core::fail(
-                ErrorCode::kInvalidInput,
-                fmt::format("the part does not fit the machine: its point ({:.3f}, {:.3f}, "
-                            "{:.3f}) mm on the plate is {:.1f} mm from the C axis, and with the "
-                            "table flat no turn of C brings a point farther than {:.1f} mm from "
-                            "it within the travel of {} and {}",
-                            q.x, q.y, q.z, r, reach_xy, x.name, y.name),
-                "machine.axes");
-        }
+    const auto wide = beyond(
+        plate_points,
+        [&](const Vec3d& q) { return std::hypot(q.x - c_offset_mm_.x, q.y - c_offset_mm_.y); },
+        reach_xy);
+    if (wide) {
+        const auto& [q, r] = *wide;
+        return core::fail(
+            ErrorCode::kInvalidInput,
+            fmt::format("the part does not fit the machine: its point ({:.3f}, {:.3f}, {:.3f}) "
+                        "mm on the plate is {:.1f} mm from the C axis, and with the table flat "
+                        "no turn of C brings a point farther than {:.1f} mm from it within the "
+                        "travel of {} and {}",
+                        q.x, q.y, q.z, r, reach_xy, x.name, y.name),
+            "machine.axes");
     }
     return {};
 }
