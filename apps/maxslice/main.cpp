@@ -356,7 +356,7 @@ int run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
     const std::string name = std::filesystem::path(opt.path).filename().string();
     Written<pipeline::MultiAxisProgram> w;
     double checks_s = 0.0;  // all of them, out of the planning time
-    const auto check = [&](const mesh::TriangleMesh& placed,
+    const auto check = [&](const core::Vec3d& direction, const mesh::TriangleMesh& placed,
                            const pipeline::PlannedPart& planned) -> core::Result<std::string> {
         const auto start = std::chrono::steady_clock::now();
         w = {};
@@ -364,6 +364,7 @@ int run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
                                                   name, progress.get());
         if (!p) return std::unexpected(p.error());
         w.program = std::move(*p);
+        w.program->program.base_direction = direction;
         w.paths_s = seconds_since(start);
         machine::WriteOptions wo;
         wo.clear_z_mm = machine::clear_height_mm(profiles.machine, placed.vertices);
@@ -419,7 +420,8 @@ int run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
     // The search stops at the first plan it keeps, so `w` is that plan's program; otherwise
     // (nothing kept: the given plan comes back with its refusal) it is made again here.
     if (!w.kept) {
-        auto again = check(part.imported.mesh, planned);
+        auto again = check(oriented->tries[static_cast<std::size_t>(oriented->chosen)].direction,
+                           part.imported.mesh, planned);
         if (!again) return report_error(again.error());
     }
     times.paths_s = w.paths_s;
@@ -521,13 +523,15 @@ int run_slice(const PartOptions& opt, const SliceOptions& so) {
         profiles ? pipeline::plan_settings(profiles->process) : plan::PlanSettings{};
     const std::string name = std::filesystem::path(opt.path).filename().string();
     Written<pipeline::PlannedProgram> w;
-    const auto write_stack = [&](const mesh::TriangleMesh& placed,
+    core::Vec3d built_along = ss.direction;  // the file's direction the program builds upwards
+    const auto write_stack = [&](const core::Vec3d& direction, const mesh::TriangleMesh& placed,
                                  const pipeline::SliceStack& s) -> core::Result<std::string> {
         w = {};
         const auto start = std::chrono::steady_clock::now();
         auto p = pipeline::plan_program(s, *profiles, name, progress.get());
         if (!p) return std::unexpected(p.error());
         w.program = std::move(*p);
+        w.program->program.base_direction = direction;
         w.paths_s = seconds_since(start);
         return write_and_verify(w, placed, *profiles, so, machine::WriteOptions{});
     };
@@ -541,6 +545,7 @@ int run_slice(const PartOptions& opt, const SliceOptions& so) {
                                     so.allow_overhangs ? pipeline::OrientPolicy::kGiven : *policy,
                                     ss, *profiles, progress.get(), &times, write_stack);
         if (!oriented) return report_error(oriented.error());
+        built_along = oriented->direction;
         part->imported.mesh = std::move(oriented->placed);
         stack = std::move(oriented->stack);
         check = std::move(oriented->check);
@@ -590,7 +595,7 @@ int run_slice(const PartOptions& opt, const SliceOptions& so) {
         // The search stops at the first stack it keeps, so `w` is that stack's program;
         // otherwise (nothing kept) it is made again here.
         if (!w.kept) {
-            auto again = write_stack(part->imported.mesh, *stack);
+            auto again = write_stack(built_along, part->imported.mesh, *stack);
             if (!again) return report_error(again.error());
         }
         times.paths_s = w.paths_s;

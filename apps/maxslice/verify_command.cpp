@@ -2,17 +2,23 @@
 
 #include "cli_common.hpp"
 
+#include <fmt/format.h>
 #include <CLI/CLI.hpp>
 
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <optional>
 #include <sstream>
+#include <string_view>
 
 #include "maxslice/core/units.hpp"
 #include "maxslice/io/read_mesh.hpp"
 #include "maxslice/machine/profile.hpp"
+#include "maxslice/machine/writer.hpp"
 #include "maxslice/verify/verify.hpp"
 
 namespace maxslice::app {
@@ -24,6 +30,34 @@ namespace {
 // a portal frame built upside down and replayed as the file has it: 24 % and 76 %.)
 constexpr double kMisplacedExcess = 0.10;
 constexpr double kMisplacedCoverage = 0.90;
+
+// The base direction a program's header names (machine::kBaseDirectionTag, written by the
+// dialects with comments), looked for in its first lines; nullopt when there is none or it
+// does not read as three finite numbers, not all zero.
+std::optional<core::Vec3d> header_direction(const std::string& text) {
+    constexpr std::size_t kHeaderBytes = 4096;
+    const std::string_view head = std::string_view(text).substr(0, kHeaderBytes);
+    const std::size_t at = head.find(machine::kBaseDirectionTag);
+    if (at == std::string_view::npos) return std::nullopt;
+    const std::size_t begin = at + machine::kBaseDirectionTag.size();
+    const std::size_t end = head.find('\n', begin);
+    const std::string numbers(
+        head.substr(begin, end == std::string_view::npos ? end : end - begin));
+    double v[3] = {0.0, 0.0, 0.0};
+    const char* p = numbers.c_str();
+    for (int k = 0; k < 3; ++k) {
+        char* next = nullptr;
+        v[k] = std::strtod(p, &next);
+        if (next == p || !std::isfinite(v[k])) return std::nullopt;
+        p = next;
+        if (k < 2) {
+            if (*p != ',') return std::nullopt;
+            ++p;
+        }
+    }
+    if (v[0] == 0.0 && v[1] == 0.0 && v[2] == 0.0) return std::nullopt;
+    return core::Vec3d{v[0], v[1], v[2]};
+}
 
 core::Result<std::string> read_text(const std::string& file) {
     std::ifstream in(file, std::ios::binary);
@@ -49,7 +83,9 @@ CLI::App* add_verify_command(CLI::App& app, VerifyCommandOptions& opts) {
     cmd->add_option("--json", opts.json_file, "Write the report as JSON to this file");
     cmd->add_option("--dialect", opts.dialect,
                     "Program dialect: gm, linuxcnc, fanuc or siemens (default: the profile's)");
-    cmd->add_option("--direction", opts.direction, "Base (build) direction X,Y,Z of the part")
+    cmd->add_option("--direction", opts.direction,
+                    "Base (build) direction X,Y,Z of the part (default: the one the program's "
+                    "header names, else 0,0,1)")
         ->delimiter(',')
         ->expected(3);
     cmd->add_option("--voxel", opts.voxel_mm, "Voxel edge in mm (default: automatic)")
@@ -87,12 +123,18 @@ int run_verify(const VerifyCommandOptions& opts) {
     }
     auto model = io::read_mesh(opts.model, import);
     if (!model) return report_error(model.error());
-    const core::Vec3d direction{opts.direction[0], opts.direction[1], opts.direction[2]};
-    auto placed = verify::place_model(std::move(model->mesh), direction, profiles->machine);
-    if (!placed) return report_error(placed.error());
-
     auto text = read_text(opts.program);
     if (!text) return report_error(text.error());
+    core::Vec3d direction{0.0, 0.0, 1.0};
+    if (!opts.direction.empty()) {
+        direction = {opts.direction[0], opts.direction[1], opts.direction[2]};
+    } else if (const auto d = header_direction(*text)) {
+        direction = *d;
+        std::printf("placement       the model stands along %s, as the program's header says\n",
+                    fmt::format("{},{},{}", d->x, d->y, d->z).c_str());
+    }
+    auto placed = verify::place_model(std::move(model->mesh), direction, profiles->machine);
+    if (!placed) return report_error(placed.error());
     auto report = verify::verify_program(*text, *placed, *profiles, settings);
     if (!report) return report_error(core::with_context(report.error(), "file " + opts.program));
 

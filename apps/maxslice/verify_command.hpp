@@ -18,7 +18,7 @@ struct VerifyCommandOptions {
     std::vector<std::string> profiles;
     std::string json_file;
     std::string dialect;
-    std::vector<double> direction{0.0, 0.0, 1.0};
+    std::vector<double> direction;  ///< empty: the program's header, else +Z
     double voxel_mm = 0.0;
     double clearance_mm = 0.0;
     std::string units;

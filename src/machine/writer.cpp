@@ -241,10 +241,15 @@ public:
           tcp_(words_.rotary && !style_.tcp_on.empty()),
           clear_z_mm_(clear_z_mm) {}
 
-    std::string write(std::string_view part_name, std::span<const MachineMove> moves) {
+    std::string write(std::string_view part_name, const std::optional<core::Vec3d>& base,
+                      std::span<const MachineMove> moves) {
         for (const auto& l : style_.opening) line(l);
         comment(fmt::format("maxslice program, part {}",
                             comment_text(part_name.empty() ? "unnamed" : part_name)));
+        if (base) {
+            // Shortest round-trip digits: `maxslice verify` places the model bit for bit.
+            comment(fmt::format("{}{},{},{}", kBaseDirectionTag, base->x, base->y, base->z));
+        }
         comment(fmt::format("machine {}, dialect {}", comment_text(machine_.name), style_.name));
         comment(fmt::format("process: track {:.3f} mm, layer {:.3f} mm, {:.2f} W, {:.2f} g/min",
                             process_.track_width_mm, process_.layer_height_mm,
@@ -401,7 +406,8 @@ core::Result<std::string> write_program(const Program& program, const MachinePro
         case Dialect::kLinuxCnc:
         case Dialect::kFanuc:
         case Dialect::kSiemens:
-            return RsWriter(machine, process, clear_z_mm).write(program.part_name, *moves);
+            return RsWriter(machine, process, clear_z_mm)
+                .write(program.part_name, program.base_direction, *moves);
     }
     return core::fail(core::ErrorCode::kInternal, "unknown dialect", context);
 }

@@ -84,6 +84,7 @@ core::Result<std::vector<int>> bare_plate_layers(const plan::Plan& plan,
 }
 
 struct Placed {
+    Vec3d direction;  // the part file's direction built upwards
     mesh::TriangleMesh placed;
     PlannedPart planned;
     std::vector<int> bare_plate;
@@ -92,6 +93,7 @@ struct Placed {
 core::Result<Placed> plan_along(const mesh::TriangleMesh& part, const Vec3d& direction,
                                 const machine::Profiles& profiles, const core::Progress* progress) {
     Placed out;
+    out.direction = direction;
     out.placed = place_on_plate(part, direction, machine::plate_center(profiles.machine));
     // A part the table cannot bring under the nozzle is refused before it is planned.
     auto kinematics = machine::MachineKinematics::create(profiles.machine);
@@ -156,7 +158,7 @@ core::Result<OrientedPlan> orient_multiaxis(const mesh::TriangleMesh& part, cons
     // "" when `p` (buildable as planned) passes `check` too.
     const auto checked = [&](const Placed& p) -> core::Result<std::string> {
         if (!check) return std::string();
-        return check(p.placed, p.planned);
+        return check(p.direction, p.placed, p.planned);
     };
     OrientedPlan out;
     std::optional<Placed> as_given;
@@ -293,6 +295,7 @@ core::Result<OrientedStack> orient_planar(const mesh::TriangleMesh& part, const 
     along_z.direction = {0.0, 0.0, 1.0};
     const auto slice_along = [&](const Vec3d& d, StageTimes* t) -> core::Result<OrientedStack> {
         OrientedStack s;
+        s.direction = d;
         s.placed = place_on_plate(part, d, machine::plate_center(profiles.machine));
         auto stack = slice_part(s.placed, along_z, progress, t);
         if (!stack) return std::unexpected(stack.error());
@@ -309,7 +312,7 @@ core::Result<OrientedStack> orient_planar(const mesh::TriangleMesh& part, const 
         if (!g) return std::unexpected(g.error());
         std::string refusal = planar_refusal(g->check);
         if (refusal.empty() && check) {
-            auto c = check(g->placed, g->stack);
+            auto c = check(g->direction, g->placed, g->stack);
             if (!c) return std::unexpected(c.error());
             refusal = std::move(*c);
         }
@@ -349,7 +352,7 @@ core::Result<OrientedStack> orient_planar(const mesh::TriangleMesh& part, const 
     std::optional<OrientedStack> best;
     for (OrientedStack& s : passing) {
         if (check) {
-            auto c = check(s.placed, s.stack);
+            auto c = check(s.direction, s.placed, s.stack);
             if (!c) return std::unexpected(c.error());
             if (!c->empty()) {
                 tries[static_cast<std::size_t>(s.chosen)].refusal = std::move(*c);

@@ -317,6 +317,36 @@ TEST(FiveAxis, APartThatCannotBeBuiltAsGivenIsStoodOnAnotherBase) {
     }
 }
 
+// The RS-274 dialects name the base the program builds on in their header; `maxslice verify`
+// without --direction places the model by it (the gm dialect has no comments: it needs the
+// --direction the job prints). The portal frame is built upside down.
+TEST(FiveAxis, AnRsProgramSaysWhichBaseItBuildsOn) {
+    const fs::path dir = temp_dir("header_base");
+    const fs::path part = export_fixture(maxslice::test::portal_frame(), dir);
+    const fs::path profile = kProfiles / "linuxcnc_5axis_ac.toml";
+    const fs::path program = dir / "p.ngc";
+    const CliRun r =
+        run_cli({"slice", part.string(), "--profile", profile.string(), "-o", program.string()});
+    ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+    ASSERT_NE(r.out.find("orientation     along "), std::string::npos) << r.out;
+    const std::string text = slurp(program);
+    EXPECT_NE(text.find("(part file direction built upwards "), std::string::npos)
+        << text.substr(0, 400);
+    const CliRun v = run_cli(
+        {"verify", program.string(), "--model", part.string(), "--profile", profile.string()});
+    EXPECT_EQ(v.exit_code, 0) << v.out << v.err;
+    EXPECT_NE(v.out.find("as the program's header says"), std::string::npos) << v.out;
+    std::smatch cov;
+    ASSERT_TRUE(std::regex_search(v.out, cov, std::regex(R"(coverage +([0-9.]+)%)"))) << v.out;
+    EXPECT_NEAR(std::stod(cov[1].str()), read_figures(r.out).coverage_pct, 0.01) << v.out;
+    EXPECT_EQ(v.err.find("is the model placed"), std::string::npos) << v.err;
+    // An explicit --direction wins over the header: +Z as the file stands is misplaced.
+    const CliRun z = run_cli({"verify", program.string(), "--model", part.string(), "--profile",
+                              profile.string(), "--direction", "0,0,1"});
+    EXPECT_EQ(z.out.find("as the program's header says"), std::string::npos) << z.out;
+    EXPECT_NE(z.err.find("is the model placed"), std::string::npos) << z.out << z.err;
+}
+
 // A wedge standing on a strip 0.5 mm wide: no 2.5 mm track fits on the plate, and the wider
 // layers above would rest on nothing (the toolpath stage cuts them, decision 0013, and most of
 // the part went missing; the angle block of the shared set in inches had 174 beads in mid-air).

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,9 @@ struct Move {
 /// A deposition program before it is written in a dialect.
 struct Program {
     std::string part_name;
+    /// The part file's direction built upwards (the base the job stood it on); written in
+    /// the header of the dialects with comments, where `maxslice verify` reads it.
+    std::optional<core::Vec3d> base_direction;
     std::vector<Move> moves;
 };
 

@@ -2,6 +2,7 @@
 
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include "maxslice/core/result.hpp"
 #include "maxslice/machine/profile.hpp"
@@ -10,6 +11,12 @@
 namespace maxslice::machine {
 
 /// Options of write_program.
+/// The header comment of the dialects with comments (linuxcnc, fanuc, siemens) that names the
+/// part file's direction the program builds upwards, followed by "X,Y,Z" in shortest
+/// round-trip digits (Program::base_direction); `maxslice verify` places the model by it. No
+/// parentheses: they end a comment in the RS-274 dialects.
+inline constexpr std::string_view kBaseDirectionTag = "part file direction built upwards ";
+
 struct WriteOptions {
     /// The height the tool tip must clear for the table to turn with the part on it, mm
     /// (machine Z; clear_height_mm() of the placed part, docs/program-dialects.md). Unset: the

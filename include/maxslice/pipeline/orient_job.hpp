@@ -49,8 +49,9 @@ struct OrientedPlan {
 /// A further judgement of a plan the search would keep (the program job writes its program and
 /// replays it in the verifier): "" keeps it, anything else is why not, and the search goes on
 /// as for a plan that cannot be built. Errors end the search.
-using ProgramCheck = std::function<core::Result<std::string>(const mesh::TriangleMesh& placed,
-                                                             const PlannedPart& planned)>;
+/// `direction`: the part file's direction the plan builds upwards.
+using ProgramCheck = std::function<core::Result<std::string>(
+    const core::Vec3d& direction, const mesh::TriangleMesh& placed, const PlannedPart& planned)>;
 
 /// Plans and orders the part for a table-tilt machine. kGiven: along `given` only. kFallback:
 /// along `given`; when that plan leaves layers resting on nothing, stands on a piece where no
@@ -72,6 +73,7 @@ using ProgramCheck = std::function<core::Result<std::string>(const mesh::Triangl
 
 /// A planar stack of the part standing on the plate along a chosen direction.
 struct OrientedStack {
+    core::Vec3d direction;  ///< the part file's direction built upwards
     mesh::TriangleMesh placed;
     SliceStack stack;  ///< sliced along +Z of `placed`
     plan::PlanarCheck check;
@@ -88,8 +90,8 @@ struct OrientedStack {
 /// `times` gets the given direction's slicing only (as without the search: the `slice` stage
 /// the benchmarks compare). `check`, when given, is asked about every stack before it is kept,
 /// in the search's order; one it refuses is a refused try (kGiven: recorded, the given kept).
-using StackCheck = std::function<core::Result<std::string>(const mesh::TriangleMesh& placed,
-                                                           const SliceStack& stack)>;
+using StackCheck = std::function<core::Result<std::string>(
+    const core::Vec3d& direction, const mesh::TriangleMesh& placed, const SliceStack& stack)>;
 [[nodiscard]] core::Result<OrientedStack> orient_planar(
     const mesh::TriangleMesh& part, const core::Vec3d& given, OrientPolicy policy,
     const SliceSettings& settings, const machine::Profiles& profiles,

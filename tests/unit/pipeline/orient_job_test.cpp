@@ -57,9 +57,13 @@ TEST(OrientJob, APlanTheCheckRefusesIsNotKept) {
     const double given_height = top_z(given->placed);
 
     RefuseByHeight check{given_height, {}};
+    core::Vec3d last_direction;  // the one the check was last asked about
     auto o = orient_multiaxis(
         part, {0, 0, 1}, OrientPolicy::kFallback, profiles, nullptr,
-        [&](const mesh::TriangleMesh& m, const PlannedPart& p) { return check(m, p); });
+        [&](const core::Vec3d& d, const mesh::TriangleMesh& m, const PlannedPart& p) {
+            last_direction = d;
+            return check(m, p);
+        });
     ASSERT_TRUE(o.has_value()) << o.error().describe();
     ASSERT_GE(o->tries.size(), 2u);
     EXPECT_EQ(o->tries[0].source, "as given");
@@ -67,6 +71,9 @@ TEST(OrientJob, APlanTheCheckRefusesIsNotKept) {
     ASSERT_GT(o->chosen, 0);
     EXPECT_TRUE(o->tries[static_cast<std::size_t>(o->chosen)].refusal.empty());
     EXPECT_GT(std::abs(top_z(o->placed) - given_height), 1e-6);
+    EXPECT_LT(core::norm(last_direction - o->tries[static_cast<std::size_t>(o->chosen)].direction),
+              1e-12)
+        << "the check is told the direction of the plan it judges";
     ASSERT_GE(check.heights.size(), 2u);
     EXPECT_NEAR(check.heights.front(), given_height, 1e-6);
     EXPECT_NEAR(check.heights.back(), top_z(o->placed), 1e-6);
@@ -77,9 +84,9 @@ TEST(OrientJob, APlanTheCheckRefusesIsNotKept) {
 
     // --orient given: the answer is recorded, the given plan kept.
     RefuseByHeight again{given_height, {}};
-    auto g = orient_multiaxis(
-        part, {0, 0, 1}, OrientPolicy::kGiven, profiles, nullptr,
-        [&](const mesh::TriangleMesh& m, const PlannedPart& p) { return again(m, p); });
+    auto g = orient_multiaxis(part, {0, 0, 1}, OrientPolicy::kGiven, profiles, nullptr,
+                              [&](const core::Vec3d&, const mesh::TriangleMesh& m,
+                                  const PlannedPart& p) { return again(m, p); });
     ASSERT_TRUE(g.has_value());
     ASSERT_EQ(g->tries.size(), 1u);
     EXPECT_EQ(g->tries[0].refusal, "refused by the test");
@@ -92,7 +99,8 @@ TEST(OrientJob, AnErrorOfTheCheckEndsTheSearch) {
     const machine::Profiles profiles = reference_profiles();
     auto o = orient_multiaxis(
         test::l_bracket().mesh, {0, 0, 1}, OrientPolicy::kFallback, profiles, nullptr,
-        [](const mesh::TriangleMesh&, const PlannedPart&) -> core::Result<std::string> {
+        [](const core::Vec3d&, const mesh::TriangleMesh&,
+           const PlannedPart&) -> core::Result<std::string> {
             return core::fail(core::ErrorCode::kInternal, "test error", "check");
         });
     ASSERT_FALSE(o.has_value());
@@ -138,7 +146,7 @@ TEST(OrientJob, AStackTheCheckRefusesIsNotKept) {
     ASSERT_TRUE(given->tries[0].refusal.empty());
     const double given_height = top_z(given->placed);
     int calls = 0;
-    const StackCheck check = [&](const mesh::TriangleMesh& placed,
+    const StackCheck check = [&](const core::Vec3d&, const mesh::TriangleMesh& placed,
                                  const SliceStack&) -> core::Result<std::string> {
         ++calls;
         return std::abs(top_z(placed) - given_height) < 1e-6 ? std::string("refused by the test")
