@@ -248,14 +248,17 @@ struct Written {
     double paths_s = 0.0, write_s = 0.0, verify_s = 0.0;
 };
 
-// Writes w.program's text and replays it in the verifier (unless --no-verify); "" when it
-// is kept, else the verifier's refusal for the orientation search. A program without any
-// track is "kept": check_tracks refuses it whatever the orientation.
+// Writes w.program's text, naming the part file's `direction` it builds upwards, and replays
+// it in the verifier (unless --no-verify); "" when it is kept, else the verifier's refusal
+// for the orientation search. A program without any track is "kept": check_tracks refuses it
+// whatever the orientation.
 template <class Planned>
-core::Result<std::string> write_and_verify(Written<Planned>& w, const mesh::TriangleMesh& placed,
+core::Result<std::string> write_and_verify(Written<Planned>& w, const core::Vec3d& direction,
+                                           const mesh::TriangleMesh& placed,
                                            const machine::Profiles& profiles,
                                            const SliceOptions& so,
                                            const machine::WriteOptions& wo) {
+    w.program->program.base_direction = direction;
     w.kept = w.program->summary.laser_on_count == 0;
     if (w.kept) return std::string();
     auto t = std::chrono::steady_clock::now();
@@ -364,11 +367,10 @@ int run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
                                                   name, progress.get());
         if (!p) return std::unexpected(p.error());
         w.program = std::move(*p);
-        w.program->program.base_direction = direction;
         w.paths_s = seconds_since(start);
         machine::WriteOptions wo;
         wo.clear_z_mm = machine::clear_height_mm(profiles.machine, placed.vertices);
-        auto refusal = write_and_verify(w, placed, profiles, so, wo);
+        auto refusal = write_and_verify(w, direction, placed, profiles, so, wo);
         checks_s += seconds_since(start);
         return refusal;
     };
@@ -531,9 +533,8 @@ int run_slice(const PartOptions& opt, const SliceOptions& so) {
         auto p = pipeline::plan_program(s, *profiles, name, progress.get());
         if (!p) return std::unexpected(p.error());
         w.program = std::move(*p);
-        w.program->program.base_direction = direction;
         w.paths_s = seconds_since(start);
-        return write_and_verify(w, placed, *profiles, so, machine::WriteOptions{});
+        return write_and_verify(w, direction, placed, *profiles, so, machine::WriteOptions{});
     };
     if (program_mode) {
         // A 3-axis machine builds every layer along one direction: the part stands on the

@@ -537,11 +537,16 @@ private:
         });
     }
 
-    // Whether piece p above layer `lower` has a direction sideways to build it from (V_i not
-    // along L's normal).
-    bool has_sideways(int lower, const OverhangPiece& p) const {
+    // The part of V_i across L's normal: the direction a region split for piece p above
+    // layer `lower` is built along (METHOD.md section 5), before it is normalised.
+    core::Vec3d sideways_of(int lower, const OverhangPiece& p) const {
         const core::Vec3d n = plan_.layers[static_cast<std::size_t>(lower)].top.normal;
-        return core::norm(p.V - n * core::dot(p.V, n)) >= kMinSidewaysNorm;
+        return p.V - n * core::dot(p.V, n);
+    }
+
+    // Whether piece p has a sideways direction to be built from (V_i not along L's normal).
+    bool has_sideways(int lower, const OverhangPiece& p) const {
+        return core::norm(sideways_of(lower, p)) >= kMinSidewaysNorm;
     }
 
     void record_unreachable(int rid, int lower, const slice::Slice& s, const OverhangPiece& p) {
@@ -588,9 +593,9 @@ private:
     core::Result<bool> split(int rid, int lower, const slice::Slice& s, const OverhangPiece& p) {
         const Region parent = plan_.regions[static_cast<std::size_t>(rid)];
         const core::Vec3d n = plan_.layers[static_cast<std::size_t>(lower)].top.normal;
-        const core::Vec3d sideways = p.V - n * core::dot(p.V, n);
+        const core::Vec3d sideways = sideways_of(lower, p);
         const std::string context = fmt::format("region {}, height {:.3f} mm", rid, s.span.cut);
-        if (core::norm(sideways) < kMinSidewaysNorm) {
+        if (!has_sideways(lower, p)) {
             return invalid(fmt::format("an overhang piece of {:.1f} mm2 at ({:.3f}, {:.3f}, "
                                        "{:.3f}) floats straight above the layer below: no "
                                        "sideways build direction reaches it",
