@@ -7,9 +7,12 @@
 //
 // Open CASCADE converts lengths to mm (xstep.cascade.unit, checked below) and keeps global
 // state (static parameters, unit factors, the default messenger), so every use here runs
-// under one mutex; read_cad runs it all in a child process (run_isolated), because it can
-// crash on damaged files. Its messages are captured instead of printed: syntax errors found by the
-// STEP parser go into the refusal message.
+// under one mutex. This file is a module of its own (libmaxslice_cad.so): read_cad
+// (cad_plugin.cpp) loads it, and with it Open CASCADE, only in the child process that reads
+// the file (run_isolated), because Open CASCADE can crash on damaged files and its libraries
+// take about 30 ms to load, which every other run of maxslice would pay. Its messages are
+// captured instead of printed: syntax errors found by the STEP parser go into the refusal
+// message.
 
 #include <fmt/format.h>
 #include <BRepMesh_IncrementalMesh.hxx>
@@ -467,11 +470,12 @@ core::Result<RawImport> read_cad_in_process(const std::filesystem::path& path, F
 
 }  // namespace
 
-core::Result<RawImport> read_cad(const std::filesystem::path& path, Format format,
-                                 const ImportOptions& options) {
-    // In a child process: Open CASCADE can crash on damaged files (isolated.cpp).
-    return run_isolated([&] { return read_cad_in_process(path, format, options); },
-                        options.library_time_limit_s, "Open CASCADE");
-}
-
 }  // namespace maxslice::io::detail
+
+// The plugin's one entry point (cad_plugin.hpp): everything else in this module is hidden.
+extern "C" __attribute__((visibility("default"))) void maxslice_read_cad_v1(
+    const std::filesystem::path* path, maxslice::io::Format format,
+    const maxslice::io::ImportOptions* options,
+    maxslice::core::Result<maxslice::io::detail::RawImport>* out) {
+    *out = maxslice::io::detail::read_cad_in_process(*path, format, *options);
+}

@@ -1,9 +1,11 @@
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <regex>
+#include <string>
 
 #include "io_test_support.hpp"
 #include "maxslice/io/read_mesh.hpp"
@@ -110,6 +112,56 @@ TEST(Cad, TimeLimitStopsTheReader) {
     ASSERT_FALSE(r);
     EXPECT_TRUE(contains(r.error().message, "did not finish reading the file within 0.01 s"))
         << r.error().describe();
+}
+
+bool open_cascade_is_mapped() {
+    std::ifstream maps("/proc/self/maps");
+    const std::string text{std::istreambuf_iterator<char>(maps), {}};
+    return text.find("libTKernel") != std::string::npos;
+}
+
+TEST(Cad, OpenCascadeIsLoadedOnlyInTheChildThatReadsTheFile) {
+    // It takes ~30 ms to load (cad_plugin.cpp): a program that reads a STEP file must not
+    // map it, nor must one that never reads such a file.
+    EXPECT_FALSE(open_cascade_is_mapped());
+    auto r = read_mesh(testdata("step/nist/nist_ftc_11_asme1_rb.stp"));
+    ASSERT_TRUE(r) << r.error().describe();
+    EXPECT_GT(r->mesh.triangles.size(), 1000u);
+    EXPECT_FALSE(open_cascade_is_mapped());
+}
+
+// Sets an environment variable for one scope.
+class ScopedEnv {
+public:
+    ScopedEnv(const char* name, const std::string& value) : name_(name) {
+        ::setenv(name, value.c_str(), 1);
+    }
+    ScopedEnv(const ScopedEnv&) = delete;
+    ScopedEnv& operator=(const ScopedEnv&) = delete;
+    ~ScopedEnv() { ::unsetenv(name_); }
+
+private:
+    const char* name_;
+};
+
+TEST(Cad, AMissingOrForeignReaderModuleIsAClearRefusal) {
+    const auto step = testdata("step/nist/nist_ftc_11_asme1_rb.stp");
+    {
+        const ScopedEnv env("MAXSLICE_CAD_PLUGIN", "/nonexistent/libmaxslice_cad.so");
+        auto r = read_mesh(step);
+        ASSERT_FALSE(r);
+        EXPECT_EQ(r.error().code, core::ErrorCode::kUnsupported);
+        EXPECT_TRUE(contains(r.error().message, "is not installed")) << r.error().message;
+        EXPECT_TRUE(contains(r.error().message, "/nonexistent/libmaxslice_cad.so"));
+    }
+    {
+        const ScopedEnv env("MAXSLICE_CAD_PLUGIN", step.string());  // not a shared library
+        auto r = read_mesh(step);
+        ASSERT_FALSE(r);
+        EXPECT_EQ(r.error().code, core::ErrorCode::kUnsupported);
+        EXPECT_TRUE(contains(r.error().message, "cannot load")) << r.error().message;
+    }
+    EXPECT_TRUE(read_mesh(step));  // and the module found by itself again
 }
 
 TEST(Cad, GarbageAfterStepSignatureIsRefused) {
