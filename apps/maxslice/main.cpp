@@ -278,7 +278,7 @@ core::Result<std::string> write_and_verify(Written<Planned>& w, const core::Vec3
                   : "the verifier refused its program " + verifier_counts(*w.report);
 }
 
-void print_verification(const std::optional<verify::Report>& report) {
+void print_verification(const std::optional<verify::Report>& report, double track_width_mm) {
     if (!report) {
         std::printf("verified        no (--no-verify)\n");
         return;
@@ -296,8 +296,9 @@ void print_verification(const std::optional<verify::Report>& report) {
     if (report->coverage < 0.97 && report->model_open_columns == 0) {
         std::fprintf(stderr,
                      "maxslice: warning: the beads cover %.1f%% of the part's volume (features "
-                     "narrower than the track get no material)\n",
-                     100.0 * report->coverage);
+                     "narrower than the %.2f mm track get no material: a narrower track "
+                     "builds them, e.g. examples/profiles/fine_5axis_ac.toml)\n",
+                     100.0 * report->coverage, track_width_mm);
     }
     std::printf("build time      %.1f min (deposit %.1f, idle %.1f, dwell %.1f; verifier)\n",
                 report->build_time_s / 60.0, report->deposit_time_s / 60.0,
@@ -463,7 +464,7 @@ int run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
                 p->region_area_mm2, p->layers_with_uncovered);
     std::printf("left out        %.1f mm of track in %d layers (no bead below it)\n", p->trimmed_mm,
                 p->layers_trimmed);
-    print_verification(report);
+    print_verification(report, profiles.process.track_width_mm);
     if (opt.timings) print_timings(times, true);
     return kExitOk;
 }
@@ -669,7 +670,7 @@ int run_slice(const PartOptions& opt, const SliceOptions& so) {
         std::printf("uncovered       %.2f mm2 of %.1f mm2 (%d layers over 1%%)\n",
                     planned->uncovered_mm2, planned->region_area_mm2,
                     planned->layers_with_uncovered);
-        print_verification(report);
+        print_verification(report, profiles->process.track_width_mm);
     }
     if (opt.timings) print_timings(times, program_mode);
     return kExitOk;

@@ -238,6 +238,46 @@ TEST(FiveAxis, FixturesBuildCleanWithTheOtherTableProfiles) {
 // A nozzle with a 60 degree half angle cannot reach under the portal's beam: no build order,
 // exit 2, nothing written. (The portal frame is refused by the reference 30 degree nozzle as
 // well: its beam closes a loop over the opening.)
+// The parts of the shared set whose features are narrower than the reference cell's 2.5 mm
+// track: at the reference profile they stay under 97 % (decision 0012); with the fine-spot
+// profile (0.8 mm) they meet the figures.
+TEST(FiveAxis, PartsTooFineForTheReferenceTrackBuildCleanWithTheFineTrack) {
+    const fs::path fine = kProfiles / "fine_5axis_ac.toml";
+    const fs::path dir = temp_dir("fine_track");
+    for (const char* part :
+         {"stl-models/gearwheel.bin.stl", "openscad/adns2610_dev_circuit_inv.stl",
+          "prusaslicer/M3x10_screw.stl", "netgen/part1.stl"}) {
+        expect_clean_job(kTestData / "meshes" / part, fine, dir, "gm");
+    }
+    // At the reference track the job says why the coverage is low and what builds the part.
+    const fs::path gear = kTestData / "meshes/stl-models/gearwheel.bin.stl";
+    const CliRun r = run_cli(
+        {"slice", gear.string(), "--profile", kReference5.string(), "-o", (dir / "g.gm").string()});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const Figures f = read_figures(r.out);
+    expect_clean(f, r.out);
+    EXPECT_LT(f.coverage_pct, 97.0) << r.out;
+    EXPECT_NE(r.err.find("narrower than the 2.50 mm track"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("fine_5axis_ac.toml"), std::string::npos) << r.err;
+}
+
+// The fine profile is the reference cell with another head: its machine tables are the
+// reference's, byte for byte, so the two cannot drift apart.
+TEST(FiveAxis, TheFineProfileRunsOnTheReferenceMachine) {
+    const auto machine_part = [](const fs::path& file) {
+        const std::string text = slurp(file);
+        const std::size_t from = text.find("[machine]\n");
+        const std::size_t to = text.find("[process]\n");
+        EXPECT_NE(from, std::string::npos) << file;
+        EXPECT_NE(to, std::string::npos) << file;
+        EXPECT_LT(from, to) << file;
+        return text.substr(from, to - from);
+    };
+    const std::string reference = machine_part(kReference5);
+    EXPECT_GT(reference.size(), 500u);
+    EXPECT_EQ(machine_part(kProfiles / "fine_5axis_ac.toml"), reference);
+}
+
 TEST(FiveAxis, AWideNozzleIsRefusedWithoutAProgram) {
     const fs::path dir = temp_dir("wide_nozzle");
     std::string text = slurp(kReference5);
