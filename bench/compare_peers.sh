@@ -41,6 +41,8 @@
 #                  (stages.py); Slic3r has no stage log: its --export-svg run (start-up,
 #                  load and slicing, no toolpaths) is the closest it has to a slice stage.
 #   plain read     `cat FILE > /dev/null` (wall, includes starting cat, ~1 ms).
+#   cold read      the same after `dd iflag=nocache count=0` dropped the file's cached pages
+#                  (reported beside target (c), which is measured against the warm read).
 #   foreign load   /proc/stat busy time of the whole machine during a run minus the run's
 #                  own CPU time, divided by its wall time: cores used by other work. Wall
 #                  times with a foreign load above ~0.2 core are inflated; CPU seconds less.
@@ -288,6 +290,18 @@ for f in "${model_files[@]}"; do
     R["$m|read"]=$read_s
     emit_tsv "$m" - cat read_s "$read_s"
     echo "plain read (cat FILE > /dev/null, warm cache, median of $(wc -l < "$work/cat.t")): $(num "$read_s" 4) s"
+    # The same read with the file's pages dropped first (dd iflag=nocache asks the kernel
+    # to drop them; on a VM the host may still cache them): what a job's first read costs.
+    : > "$work/cold.t"
+    for i in $(seq 1 $((runs > 5 ? runs : 5))); do
+        dd if="$f" iflag=nocache count=0 status=none 2>/dev/null || true
+        t0=$EPOCHREALTIME; cat "$f" > /dev/null; t1=$EPOCHREALTIME
+        awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.5f\n", b - a }' >> "$work/cold.t"
+    done
+    cold_s=$(median < "$work/cold.t")
+    R["$m|cold"]=$cold_s
+    emit_tsv "$m" - cat cold_read_s "$cold_s"
+    echo "cold read (the same after dd iflag=nocache dropped the file's pages, median of $(wc -l < "$work/cold.t")): $(num "$cold_s" 4) s"
     echo
 
     for L in "${layers[@]}"; do
@@ -447,6 +461,20 @@ for f in "${model_files[@]}"; do
 done
 echo
 echo "(a) holds when cura/ms >= 3; (b) when cura/ms > 1; (c) when maxslice slice / plain read <= 2."
+echo
+echo "For reference, not the target's measure: the slice stage against a cold read of the file"
+echo "(its pages dropped first), what the first job on a newly written file pays to read it."
+echo
+printf '| %-26s | %5s | %8s | %9s | %14s |\n' model layer "ms slice" "cold read" "slice/cold"
+printf '|%s|%s:|%s:|%s:|%s:|\n' ---------------------------- ------ --------- ---------- ----------------
+for f in "${model_files[@]}"; do
+    m=${short[$f]}
+    for L in "${layers[@]}"; do
+        ms=${R[$m|$L|ms_slice]}; cr=${R[$m|cold]}
+        printf '| %-26s | %5s | %8s | %9s | %14s |\n' "$m" "$L" "$(num "$ms")" "$(num "$cr" 4)" \
+            "$(ratio "$ms" "$cr")"
+    done
+done
 echo
 if [ "$whole" = 1 ] && [ ${#peers[@]} -gt 0 ]; then
     # The largest model: the most triangles (file size for STL).
