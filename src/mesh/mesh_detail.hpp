@@ -5,9 +5,11 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <optional>
 #include <vector>
 
 #include "maxslice/core/vec3.hpp"
+#include "maxslice/mesh/triangle_mesh.hpp"
 
 namespace maxslice::mesh::detail {
 
@@ -66,5 +68,14 @@ inline bool degenerate_with_area(double twice_area, const core::Vec3d& a, const 
     const double longest2 = std::max({core::dot(ab, ab), core::dot(ac, ac), core::dot(bc, bc)});
     return 0.5 * twice_area <= area_per_length2 * longest2;
 }
+
+/// Closed shells that repair() would turn the right way out: negative volume and not inside
+/// an odd number of other closed shells (so not a void), in bodies without non-manifold
+/// edges; the same analysis on a copy of the mesh (repair.cpp).
+struct InsideOutShells {
+    std::size_t count = 0;
+    std::optional<core::Vec3d> example;  ///< a point on the first one (mm)
+};
+[[nodiscard]] InsideOutShells inside_out_shells(const TriangleMesh& mesh);
 
 }  // namespace maxslice::mesh::detail

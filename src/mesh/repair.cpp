@@ -485,6 +485,7 @@ void orient(TriangleMesh& mesh, RepairReport& report) {
         if (depth % 2 == 1) continue;
         for (std::uint32_t i : shell.triangles)
             std::swap(mesh.triangles[i][1], mesh.triangles[i][2]);
+        if (!report.first_inverted_at) report.first_inverted_at = probe;
         ++report.inverted_shells;
         report.inverted_shell_triangles += shell.triangles.size();
     }
@@ -524,6 +525,17 @@ bool RepairReport::changed() const {
                reoriented_triangles + inverted_shells >
            0;
 }
+
+namespace detail {
+
+InsideOutShells inside_out_shells(const TriangleMesh& mesh) {
+    TriangleMesh copy = mesh;  // orient works in place; only its verdict is wanted here
+    RepairReport report;
+    orient(copy, report);
+    return {report.inverted_shells, report.first_inverted_at};
+}
+
+}  // namespace detail
 
 RepairReport repair(TriangleMesh& mesh, const RepairOptions& options) {
     RepairReport report;

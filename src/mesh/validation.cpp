@@ -49,12 +49,14 @@ struct EdgeTallies {
     Tally<std::uint64_t> boundary{0, kNoEdge};
     Tally<std::uint64_t> nonmanifold{0, kNoEdge};
     Tally<std::uint64_t> misoriented{0, kNoEdge};
+    Tally<std::uint64_t> unbalanced{0, kNoEdge};
     Tally<Triple> duplicate{0, kNoTriple};
 
     void join(const EdgeTallies& o) {
         boundary.join(o.boundary);
         nonmanifold.join(o.nonmanifold);
         misoriented.join(o.misoriented);
+        unbalanced.join(o.unbalanced);
         duplicate.join(o.duplicate);
     }
 };
@@ -184,6 +186,7 @@ EdgeTallies analyse_edges(const TriangleMesh& mesh) {
                     // Each direction used more than once is one misoriented (directed) edge.
                     if (forward > 1) acc.misoriented.add(key);
                     if (backward > 1) acc.misoriented.add(key);
+                    if (uses > 1 && forward != backward) acc.unbalanced.add(key);
                     for (std::uint64_t* i = g + 1; i < ge; ++i) {
                         const std::uint64_t third = (*i >> 1) & 0xffffffffu;
                         if (third > hi && third == ((*(i - 1) >> 1) & 0xffffffffu)) {
@@ -320,6 +323,10 @@ bool ValidationReport::closed_manifold() const {
            misoriented_edges.count == 0;
 }
 
+bool ValidationReport::closed() const {
+    return boundary_edges.count == 0 && unbalanced_edges.count == 0;
+}
+
 bool ValidationReport::inside_out() const {
     return closed_manifold() && volume_mm3 < 0.0;
 }
@@ -349,6 +356,14 @@ std::vector<std::string> ValidationReport::defects() const {
          "non-manifold edges (shared by more than two triangles)");
     line(misoriented_edges, "misoriented edge (its two triangles disagree on the outside)",
          "misoriented edges (their triangles disagree on the outside)");
+    line(inside_out_shells,
+         "closed shell is inside out (it faces inwards but is not a void in another shell)",
+         "closed shells are inside out (they face inwards but are not voids in other shells)");
+    if (misoriented_edges.count > 0 && unbalanced_edges.count == 0 && boundary_edges.count == 0) {
+        lines.emplace_back(
+            "every edge is used as often one way as the other: closed bodies touch along those "
+            "edges, and are sliced as one solid");
+    }
     if (inside_out()) {
         lines.push_back(fmt::format("the surface is inside out (volume {:.3f} mm^3)", volume_mm3));
     }
@@ -405,6 +420,13 @@ ValidationReport validate(const TriangleMesh& mesh) {
     fill_edge(report.boundary_edges, edges.boundary);
     fill_edge(report.nonmanifold_edges, edges.nonmanifold);
     fill_edge(report.misoriented_edges, edges.misoriented);
+    fill_edge(report.unbalanced_edges, edges.unbalanced);
+    if (report.bodies > 1 && report.boundary_edges.count == 0 &&
+        report.nonmanifold_edges.count == 0 && report.misoriented_edges.count == 0) {
+        const detail::InsideOutShells inverted = detail::inside_out_shells(mesh);
+        report.inside_out_shells.count = inverted.count;
+        report.inside_out_shells.example = inverted.example;
+    }
     report.duplicate_triangles.count = edges.duplicate.count;
     if (edges.duplicate.count > 0) {
         report.duplicate_triangles.example = centroid(mesh, edges.duplicate.first);

@@ -636,7 +636,7 @@ core::Result<void> write_order_svgs(const std::filesystem::path& dir, const plan
 }
 
 std::string volume_against_mesh(double volume_mm3, const mesh::ValidationReport& report) {
-    if (!report.closed_manifold()) {
+    if (!report.closed()) {
         return "(the mesh is not closed: its volume is not defined, nothing to compare)";
     }
     const double m = report.volume_mm3;

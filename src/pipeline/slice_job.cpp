@@ -35,11 +35,23 @@ core::Result<void> check_sliceable(const mesh::ValidationReport& r, bool repaire
                                   r.nonfinite_vertices.count));
     }
     const std::string hint = repaired ? "" : "; rerun with --repair to fix the orientation";
-    if (r.misoriented_edges.count > 0) {
+    // Misoriented edges that are balanced (as often one way as the other) are where closed
+    // bodies touch: the slicer's positive fill rule builds their union.
+    if (r.unbalanced_edges.count > 0) {
         return refuse(
             fmt::format("inconsistent orientation: {} edges are used twice in the same "
                         "direction{}{}",
-                        r.misoriented_edges.count, where(r.misoriented_edges), hint));
+                        r.unbalanced_edges.count, where(r.unbalanced_edges), hint));
+    }
+    if (r.inside_out_shells.count > 0) {
+        return refuse(fmt::format(
+            "{} of the {} bodies {} inside out (facing inwards, not a void in another body){}: "
+            "every layer would leave {} out{}",
+            r.inside_out_shells.count, r.bodies, r.inside_out_shells.count == 1 ? "is" : "are",
+            where(r.inside_out_shells), r.inside_out_shells.count == 1 ? "it" : "them",
+            repaired ? ""
+                     : fmt::format("; rerun with --repair to turn {} outside out",
+                                   r.inside_out_shells.count == 1 ? "it" : "them")));
     }
     const double diag = core::norm(r.bounding_box.size());
     // A volume this small against the box means the triangles enclose nothing (a sheet,

@@ -167,6 +167,61 @@ fs::path fixture_stl(const fs::path& dir, const std::string& name,
     return file;
 }
 
+// Closed bodies that touch (a multi-body CAD export: two blocks sharing a face, a block
+// sharing an edge with another) are sliced as their union; a separate body that faces
+// inwards would be left out of every layer, so it is refused unless --repair turns it out.
+TEST(PlanCli, TouchingBodiesAreBuiltAsOneAndAnInsideOutBodyIsRefused) {
+    using maxslice::test::box;
+    using maxslice::test::merged;
+    const fs::path dir = temp_dir("touching");
+    const fs::path profile = kSource / "examples/profiles/reference_5axis_ac.toml";
+    for (const auto& [name, mesh, volume] :
+         {std::tuple{"share_face",
+                     merged(box({0, 0, 0}, {10, 10, 10}), box({10, 0, 0}, {20, 10, 10})), 2000.0},
+          std::tuple{"share_edge",
+                     merged(box({0, 0, 0}, {10, 10, 10}), box({10, 0, 0}, {20, 10, 5})), 1500.0}}) {
+        SCOPED_TRACE(name);
+        const fs::path part = fixture_stl(dir, name, mesh);
+        const fs::path json = dir / (std::string(name) + ".json");
+        const CliRun s =
+            run_cli({"slice", part.string(), "--layer", "0.5", "--json", json.string()});
+        ASSERT_EQ(s.exit_code, 0) << s.err;
+        EXPECT_NE(s.err.find("closed bodies touch"), std::string::npos) << s.err;
+        const auto j = nlohmann::json::parse(slurp(json));
+        double sliced = 0.0;
+        for (const auto& l : j["layers"]) {
+            sliced += l["area_mm2"].get<double>() * l["thickness_mm"].get<double>();
+            EXPECT_EQ(l["outers"].get<int>(), 1) << "one solid in every layer";
+        }
+        EXPECT_NEAR(sliced, volume, 1e-6 * volume);
+        const fs::path program = dir / (std::string(name) + ".gm");
+        const CliRun p = run_cli(
+            {"slice", part.string(), "--profile", profile.string(), "-o", program.string()});
+        ASSERT_EQ(p.exit_code, 0) << p.err;
+        EXPECT_NE(p.out.find("verified        0 collisions, 0 unsupported beads, 0 limit"),
+                  std::string::npos)
+            << p.out;
+    }
+    const fs::path flipped =
+        fixture_stl(dir, "flipped",
+                    merged(box({0, 0, 0}, {20, 20, 10}),
+                           maxslice::test::inverted(box({30, 0, 0}, {40, 10, 10}))));
+    const CliRun r = run_cli({"slice", flipped.string(), "--layer", "0.5"});
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("1 of the 2 bodies is inside out"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("--repair"), std::string::npos) << r.err;
+    const fs::path json = dir / "flipped.json";
+    const CliRun fixed =
+        run_cli({"slice", flipped.string(), "--layer", "0.5", "--repair", "--json", json.string()});
+    ASSERT_EQ(fixed.exit_code, 0) << fixed.err;
+    double sliced = 0.0;
+    const auto repaired = nlohmann::json::parse(slurp(json));
+    for (const auto& l : repaired["layers"]) {
+        sliced += l["area_mm2"].get<double>() * l["thickness_mm"].get<double>();
+    }
+    EXPECT_NEAR(sliced, 4000.0 + 1000.0, 1e-3);
+}
+
 // A wedge standing on a strip 0.5 mm wide passes the planar overhang check (its face leans 30
 // degrees) but no track fits on the strip, so the tracks above it rest on nothing: the
 // verifier refuses that program, and the 3-axis job stands the wedge on a face instead (it

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,7 @@ struct RepairReport {
     std::size_t reoriented_triangles = 0;          ///< flipped to agree with their neighbours
     std::size_t inverted_shells = 0;               ///< closed shells turned the right way out
     std::size_t inverted_shell_triangles = 0;      ///< triangles of those shells
+    std::optional<core::Vec3d> first_inverted_at;  ///< on the first of those shells (mm)
     std::size_t unoriented_bodies = 0;             ///< bodies left as they were: non-manifold edges
 
     /// One line per kind of repair done ("welded 166 vertices closer than 1e-06 mm"), and one

@@ -27,12 +27,27 @@ struct ValidationReport {
     DefectCount boundary_edges;        ///< used by one triangle: the surface is open
     DefectCount nonmanifold_edges;     ///< used by more than two triangles
     DefectCount misoriented_edges;     ///< the same directed edge used twice
-    core::Box3d bounding_box;          ///< of the used vertices with finite coordinates (mm)
-    double volume_mm3 = 0.0;           ///< signed; negative means inside-out
+    /// Misoriented edges whose triangles do not use them as often one way as the other (a
+    /// closed, consistently oriented surface uses every edge equally often both ways, and
+    /// so do closed bodies that touch along an edge or a face: two cubes sharing a face have
+    /// four triangles on each of its edges, two each way). Only these make the orientation
+    /// inconsistent; the others are where closed bodies touch.
+    DefectCount unbalanced_edges;
+    /// Closed shells that enclose material but face inwards: negative volume, and not a
+    /// void (not inside an odd number of other closed shells). Checked when the mesh has
+    /// several bodies, is closed and no body has a non-manifold edge (a single body's
+    /// orientation is the sign of the volume). The slicer's positive fill rule would leave
+    /// such a body out of every layer.
+    DefectCount inside_out_shells;
+    core::Box3d bounding_box;  ///< of the used vertices with finite coordinates (mm)
+    double volume_mm3 = 0.0;   ///< signed; negative means inside-out
     double area_mm2 = 0.0;
 
     /// No open, non-manifold or misoriented edges.
     [[nodiscard]] bool closed_manifold() const;
+    /// No open edge and every edge used equally often both ways: one or more closed,
+    /// consistently oriented bodies, which may touch (their volume is the sum of theirs).
+    [[nodiscard]] bool closed() const;
     /// Closed, consistently oriented, and with negative volume.
     [[nodiscard]] bool inside_out() const;
     /// One human-readable line per defect present ("12 open edges, e.g. at (1, 2, 3)").

@@ -142,6 +142,63 @@ TEST(Validate, TwoCubesSharingAnEdge) {
     EXPECT_FALSE(r.closed_manifold());
 }
 
+TEST(Validate, TouchingClosedBodiesAreClosedWhereOrientationIsBalanced) {
+    // On the shared edge each direction is used twice: misoriented for a manifold, but the
+    // balance of a union of closed, consistently oriented bodies.
+    const ValidationReport r = validate(test::two_cubes_sharing_an_edge());
+    EXPECT_EQ(r.unbalanced_edges.count, 0u);
+    EXPECT_TRUE(r.closed());
+    EXPECT_FALSE(r.closed_manifold());
+    const auto lines = r.defects();
+    EXPECT_TRUE(std::any_of(lines.begin(), lines.end(), [](const std::string& l) {
+        return l.find("closed bodies touch") != std::string::npos;
+    }));
+}
+
+TEST(Validate, AFlippedTriangleIsUnbalancedEvenWhereBodiesTouch) {
+    TriangleMesh m = test::unit_cube();
+    std::swap(m.triangles[5][0], m.triangles[5][1]);
+    const ValidationReport r = validate(m);
+    EXPECT_EQ(r.unbalanced_edges.count, 3u);
+    EXPECT_FALSE(r.closed());
+    TriangleMesh touching = test::two_cubes_sharing_an_edge();
+    for (std::size_t t = 0; t < touching.triangles.size(); ++t) {
+        TriangleMesh one = touching;
+        std::swap(one.triangles[t][0], one.triangles[t][1]);
+        const ValidationReport f = validate(one);
+        EXPECT_GT(f.unbalanced_edges.count, 0u) << "triangle " << t;
+        EXPECT_FALSE(f.closed());
+        const auto lines = f.defects();
+        EXPECT_FALSE(std::any_of(lines.begin(), lines.end(), [](const std::string& l) {
+            return l.find("closed bodies touch") != std::string::npos;
+        }));
+    }
+}
+
+TEST(Validate, AnInsideOutBodyBesideAnotherIsFoundButAVoidIsNot) {
+    TriangleMesh apart = test::unit_cube();
+    append(apart, test::moved(test::inside_out_cube(), 3, 0, 0));
+    const ValidationReport r = validate(apart);
+    EXPECT_TRUE(r.closed_manifold());
+    EXPECT_EQ(r.inside_out_shells.count, 1u);
+    ASSERT_TRUE(r.inside_out_shells.example.has_value());
+    EXPECT_GE(r.inside_out_shells.example->x, 3.0);  // on the flipped cube
+    const auto lines = r.defects();
+    EXPECT_TRUE(std::any_of(lines.begin(), lines.end(), [](const std::string& l) {
+        return l.rfind("1 closed shell is inside out", 0) == 0;
+    }));
+
+    // A 4 mm cube with a 1 mm cubic void: the void faces inwards and is right.
+    TriangleMesh hollow = test::unit_cube();
+    scale(hollow, 4.0);
+    append(hollow, test::moved(test::inside_out_cube(), 1.5, 1.5, 1.5));
+    EXPECT_EQ(validate(hollow).inside_out_shells.count, 0u);
+    // Both separate cubes inside out: each one is found.
+    TriangleMesh both = test::inside_out_cube();
+    append(both, test::moved(test::inside_out_cube(), 3, 0, 0));
+    EXPECT_EQ(validate(both).inside_out_shells.count, 2u);
+}
+
 TEST(Validate, InsideOutCube) {
     const ValidationReport r = validate(test::inside_out_cube());
     EXPECT_NEAR(r.volume_mm3, -1.0, 1e-12);
