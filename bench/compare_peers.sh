@@ -187,6 +187,17 @@ model_path() {              # name or path -> path, making the generated models 
 busy_jiffies() { awk '/^cpu / { print $2 + $3 + $4 + $7 + $8 + $9; exit }' /proc/stat; }
 median() { sort -g | awk '{ a[NR] = $1 } END { if (NR == 0) print "nan"; else print (NR % 2) ? a[(NR + 1) / 2] : (a[NR / 2] + a[NR / 2 + 1]) / 2 }'; }
 hz=$(getconf CLK_TCK)
+# time_reads FILE warm|cold: median wall seconds of `cat FILE > /dev/null` over read_runs runs,
+# each after dropping the file's cached pages when cold.
+read_runs=$((runs > 5 ? runs : 5))
+time_reads() {
+    local i t0 t1
+    for i in $(seq 1 "$read_runs"); do
+        [ "$2" = cold ] && { dd if="$1" iflag=nocache count=0 status=none 2>/dev/null || true; }
+        t0=$EPOCHREALTIME; cat "$1" > /dev/null; t1=$EPOCHREALTIME
+        awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.5f\n", b - a }'
+    done | median
+}
 
 # Cores used by everything else over `secs` seconds, while we do nothing.
 idle_sample() {
@@ -279,29 +290,18 @@ for f in "${model_files[@]}"; do
     info_out=$("$maxslice" info "$f" 2>&1) || true
     head -n 14 <<< "$info_out" | sed "s/^/    /"
 
-    # Plain read of the file, warm cache.
-    : > "$work/cat.t"
+    # Plain read of the file, warm cache; then the same read with the file's pages dropped
+    # first (dd iflag=nocache asks the kernel to drop them; on a VM the host may still cache
+    # them): what a job's first read costs.
     cat "$f" > /dev/null
-    for i in $(seq 1 $((runs > 5 ? runs : 5))); do
-        t0=$EPOCHREALTIME; cat "$f" > /dev/null; t1=$EPOCHREALTIME
-        awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.5f\n", b - a }' >> "$work/cat.t"
-    done
-    read_s=$(median < "$work/cat.t")
+    read_s=$(time_reads "$f" warm)
     R["$m|read"]=$read_s
     emit_tsv "$m" - cat read_s "$read_s"
-    echo "plain read (cat FILE > /dev/null, warm cache, median of $(wc -l < "$work/cat.t")): $(num "$read_s" 4) s"
-    # The same read with the file's pages dropped first (dd iflag=nocache asks the kernel
-    # to drop them; on a VM the host may still cache them): what a job's first read costs.
-    : > "$work/cold.t"
-    for i in $(seq 1 $((runs > 5 ? runs : 5))); do
-        dd if="$f" iflag=nocache count=0 status=none 2>/dev/null || true
-        t0=$EPOCHREALTIME; cat "$f" > /dev/null; t1=$EPOCHREALTIME
-        awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.5f\n", b - a }' >> "$work/cold.t"
-    done
-    cold_s=$(median < "$work/cold.t")
+    echo "plain read (cat FILE > /dev/null, warm cache, median of $read_runs): $(num "$read_s" 4) s"
+    cold_s=$(time_reads "$f" cold)
     R["$m|cold"]=$cold_s
     emit_tsv "$m" - cat cold_read_s "$cold_s"
-    echo "cold read (the same after dd iflag=nocache dropped the file's pages, median of $(wc -l < "$work/cold.t")): $(num "$cold_s" 4) s"
+    echo "cold read (the same after dd iflag=nocache dropped the file's pages, median of $read_runs): $(num "$cold_s" 4) s"
     echo
 
     for L in "${layers[@]}"; do

@@ -45,6 +45,13 @@ bool is_edge_midpoint_of(const TriangleMesh& m, std::size_t t, const core::Vec3d
     return false;
 }
 
+// True when one of the report's lines contains text.
+bool has_line(const ValidationReport& r, const std::string& text) {
+    const auto lines = r.defects();
+    return std::any_of(lines.begin(), lines.end(),
+                       [&](const std::string& l) { return l.find(text) != std::string::npos; });
+}
+
 TEST(Validate, ClosedCube) {
     const TriangleMesh m = test::unit_cube();
     const ValidationReport r = validate(m);
@@ -149,10 +156,7 @@ TEST(Validate, TouchingClosedBodiesAreClosedWhereOrientationIsBalanced) {
     EXPECT_EQ(r.unbalanced_edges.count, 0u);
     EXPECT_TRUE(r.closed());
     EXPECT_FALSE(r.closed_manifold());
-    const auto lines = r.defects();
-    EXPECT_TRUE(std::any_of(lines.begin(), lines.end(), [](const std::string& l) {
-        return l.find("closed bodies touch") != std::string::npos;
-    }));
+    EXPECT_TRUE(has_line(r, "closed bodies touch"));
 }
 
 TEST(Validate, AFlippedTriangleIsUnbalancedEvenWhereBodiesTouch) {
@@ -168,10 +172,7 @@ TEST(Validate, AFlippedTriangleIsUnbalancedEvenWhereBodiesTouch) {
         const ValidationReport f = validate(one);
         EXPECT_GT(f.unbalanced_edges.count, 0u) << "triangle " << t;
         EXPECT_FALSE(f.closed());
-        const auto lines = f.defects();
-        EXPECT_FALSE(std::any_of(lines.begin(), lines.end(), [](const std::string& l) {
-            return l.find("closed bodies touch") != std::string::npos;
-        }));
+        EXPECT_FALSE(has_line(f, "closed bodies touch"));
     }
 }
 
@@ -183,10 +184,7 @@ TEST(Validate, AnInsideOutBodyBesideAnotherIsFoundButAVoidIsNot) {
     EXPECT_EQ(r.inside_out_shells.count, 1u);
     ASSERT_TRUE(r.inside_out_shells.example.has_value());
     EXPECT_GE(r.inside_out_shells.example->x, 3.0);  // on the flipped cube
-    const auto lines = r.defects();
-    EXPECT_TRUE(std::any_of(lines.begin(), lines.end(), [](const std::string& l) {
-        return l.rfind("1 closed shell is inside out", 0) == 0;
-    }));
+    EXPECT_TRUE(has_line(r, "1 closed shell is inside out"));
 
     // A 4 mm cube with a 1 mm cubic void: the void faces inwards and is right.
     TriangleMesh hollow = test::unit_cube();
