@@ -165,7 +165,9 @@ core::Result<OrientedPlan> orient_multiaxis(const mesh::TriangleMesh& part, cons
     std::optional<core::Error> given_error;  // the given direction could not be planned
     if (policy != OrientPolicy::kAuto) {
         auto g = plan_along(part, given, profiles, progress);
-        if (g) {
+        // Ordered only when nothing refuses the plan already: the order of a plan with layers
+        // on nothing is never used, and it is the slow part (seconds to minutes on fine tracks).
+        if (g && multiaxis_refusal(g->planned, g->bare_plate).empty()) {
             if (auto ok = order(*g, profiles, progress); !ok) return std::unexpected(ok.error());
         }
         // A plan the planner refuses along this direction (a piece nothing can reach) may
@@ -269,7 +271,8 @@ core::Result<OrientedPlan> orient_multiaxis(const mesh::TriangleMesh& part, cons
                 (out.tries.empty() ? std::string("no candidates") : out.tries.front().refusal));
     }
     Ranked& best = ranked.front();
-    if (!best.placed.planned.order) {
+    if (!best.placed.planned.order &&
+        multiaxis_refusal(best.placed.planned, best.placed.bare_plate).empty()) {
         if (auto ok = order(best.placed, profiles, progress); !ok) {
             return std::unexpected(ok.error());
         }

@@ -10,6 +10,7 @@
 
 #include "maxslice/machine/profile.hpp"
 #include "maxslice/pipeline/orient_job.hpp"
+#include "support/fixtures.hpp"
 #include "support/planner_fixtures.hpp"
 
 namespace maxslice::pipeline {
@@ -92,6 +93,33 @@ TEST(OrientJob, APlanTheCheckRefusesIsNotKept) {
     EXPECT_EQ(g->tries[0].refusal, "refused by the test");
     EXPECT_NEAR(top_z(g->placed), given_height, 1e-6);
     EXPECT_EQ(again.heights.size(), 1u);
+}
+
+// A block with a cube floating beside it, off the plate along every axis: every base leaves
+// layers on nothing. Such plans are refused as planned; none is ordered (the order of a plan
+// that cannot be built is never used, and ordering is the slow part).
+TEST(OrientJob, PlansWithLayersOnNothingAreRefusedWithoutAnOrder) {
+    const machine::Profiles profiles = reference_profiles();
+    const mesh::TriangleMesh part =
+        test::merged(test::box({0, 0, 0}, {20, 20, 10}), test::box({30, 5, 5}, {40, 15, 15}));
+    for (const OrientPolicy policy : {OrientPolicy::kFallback, OrientPolicy::kAuto}) {
+        int checks = 0;
+        auto o = orient_multiaxis(part, {0, 0, 1}, policy, profiles, nullptr,
+                                  [&](const core::Vec3d&, const mesh::TriangleMesh&,
+                                      const PlannedPart&) -> core::Result<std::string> {
+                                      ++checks;
+                                      return std::string();
+                                  });
+        ASSERT_TRUE(o.has_value()) << o.error().describe();
+        EXPECT_FALSE(o->planned.plan.unsupported_layers.empty());
+        EXPECT_FALSE(o->planned.order.has_value());
+        EXPECT_EQ(checks, 0);
+        ASSERT_GE(o->tries.size(), 6u);
+        for (const OrientTry& t : o->tries) {
+            EXPECT_NE(t.refusal.find("layers rest on nothing"), std::string::npos)
+                << t.source << ": " << t.refusal;
+        }
+    }
 }
 
 // An error of the check ends the search with that error.
