@@ -6,7 +6,8 @@
 // (run_isolated), so the parent never maps Open CASCADE at all.
 //
 // Where the module is looked for, in order: $MAXSLICE_CAD_PLUGIN (a path to the file), the
-// directory of the running program, and the build tree it was built in.
+// directory of the running program, lib/maxslice/ beside that directory (an installed
+// maxslice: apps/maxslice/CMakeLists.txt), and the build tree it was built in.
 #include <dlfcn.h>
 #include <unistd.h>
 
@@ -36,7 +37,14 @@ std::vector<std::filesystem::path> module_candidates() {
     }
     std::error_code ec;
     const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
-    if (!ec) out.push_back(self.parent_path() / kModuleName);
+    if (!ec) {
+        const std::filesystem::path bin = self.parent_path();
+        out.push_back(bin / kModuleName);
+#ifdef MAXSLICE_CAD_PLUGIN_INSTALL_DIR
+        // Installed: <prefix>/bin/maxslice and <prefix>/<libdir>/maxslice/ (cmake --install).
+        out.push_back(bin.parent_path() / MAXSLICE_CAD_PLUGIN_INSTALL_DIR / kModuleName);
+#endif
+    }
 #ifdef MAXSLICE_CAD_PLUGIN_BUILD_PATH
     out.emplace_back(MAXSLICE_CAD_PLUGIN_BUILD_PATH);
 #endif
