@@ -77,5 +77,11 @@ struct InsideOutShells {
     std::optional<core::Vec3d> example;  ///< a point on the first one (mm)
 };
 [[nodiscard]] InsideOutShells inside_out_shells(const TriangleMesh& mesh);
+/// Pieces of surface (triangles connected through two-sided edges) whose inside is empty: the
+/// point just behind a piece's largest triangle, on the side its winding calls inside, has a
+/// winding number under 1/2 about the whole surface. For closed surfaces where bodies touch
+/// along non-manifold edges, which inside_out_shells does not look at. At most the 64
+/// largest pieces are tested (each test is a pass over the mesh).
+[[nodiscard]] InsideOutShells inward_pieces(const TriangleMesh& mesh);
 
 }  // namespace maxslice::mesh::detail

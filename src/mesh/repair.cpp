@@ -1,6 +1,7 @@
 #include "maxslice/mesh/repair.hpp"
 
 #include <fmt/format.h>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <bit>
@@ -527,6 +528,73 @@ bool RepairReport::changed() const {
 }
 
 namespace detail {
+
+InsideOutShells inward_pieces(const TriangleMesh& mesh) {
+    InsideOutShells out;
+    const std::size_t nt = mesh.triangles.size();
+    if (nt == 0) return out;
+    const Adjacency adj = build_adjacency(mesh);
+    // Pieces: triangles connected through two-sided edges; each keeps its largest triangle.
+    struct Piece {
+        std::uint32_t largest = 0;
+        double largest_area = -1.0;
+        double area = 0.0;
+    };
+    std::vector<Piece> pieces;
+    std::vector<std::uint8_t> seen(nt, 0);
+    std::vector<std::uint32_t> queue;
+    for (std::size_t seed = 0; seed < nt; ++seed) {
+        if (seen[seed]) continue;
+        Piece piece;
+        queue.assign(1, static_cast<std::uint32_t>(seed));
+        seen[seed] = 1;
+        for (std::size_t q = 0; q < queue.size(); ++q) {
+            const std::uint32_t t = queue[q];
+            const Triangle& tri = mesh.triangles[t];
+            const double a = twice_area_term(mesh.vertices[tri[0]], mesh.vertices[tri[1]],
+                                             mesh.vertices[tri[2]]);
+            piece.area += a;
+            if (a > piece.largest_area) piece.largest_area = a, piece.largest = t;
+            for (std::uint32_t k = 0; k < 3; ++k) {
+                const std::uint32_t other = adj.across[3 * t + k];
+                if (other == kNone || seen[other / 3]) continue;
+                seen[other / 3] = 1;
+                queue.push_back(other / 3);
+            }
+        }
+        pieces.push_back(piece);
+    }
+    // Each test is a pass over the whole mesh: the largest pieces first, at most 64.
+    std::stable_sort(pieces.begin(), pieces.end(),
+                     [](const Piece& a, const Piece& b) { return a.area > b.area; });
+    pieces.resize(std::min<std::size_t>(pieces.size(), 64));
+    std::vector<std::uint32_t> all(nt);
+    for (std::size_t i = 0; i < nt; ++i) all[i] = static_cast<std::uint32_t>(i);
+    std::vector<std::uint8_t> inward(pieces.size(), 0);
+    std::vector<core::Vec3d> probe(pieces.size());
+    tbb::parallel_for(std::size_t{0}, pieces.size(), [&](std::size_t i) {
+        const Triangle& t = mesh.triangles[pieces[i].largest];
+        const core::Vec3d& a = mesh.vertices[t[0]];
+        const core::Vec3d& b = mesh.vertices[t[1]];
+        const core::Vec3d& c = mesh.vertices[t[2]];
+        const core::Vec3d n = core::cross(b - a, c - a);
+        const double twice_area = core::norm(n);
+        const double perimeter = core::norm(b - a) + core::norm(c - b) + core::norm(a - c);
+        if (!(twice_area > 0.0) || !(perimeter > 0.0)) return;
+        // A hundredth of the inradius behind the centroid, on the side the winding calls
+        // inside: nearer to this triangle than to any other part of the surface.
+        const double eps = 0.01 * twice_area / perimeter;
+        probe[i] = (a + b + c) / 3.0;
+        const core::Vec3d p = probe[i] - n * (eps / twice_area);
+        inward[i] = winding_number(mesh, all, p) < 0.5 ? 1 : 0;
+    });
+    for (std::size_t i = 0; i < pieces.size(); ++i) {
+        if (!inward[i]) continue;
+        if (!out.example) out.example = probe[i];
+        ++out.count;
+    }
+    return out;
+}
 
 InsideOutShells inside_out_shells(const TriangleMesh& mesh) {
     TriangleMesh copy = mesh;  // orient works in place; only its verdict is wanted here

@@ -359,7 +359,11 @@ std::vector<std::string> ValidationReport::defects() const {
     line(inside_out_shells,
          "closed shell is inside out (it faces inwards but is not a void in another shell)",
          "closed shells are inside out (they face inwards but are not voids in other shells)");
-    if (misoriented_edges.count > 0 && unbalanced_edges.count == 0 && boundary_edges.count == 0) {
+    line(inward_pieces,
+         "piece of surface where closed bodies touch faces inwards (its inside is empty)",
+         "pieces of surface where closed bodies touch face inwards (their inside is empty)");
+    if (misoriented_edges.count > 0 && unbalanced_edges.count == 0 && boundary_edges.count == 0 &&
+        inward_pieces.count == 0) {
         lines.emplace_back(
             "every edge is used as often one way as the other: closed bodies touch along those "
             "edges, and are sliced as one solid");
@@ -426,6 +430,12 @@ ValidationReport validate(const TriangleMesh& mesh) {
         const detail::InsideOutShells inverted = detail::inside_out_shells(mesh);
         report.inside_out_shells.count = inverted.count;
         report.inside_out_shells.example = inverted.example;
+    }
+    if (report.misoriented_edges.count > 0 && report.unbalanced_edges.count == 0 &&
+        report.boundary_edges.count == 0) {
+        const detail::InsideOutShells inward = detail::inward_pieces(mesh);
+        report.inward_pieces.count = inward.count;
+        report.inward_pieces.example = inward.example;
     }
     report.duplicate_triangles.count = edges.duplicate.count;
     if (edges.duplicate.count > 0) {

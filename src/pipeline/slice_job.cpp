@@ -53,6 +53,14 @@ core::Result<void> check_sliceable(const mesh::ValidationReport& r, bool repaire
                      : fmt::format("; rerun with --repair to turn {} outside out",
                                    r.inside_out_shells.count == 1 ? "it" : "them")));
     }
+    if (r.inward_pieces.count > 0) {
+        return refuse(fmt::format(
+            "{} {} of surface where closed bodies touch {} inwards{}: a body that touches "
+            "another is inside out, and every layer would leave it out; turn it outside out in "
+            "the CAD export (--repair does not reorient bodies that share edges)",
+            r.inward_pieces.count, r.inward_pieces.count == 1 ? "piece" : "pieces",
+            r.inward_pieces.count == 1 ? "faces" : "face", where(r.inward_pieces)));
+    }
     const double diag = core::norm(r.bounding_box.size());
     // A volume this small against the box means the triangles enclose nothing (a sheet,
     // a soup of loose faces).

@@ -210,6 +210,20 @@ TEST(PlanCli, TouchingBodiesAreBuiltAsOneAndAnInsideOutBodyIsRefused) {
     EXPECT_EQ(r.exit_code, 2);
     EXPECT_NE(r.err.find("1 of the 2 bodies is inside out"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("--repair"), std::string::npos) << r.err;
+    // Touching another body, an inside-out block is refused with and without --repair
+    // (which does not reorient bodies that share edges).
+    const fs::path touching =
+        fixture_stl(dir, "touching_flipped",
+                    merged(box({0, 0, 0}, {20, 10, 10}),
+                           maxslice::test::inverted(box({20, 0, 0}, {30, 10, 10}))));
+    for (const bool repair : {false, true}) {
+        std::vector<std::string> args = {"slice", touching.string(), "--layer", "0.5"};
+        if (repair) args.push_back("--repair");
+        const CliRun t = run_cli(args);
+        EXPECT_EQ(t.exit_code, 2) << t.err;
+        EXPECT_NE(t.err.find("a body that touches another is inside out"), std::string::npos)
+            << t.err;
+    }
     const fs::path json = dir / "flipped.json";
     const CliRun fixed =
         run_cli({"slice", flipped.string(), "--layer", "0.5", "--repair", "--json", json.string()});

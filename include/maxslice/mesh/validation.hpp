@@ -39,6 +39,10 @@ struct ValidationReport {
     /// orientation is the sign of the volume). The slicer's positive fill rule would leave
     /// such a body out of every layer.
     DefectCount inside_out_shells;
+    /// Where closed bodies touch (every misoriented edge balanced): pieces of surface whose
+    /// inside is empty, i.e. a touching body that faces inwards (repair does not reorient
+    /// bodies with non-manifold edges). Among the 64 largest pieces.
+    DefectCount inward_pieces;
     core::Box3d bounding_box;  ///< of the used vertices with finite coordinates (mm)
     double volume_mm3 = 0.0;   ///< signed; negative means inside-out
     double area_mm2 = 0.0;

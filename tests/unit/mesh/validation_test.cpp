@@ -6,7 +6,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <span>
 #include <string>
+#include <vector>
 
 #include "maxslice/core/tolerances.hpp"
 #include "mesh_builders.hpp"
@@ -174,6 +176,39 @@ TEST(Validate, AFlippedTriangleIsUnbalancedEvenWhereBodiesTouch) {
         EXPECT_FALSE(f.closed());
         EXPECT_FALSE(has_line(f, "closed bodies touch"));
     }
+}
+
+// Two unit cubes welded along a shared face x = 1 (four triangles on each of its edges);
+// the second one reversed when `flip_second`.
+TriangleMesh two_cubes_sharing_a_face(bool flip_second) {
+    std::vector<double> soup = test::cube_soup<double>();
+    std::vector<double> other = test::cube_soup<double>();
+    for (std::size_t i = 0; i < other.size(); i += 3) other[i] += 1.0;
+    if (flip_second) {
+        for (std::size_t t = 0; t < other.size(); t += 9) {
+            for (std::size_t c = 0; c < 3; ++c) std::swap(other[t + 3 + c], other[t + 6 + c]);
+        }
+    }
+    soup.insert(soup.end(), other.begin(), other.end());
+    return weld_exact(std::span<const double>(soup));
+}
+
+TEST(Validate, ATouchingBodyThatFacesInwardsIsFound) {
+    const ValidationReport ok = validate(two_cubes_sharing_a_face(false));
+    EXPECT_GT(ok.nonmanifold_edges.count, 0u);
+    EXPECT_EQ(ok.unbalanced_edges.count, 0u);
+    EXPECT_EQ(ok.inward_pieces.count, 0u);
+    EXPECT_NEAR(ok.volume_mm3, 2.0, 1e-12);
+    const ValidationReport flipped = validate(two_cubes_sharing_a_face(true));
+    EXPECT_EQ(flipped.unbalanced_edges.count, 0u) << "a reversed closed body is still balanced";
+    EXPECT_NEAR(flipped.volume_mm3, 0.0, 1e-12);
+    EXPECT_GE(flipped.inward_pieces.count, 1u);
+    ASSERT_TRUE(flipped.inward_pieces.example.has_value());
+    EXPECT_GT(flipped.inward_pieces.example->x, 1.0);  // on the reversed cube
+    EXPECT_TRUE(has_line(flipped, "face inwards"));
+    EXPECT_FALSE(has_line(flipped, "are sliced as one solid"));
+    // The cubes sharing an edge: nothing faces inwards.
+    EXPECT_EQ(validate(test::two_cubes_sharing_an_edge()).inward_pieces.count, 0u);
 }
 
 TEST(Validate, AnInsideOutBodyBesideAnotherIsFoundButAVoidIsNot) {
