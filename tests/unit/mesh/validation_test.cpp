@@ -205,7 +205,7 @@ TEST(Validate, ATouchingBodyThatFacesInwardsIsFound) {
     EXPECT_GE(flipped.inward_pieces.count, 1u);
     ASSERT_TRUE(flipped.inward_pieces.example.has_value());
     EXPECT_GT(flipped.inward_pieces.example->x, 1.0);  // on the reversed cube
-    EXPECT_TRUE(has_line(flipped, "face inwards"));
+    EXPECT_TRUE(has_line(flipped, "inside is empty"));
     EXPECT_FALSE(has_line(flipped, "are sliced as one solid"));
     // The cubes sharing an edge: nothing faces inwards.
     EXPECT_EQ(validate(test::two_cubes_sharing_an_edge()).inward_pieces.count, 0u);
