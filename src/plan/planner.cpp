@@ -779,26 +779,34 @@ private:
                 r.direction == plan_.regions[static_cast<std::size_t>(r.parent)].direction) {
                 continue;
             }
-            const Layer& first = layers[static_cast<std::size_t>(r.layers.front())];
-            // Empty sections between the base plane and the first layer: nothing across the
-            // base plane touches it (a body beside the part, reached across the air).
-            if (first.after_gap) continue;
             std::vector<int> others;
             for (const Region& other : plan_.regions) {
                 if (other.id == r.id || descends_from(other.id, r.id)) continue;
                 others.insert(others.end(), other.layers.begin(), other.layers.end());
             }
-            const Box2 first_box = box2_of(first.wires.paths());
-            std::vector<char> touches(others.size(), 0);
-            tbb::parallel_for(std::size_t{0}, others.size(), [&](std::size_t k) {
-                const Layer& q = layers[static_cast<std::size_t>(others[k])];
-                touches[k] = contact_mm2(q, first, first_box, r) >= min_area ? 1 : 0;
-            });
-            for (std::size_t k = 0; k < others.size(); ++k) {
-                // Two first layers may touch each other across both base planes (sideways
-                // regions meeting at a corner): the edge that would close a cycle is left
-                // out, so the earlier-made one goes first and the graph stays acyclic.
-                if (touches[k] != 0 && !reaches(first.id, others[k])) link(others[k], first.id);
+            // Every piece of the first slice (the slice may cut the part in several).
+            const int first_step =
+                layers[static_cast<std::size_t>(r.layers.front())].index_in_region;
+            for (const int id : r.layers) {
+                const Layer& first = layers[static_cast<std::size_t>(id)];
+                if (first.index_in_region != first_step) break;
+                // Empty sections between the base plane and the first layer: nothing across
+                // the base plane touches it (a body beside the part, reached across the air).
+                if (first.after_gap) continue;
+                const Box2 first_box = box2_of(first.wires.paths());
+                std::vector<char> touches(others.size(), 0);
+                tbb::parallel_for(std::size_t{0}, others.size(), [&](std::size_t k) {
+                    const Layer& q = layers[static_cast<std::size_t>(others[k])];
+                    touches[k] = contact_mm2(q, first, first_box, r) >= min_area ? 1 : 0;
+                });
+                for (std::size_t k = 0; k < others.size(); ++k) {
+                    // Two first layers may touch each other across both base planes (sideways
+                    // regions meeting at a corner): the edge that would close a cycle is left
+                    // out, so the earlier-made one goes first and the graph stays acyclic.
+                    if (touches[k] != 0 && !reaches(first.id, others[k])) {
+                        link(others[k], first.id);
+                    }
+                }
             }
         }
         for (Layer& l : layers) {

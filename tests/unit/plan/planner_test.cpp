@@ -157,6 +157,41 @@ TEST(Planner, ABodyAboveAGapRestsOnNothing) {
     for (const Layer& q : side.layers) EXPECT_FALSE(q.after_gap);
 }
 
+// A column with two arms to +X at the same height: one sideways region builds both, and its
+// first slice cuts them in two pieces. Each piece rests on the column across the base plane
+// (only the first piece was linked before: the second arm rested on nothing).
+TEST(Planner, EveryPieceOfASidewaysRegionsFirstSliceRestsOnTheBase) {
+    const mesh::TriangleMesh m =
+        merged(merged(box({0, 0, 0}, {20, 20, 40}), box({10, 0, 20}, {40, 5, 25})),
+               box({10, 15, 20}, {40, 20, 25}));
+    const Plan p = plan_of(m);
+    EXPECT_TRUE(p.unsupported_layers.empty());
+    expect_graph_is_sound(p);
+    expect_support_free(p);
+    int checked = 0;
+    for (const Region& r : p.regions) {
+        if (r.parent < 0 ||
+            parallel(r.direction, p.regions[static_cast<std::size_t>(r.parent)].direction)) {
+            continue;
+        }
+        EXPECT_TRUE(parallel(r.direction, {1, 0, 0}));
+        const int step = p.layers[static_cast<std::size_t>(r.layers.front())].index_in_region;
+        int pieces = 0;
+        for (const int id : r.layers) {
+            const Layer& l = p.layers[static_cast<std::size_t>(id)];
+            if (l.index_in_region != step) break;
+            ++pieces;
+            EXPECT_FALSE(l.parents.empty()) << "piece " << id << " of the first slice";
+            for (const int q : l.parents) {
+                EXPECT_NE(p.layers[static_cast<std::size_t>(q)].region, r.id);
+            }
+        }
+        EXPECT_EQ(pieces, 2) << "one piece per arm";
+        ++checked;
+    }
+    EXPECT_EQ(checked, 1) << "one sideways region";
+}
+
 TEST(Planner, PrismAndTubeAreOneRegion) {
     for (const auto& [name, m] : {std::pair{"box", box({0, 0, 0}, {30, 20, 15})},
                                   std::pair{"tube", test::tube(15, 6, 20, 64)}}) {
