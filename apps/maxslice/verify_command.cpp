@@ -19,10 +19,30 @@
 #include "maxslice/io/read_mesh.hpp"
 #include "maxslice/machine/profile.hpp"
 #include "maxslice/machine/writer.hpp"
+#include "maxslice/mesh/validation.hpp"
 #include "maxslice/verify/verify.hpp"
 
 namespace maxslice::app {
 namespace {
+
+// Why the model's surface does not bound its solid the right way round, or "".
+std::string misoriented_model(const mesh::ValidationReport& r) {
+    if (r.unbalanced_edges.count > 0) {
+        return fmt::format(
+            "has {} edges used more often one way than the other (inconsistent "
+            "orientation)",
+            r.unbalanced_edges.count);
+    }
+    if (r.inside_out_shells.count > 0) {
+        return fmt::format("has {} inside-out {}", r.inside_out_shells.count,
+                           r.inside_out_shells.count == 1 ? "body" : "bodies");
+    }
+    if (r.inward_pieces.count > 0) {
+        return fmt::format("has a body that faces inwards where bodies touch");
+    }
+    if (r.volume_mm3 < 0.0) return "is inside out (negative volume)";
+    return {};
+}
 
 // A replay with more than this share of its material outside the model and less than this
 // share of the model covered is most likely of a model placed otherwise than the program
@@ -123,6 +143,15 @@ int run_verify(const VerifyCommandOptions& opts) {
     }
     auto model = io::read_mesh(opts.model, import);
     if (!model) return report_error(model.error());
+    // The replay measures coverage and excess against what the model's surface encloses by
+    // its winding: a body that faces inwards encloses nothing there (the job refuses such a
+    // model; a replay only says so).
+    if (const std::string why = misoriented_model(mesh::validate(model->mesh)); !why.empty()) {
+        std::fprintf(stderr,
+                     "maxslice: warning: the model %s: coverage and excess are measured against "
+                     "what its surface encloses, which leaves that material out\n",
+                     why.c_str());
+    }
     auto text = read_text(opts.program);
     if (!text) return report_error(text.error());
     core::Vec3d direction{0.0, 0.0, 1.0};

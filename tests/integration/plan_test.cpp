@@ -236,6 +236,35 @@ TEST(PlanCli, TouchingBodiesAreBuiltAsOneAndAnInsideOutBodyIsRefused) {
     EXPECT_NEAR(sliced, 4000.0 + 1000.0, 1e-3);
 }
 
+// `maxslice verify` measures coverage against what the model's surface encloses: with a body
+// of the model facing inwards it says so (the program deposits that body; the replay counts it
+// as excess).
+TEST(PlanCli, VerifyWarnsWhenTheModelHasAnInsideOutBody) {
+    using maxslice::test::box;
+    using maxslice::test::merged;
+    const fs::path dir = temp_dir("verify_inside_out");
+    const fs::path profile = kSource / "examples/profiles/reference_5axis_ac.toml";
+    const fs::path good = fixture_stl(
+        dir, "good", merged(box({0, 0, 0}, {20, 20, 10}), box({30, 0, 0}, {40, 10, 10})));
+    const fs::path flipped =
+        fixture_stl(dir, "flipped",
+                    merged(box({0, 0, 0}, {20, 20, 10}),
+                           maxslice::test::inverted(box({30, 0, 0}, {40, 10, 10}))));
+    const fs::path program = dir / "p.gm";
+    const CliRun job =
+        run_cli({"slice", good.string(), "--profile", profile.string(), "-o", program.string()});
+    ASSERT_EQ(job.exit_code, 0) << job.err;
+    const CliRun ok = run_cli(
+        {"verify", program.string(), "--model", good.string(), "--profile", profile.string()});
+    EXPECT_EQ(ok.exit_code, 0) << ok.err;
+    EXPECT_EQ(ok.err.find("warning"), std::string::npos) << ok.err;
+    const CliRun bad = run_cli(
+        {"verify", program.string(), "--model", flipped.string(), "--profile", profile.string()});
+    EXPECT_EQ(bad.exit_code, 0) << bad.err;  // the program itself is sound
+    EXPECT_NE(bad.err.find("warning: the model has 1 inside-out body"), std::string::npos)
+        << bad.err;
+}
+
 // A wedge standing on a strip 0.5 mm wide passes the planar overhang check (its face leans 30
 // degrees) but no track fits on the strip, so the tracks above it rest on nothing: the
 // verifier refuses that program, and the 3-axis job stands the wedge on a face instead (it
