@@ -38,7 +38,7 @@ std::string misoriented_model(const mesh::ValidationReport& r) {
                            r.inside_out_shells.count == 1 ? "body" : "bodies");
     }
     if (r.inward_pieces.count > 0) {
-        return fmt::format("has a body that faces inwards where bodies touch");
+        return "has a body that faces inwards where bodies touch";
     }
     if (r.volume_mm3 < 0.0) return "is inside out (negative volume)";
     return {};

@@ -9,11 +9,10 @@
 // directory of the running program, lib/maxslice/ beside that directory (an installed
 // maxslice: apps/maxslice/CMakeLists.txt), and the build tree it was built in.
 #include <dlfcn.h>
-#include <unistd.h>
 
 #include <fmt/format.h>
 
-#include <array>
+#include <cstdlib>
 #include <string>
 #include <system_error>
 #include <vector>

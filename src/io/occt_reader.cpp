@@ -472,7 +472,8 @@ core::Result<RawImport> read_cad_in_process(const std::filesystem::path& path, F
 
 }  // namespace maxslice::io::detail
 
-// The plugin's one entry point (cad_plugin.hpp): everything else in this module is hidden.
+// The module's one entry point (loaded by cad_plugin.cpp): everything else in this module is
+// hidden.
 extern "C" __attribute__((visibility("default"))) void maxslice_read_cad_v1(
     const std::filesystem::path* path, maxslice::io::Format format,
     const maxslice::io::ImportOptions* options,

@@ -327,6 +327,10 @@ bool ValidationReport::closed() const {
     return boundary_edges.count == 0 && unbalanced_edges.count == 0;
 }
 
+bool ValidationReport::bodies_touch() const {
+    return closed() && misoriented_edges.count > 0;
+}
+
 bool ValidationReport::inside_out() const {
     return closed_manifold() && volume_mm3 < 0.0;
 }
@@ -362,8 +366,7 @@ std::vector<std::string> ValidationReport::defects() const {
     line(inward_pieces,
          "piece of surface where closed bodies touch faces inwards (its inside is empty)",
          "pieces of surface where closed bodies touch face inwards (their inside is empty)");
-    if (misoriented_edges.count > 0 && unbalanced_edges.count == 0 && boundary_edges.count == 0 &&
-        inward_pieces.count == 0) {
+    if (bodies_touch() && inward_pieces.count == 0) {
         lines.emplace_back(
             "every edge is used as often one way as the other: closed bodies touch along those "
             "edges, and are sliced as one solid");
@@ -431,8 +434,7 @@ ValidationReport validate(const TriangleMesh& mesh) {
         report.inside_out_shells.count = inverted.count;
         report.inside_out_shells.example = inverted.example;
     }
-    if (report.misoriented_edges.count > 0 && report.unbalanced_edges.count == 0 &&
-        report.boundary_edges.count == 0) {
+    if (report.bodies_touch()) {
         const detail::InsideOutShells inward = detail::inward_pieces(mesh);
         report.inward_pieces.count = inward.count;
         report.inward_pieces.example = inward.example;

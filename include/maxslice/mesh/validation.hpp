@@ -52,6 +52,9 @@ struct ValidationReport {
     /// No open edge and every edge used equally often both ways: one or more closed,
     /// consistently oriented bodies, which may touch (their volume is the sum of theirs).
     [[nodiscard]] bool closed() const;
+    /// Closed, with misoriented edges that are all balanced: closed bodies that touch along
+    /// edges or faces.
+    [[nodiscard]] bool bodies_touch() const;
     /// Closed, consistently oriented, and with negative volume.
     [[nodiscard]] bool inside_out() const;
     /// One human-readable line per defect present ("12 open edges, e.g. at (1, 2, 3)").
