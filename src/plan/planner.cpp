@@ -372,6 +372,11 @@ private:
                     a.error(), fmt::format("region {}, height {:.3f} mm", rid, s.span.cut)));
             }
             for (const OverhangPiece& p : a->pieces) {
+                // A piece that does not touch the look-back layer stands on the layers in
+                // between (U was compared with L first: it is carried there, or its pieces
+                // are slivers), as a rail does on the roof of an undercut built since: an
+                // overhang by its angle, not a floating piece.
+                if (ref != lower && !p.touches_lower && p.ang_deg <= s_.beta_deg) continue;
                 if (!p.touches_lower && !has_sideways(ref, p)) {
                     // Nothing can reach it: it stays in its layer and rests on nothing there
                     // (the plan says so; a refusal of this base, not of the whole plan).

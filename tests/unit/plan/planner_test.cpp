@@ -192,6 +192,26 @@ TEST(Planner, EveryPieceOfASidewaysRegionsFirstSliceRestsOnTheBase) {
     EXPECT_EQ(checked, 1) << "one sideways region";
 }
 
+// A plate 60 x 40 x 4.5 with a groove under it (12 mm wide at the plate, closing at 45-ish
+// degrees 4 mm up) and a 3 mm rail on top over the groove. Against the layer a track's height
+// below (the look-back), the rail's first layers lie over the groove's mouth and do not touch
+// that layer; they stand on the groove's roof, built in between. The plate is one region.
+TEST(Planner, ARailOverAnUndercutIsCarriedByTheLayersInBetween) {
+    const std::vector<test::CapPoint> profile{{0, 0},     {24, 0},  {30, 4},   {36, 0},
+                                              {60, 0},    {60, 4.5}, {31.5, 4.5}, {31.5, 14.5},
+                                              {28.5, 14.5}, {28.5, 4.5}, {0, 4.5}};
+    const mesh::TriangleMesh m = test::extrude_xz(test::polygon_cap(profile), 0.0, 40.0);
+    const Plan p = plan_of(m);
+    for (const Decision& d : p.decisions) {
+        EXPECT_NE(d.kind, Decision::Kind::kFloating) << d.reason;
+    }
+    EXPECT_EQ(p.regions.size(), 1u);
+    EXPECT_TRUE(p.unsupported_layers.empty());
+    expect_graph_is_sound(p);
+    expect_support_free(p);
+    expect_volume(p, mesh::signed_volume(m));
+}
+
 TEST(Planner, PrismAndTubeAreOneRegion) {
     for (const auto& [name, m] : {std::pair{"box", box({0, 0, 0}, {30, 20, 15})},
                                   std::pair{"tube", test::tube(15, 6, 20, 64)}}) {
