@@ -294,11 +294,17 @@ void print_verification(const std::optional<verify::Report>& report, double trac
                     ? " (estimates: the mesh is not closed, the verifier cannot tell its inside)"
                     : "");
     if (report->coverage < 0.97 && report->model_open_columns == 0) {
+        // The bundled fine-track profile (0.80 mm) is the hint while the track is wider.
+        constexpr double kFineProfileTrackMm = 0.8;
         std::fprintf(stderr,
                      "maxslice: warning: the beads cover %.1f%% of the part's volume (features "
-                     "narrower than the %.2f mm track get no material: a narrower track "
-                     "builds them, e.g. examples/profiles/fine_5axis_ac.toml)\n",
-                     100.0 * report->coverage, track_width_mm);
+                     "narrower than the %.2f mm track get no material: %s)\n",
+                     100.0 * report->coverage, track_width_mm,
+                     track_width_mm > kFineProfileTrackMm + 1e-9
+                         ? "a narrower track builds them, e.g. "
+                           "examples/profiles/fine_5axis_ac.toml"
+                         : "a narrower track (process.track_width_mm) builds them; or is the "
+                           "part in other units (--units)?");
     }
     std::printf("build time      %.1f min (deposit %.1f, idle %.1f, dwell %.1f; verifier)\n",
                 report->build_time_s / 60.0, report->deposit_time_s / 60.0,

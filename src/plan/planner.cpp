@@ -574,7 +574,8 @@ private:
             Decision::Kind::kTiltWanted, rid, lower, s, p,
             fmt::format("layer above L{} at {:.3f} mm: overhang piece of {:.1f} mm2 with Ang = "
                         "{:.1f} deg in (alpha {:.0f}, beta {:.0f}]: a tilted layer is wanted; "
-                        "planar layers kept (tilted 3D layers are not planned yet)",
+                        "layers tilt only where the chain of centroids leans, so this one "
+                        "may stay planar",
                         lower, s.span.cut, p.area_mm2, p.ang_deg, s_.alpha_deg, s_.beta_deg));
     }
 

@@ -259,6 +259,16 @@ TEST(FiveAxis, PartsTooFineForTheReferenceTrackBuildCleanWithTheFineTrack) {
     EXPECT_LT(f.coverage_pct, 97.0) << r.out;
     EXPECT_NE(r.err.find("narrower than the 2.50 mm track"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("fine_5axis_ac.toml"), std::string::npos) << r.err;
+    // With the fine track already, the hint is the units: the angle block is in inches
+    // (MANIFEST.md); read as mm it is 1.35 mm across and mostly narrower than 0.8 mm.
+    const fs::path block = kTestData / "meshes/trimesh/angle_block.STL";
+    const CliRun small = run_cli({"slice", block.string(), "--repair", "--profile", fine.string(),
+                                  "-o", (dir / "b.gm").string()});
+    ASSERT_EQ(small.exit_code, 0) << small.err;
+    EXPECT_LT(read_figures(small.out).coverage_pct, 97.0) << small.out;
+    EXPECT_NE(small.err.find("narrower than the 0.80 mm track"), std::string::npos) << small.err;
+    EXPECT_NE(small.err.find("--units"), std::string::npos) << small.err;
+    EXPECT_EQ(small.err.find("fine_5axis_ac.toml"), std::string::npos) << small.err;
 }
 
 // The fine profile is the reference cell with another head: its machine tables are the

@@ -197,8 +197,8 @@ TEST(Planner, EveryPieceOfASidewaysRegionsFirstSliceRestsOnTheBase) {
 // below (the look-back), the rail's first layers lie over the groove's mouth and do not touch
 // that layer; they stand on the groove's roof, built in between. The plate is one region.
 TEST(Planner, ARailOverAnUndercutIsCarriedByTheLayersInBetween) {
-    const std::vector<test::CapPoint> profile{{0, 0},     {24, 0},  {30, 4},   {36, 0},
-                                              {60, 0},    {60, 4.5}, {31.5, 4.5}, {31.5, 14.5},
+    const std::vector<test::CapPoint> profile{{0, 0},       {24, 0},     {30, 4},     {36, 0},
+                                              {60, 0},      {60, 4.5},   {31.5, 4.5}, {31.5, 14.5},
                                               {28.5, 14.5}, {28.5, 4.5}, {0, 4.5}};
     const mesh::TriangleMesh m = test::extrude_xz(test::polygon_cap(profile), 0.0, 40.0);
     const Plan p = plan_of(m);
