@@ -2,23 +2,26 @@
 # Runs the whole 5-axis job (`maxslice slice` with a table-tilt profile: place, plan, order,
 # toolpaths, program, and the independent verifier on the written text) on the planner's
 # fixtures and on every part under the shared test data's meshes/ (and the large lattice
-# cone), and prints a Markdown table of the verifier's figures and the job's wall time.
+# cone; with -s also every STEP file under step/), and prints a Markdown table of the
+# verifier's figures and the job's wall time.
 # Parts are read with --repair (the shared set has open scans); those MANIFEST.md says are
 # in other units run a second time with --units.
 #
-#   bench/verify_all.sh [-b MAXSLICE] [-p PROFILE] [-d TESTDATA_DIR]
+#   bench/verify_all.sh [-b MAXSLICE] [-p PROFILE] [-d TESTDATA_DIR] [-s]
 set -euo pipefail
 repo=$(cd "$(dirname "$0")/.." && pwd)
 maxslice=$repo/build/release/apps/maxslice/maxslice
 export_fixtures=$repo/build/release/bench/maxslice_export_fixtures
 profile=$repo/examples/profiles/reference_5axis_ac.toml
 data=${MAXSLICE_TESTDATA_DIR:-$repo/../shared/testdata}
+step=0
 while [ $# -gt 0 ]; do
     case $1 in
         -b) maxslice=${2:?}; shift 2 ;;
         -p) profile=${2:?}; shift 2 ;;
         -d) data=${2:?}; shift 2 ;;
-        -h|--help) sed -n '2,8p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+        -s) step=1; shift ;;
+        -h|--help) sed -n '2,10p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
         *) echo "verify_all.sh: unknown option '$1'" >&2; exit 2 ;;
     esac
 done
@@ -50,6 +53,7 @@ stated_units() {
         [ -z "$u" ] || printf '%s\t%s\n' "$f" "$u"
     done
     echo "$data/large/Spiral_lattice_cone_2_occt.stl"
+    [ "$step" = 0 ] || find "$data/step" -type f | sort
 } | while IFS=$'\t' read -r f units; do
     [ -f "$f" ] || continue
     case $f in "$work"/*) rel="fixture ${f##*/}"; rel=${rel%.stl} ;; *) rel=${f#"$data/"} ;; esac

@@ -399,6 +399,16 @@ int run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
                                          plan.unsupported_layers.size(), l.id, l.region, tried),
                              opt.path});
     }
+    if (!plan.bare_unsupported_layers.empty()) {
+        const plan::Layer& l =
+            plan.layers[static_cast<std::size_t>(plan.bare_unsupported_layers.front())];
+        std::fprintf(stderr,
+                     "maxslice: warning: %zu layers where no %.2f mm track fits rest on nothing "
+                     "(the first: layer %d in region %d, %.1f mm2): nothing is laid there, and "
+                     "what stands on them gets tracks only over beads\n",
+                     plan.bare_unsupported_layers.size(), profiles.process.track_width_mm, l.id,
+                     l.region, l.area_mm2);
+    }
     if (!oriented->bare_plate_layers.empty()) {
         const plan::Layer& l =
             plan.layers[static_cast<std::size_t>(oriented->bare_plate_layers.front())];
@@ -718,6 +728,7 @@ int run_plan(const PartOptions& opt, const PlanOptions& po, bool layer_given) {
                              "--orient"});
     }
     ps.direction = {po.direction[0], po.direction[1], po.direction[2]};
+    ps.tracks = pipeline::path_settings(profiles->process);
 
     pipeline::StageTimes times;
     auto part = pipeline::prepare_part(opt.path, *settings, &times);

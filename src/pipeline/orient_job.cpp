@@ -41,19 +41,8 @@ std::string multiaxis_refusal(const PlannedPart& p, const std::vector<int>& bare
 core::Result<std::vector<int>> bare_plate_layers(const plan::Plan& plan,
                                                  const machine::Profiles& profiles) {
     const path::PathSettings settings = path_settings(profiles.process);
-    // Which of `ids` have no track.
-    const auto bare_of = [&](const std::vector<int>& ids) -> core::Result<std::vector<int>> {
-        std::vector<const geom2d::WireTree*> regions;
-        regions.reserve(ids.size());
-        for (const int id : ids)
-            regions.push_back(&plan.layers[static_cast<std::size_t>(id)].wires);
-        auto tracks = path::plan_layers(regions, settings, geom2d::Point2{});
-        if (!tracks) return std::unexpected(tracks.error());
-        std::vector<int> bare;
-        for (std::size_t i = 0; i < ids.size(); ++i) {
-            if ((*tracks)[i].strokes.empty()) bare.push_back(ids[i]);
-        }
-        return bare;
+    const auto bare_of = [&](const std::vector<int>& ids) {
+        return trackless_layers(plan, ids, settings);
     };
     std::vector<int> plate;
     for (const plan::Layer& l : plan.layers) {
@@ -111,6 +100,7 @@ core::Result<Placed> plan_along(const mesh::TriangleMesh& part, const Vec3d& dir
     }
     PlanJobSettings ps;
     ps.plan = plan_settings(profiles.process);
+    ps.tracks = path_settings(profiles.process);
     auto planned = plan_mesh(out.placed, ps, progress);
     if (!planned) return std::unexpected(planned.error());
     out.planned = std::move(*planned);

@@ -152,6 +152,35 @@ std::vector<OrientCandidate> orientation_candidates(const mesh::TriangleMesh& me
     return out;
 }
 
+core::Result<std::vector<int>> trackless_layers(const plan::Plan& plan, std::span<const int> ids,
+                                               const path::PathSettings& tracks) {
+    std::vector<const geom2d::WireTree*> regions;
+    regions.reserve(ids.size());
+    for (const int id : ids) regions.push_back(&plan.layers[static_cast<std::size_t>(id)].wires);
+    auto planned = path::plan_layers(regions, tracks, geom2d::Point2{});
+    if (!planned) return std::unexpected(planned.error());
+    std::vector<int> out;
+    for (std::size_t i = 0; i < ids.size(); ++i) {
+        if ((*planned)[i].strokes.empty()) out.push_back(ids[i]);
+    }
+    return out;
+}
+
+namespace {
+
+// Moves the plan's layers on nothing that get no track to bare_unsupported_layers.
+core::Result<void> set_aside_bare(plan::Plan& plan, const path::PathSettings& tracks) {
+    if (plan.unsupported_layers.empty()) return {};
+    auto bare = trackless_layers(plan, plan.unsupported_layers, tracks);
+    if (!bare) return std::unexpected(bare.error());
+    std::erase_if(plan.unsupported_layers,
+                  [&](int id) { return std::binary_search(bare->begin(), bare->end(), id); });
+    plan.bare_unsupported_layers = std::move(*bare);
+    return {};
+}
+
+}  // namespace
+
 core::Result<PlannedPart> plan_mesh(const mesh::TriangleMesh& mesh, const PlanJobSettings& s,
                                     const core::Progress* progress) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -159,6 +188,9 @@ core::Result<PlannedPart> plan_mesh(const mesh::TriangleMesh& mesh, const PlanJo
     if (s.orient == Orient::kGiven) {
         auto p = plan::plan_part(mesh, s.direction, s.plan, progress);
         if (!p) return std::unexpected(p.error());
+        if (s.tracks) {
+            if (auto ok = set_aside_bare(*p, *s.tracks); !ok) return std::unexpected(ok.error());
+        }
         out.plan = std::move(*p);
     } else {
         out.candidates = orientation_candidates(mesh);
@@ -178,6 +210,11 @@ core::Result<PlannedPart> plan_mesh(const mesh::TriangleMesh& mesh, const PlanJo
                 c.error = p.error().describe();
                 if (!first_error) first_error = p.error();
                 continue;
+            }
+            if (s.tracks) {
+                if (auto ok = set_aside_bare(*p, *s.tracks); !ok) {
+                    return std::unexpected(ok.error());
+                }
             }
             c.planned = true;
             c.splits = p->split_count();
@@ -403,6 +440,7 @@ std::string plan_json(const PlannedPart& planned, const PreparedPart& part) {
     }
     j["decisions"] = std::move(decisions);
     j["unsupported_layers"] = p.unsupported_layers;
+    j["bare_unsupported_layers"] = p.bare_unsupported_layers;
     if (planned.order) {
         j["order"] = planned.order->order;
         j["build_order"] = order_json(planned);
@@ -691,6 +729,16 @@ std::string plan_summary(const PlannedPart& planned, const mesh::ValidationRepor
             "material reached across a gap), first: layer {} of region {} near ({:.3f}, {:.3f}, "
             "{:.3f}); they need support or another base (--orient auto)\n",
             p.unsupported_layers.size(), l.id, l.region, at.x, at.y, at.z);
+    }
+    if (!p.bare_unsupported_layers.empty()) {
+        const plan::Layer& l =
+            p.layers[static_cast<std::size_t>(p.bare_unsupported_layers.front())];
+        const core::Vec3d at = l.plane.origin;
+        put(out,
+            "left bare       {} layers without parents where no track fits, first: layer {} of "
+            "region {} near ({:.3f}, {:.3f}, {:.3f}): nothing is laid there (narrower than the "
+            "track), and tracks above them only over beads\n",
+            p.bare_unsupported_layers.size(), l.id, l.region, at.x, at.y, at.z);
     }
     const double v = p.volume_mm3();
     put(out, "plan volume     {:.6g} mm3 {}\n", v, volume_against_mesh(v, report));

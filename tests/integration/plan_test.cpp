@@ -236,6 +236,43 @@ TEST(PlanCli, TouchingBodiesAreBuiltAsOneAndAnInsideOutBodyIsRefused) {
     EXPECT_NEAR(sliced, 4000.0 + 1000.0, 1e-3);
 }
 
+// A block with a 1 mm rod floating beside it: the rod's first layer rests on nothing, but no
+// 2.5 mm track fits the rod, so nothing is laid there (as on any feature that narrow). It is
+// listed as left bare, not as a layer on nothing; the job builds the block, and the verifier
+// finds no bead on nothing.
+TEST(PlanCli, ALayerOnNothingWhereNoTrackFitsIsLeftBare) {
+    using maxslice::test::box;
+    using maxslice::test::merged;
+    const fs::path dir = temp_dir("bare_rod");
+    const fs::path profile = kSource / "examples/profiles/reference_5axis_ac.toml";
+    const fs::path part = fixture_stl(
+        dir, "rod", merged(box({0, 0, 0}, {20, 20, 20}), box({25, 10, 10}, {26, 11, 15})));
+    const fs::path plan = dir / "rod.json";
+    const CliRun p = run_cli({"plan", part.string(), "--profile", profile.string(), "--plan",
+                              plan.string()});
+    ASSERT_EQ(p.exit_code, 0) << p.err;
+    EXPECT_NE(p.out.find("left bare       1 layers"), std::string::npos) << p.out;
+    EXPECT_EQ(p.out.find("rest on nothing"), std::string::npos) << p.out;
+    const auto j = nlohmann::json::parse(slurp(plan));
+    EXPECT_TRUE(j.at("unsupported_layers").empty());
+    const auto bare = j.at("bare_unsupported_layers");
+    ASSERT_EQ(bare.size(), 1u);
+    const auto& layer = j.at("layers").at(bare.at(0).get<std::size_t>());
+    EXPECT_TRUE(layer.at("parents").empty());
+    EXPECT_LT(layer.at("area_mm2").get<double>(), 1.01);
+    const fs::path program = dir / "rod.gm";
+    const CliRun s =
+        run_cli({"slice", part.string(), "--profile", profile.string(), "-o", program.string()});
+    ASSERT_EQ(s.exit_code, 0) << s.err;
+    EXPECT_NE(s.err.find("1 layers where no 2.50 mm track fits rest on nothing"),
+              std::string::npos)
+        << s.err;
+    EXPECT_NE(s.out.find("verified        0 collisions, 0 unsupported beads, 0 limit"),
+              std::string::npos)
+        << s.out;
+    EXPECT_EQ(s.err.find("cannot be built"), std::string::npos) << s.err;  // built as given
+}
+
 // `maxslice verify` measures coverage against what the model's surface encloses: with a body
 // of the model facing inwards it says so (the program deposits that body; the replay counts it
 // as excess).

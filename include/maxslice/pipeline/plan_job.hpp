@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <optional>
+#include <span>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -13,6 +14,7 @@
 #include "maxslice/machine/profile.hpp"
 #include "maxslice/mesh/triangle_mesh.hpp"
 #include "maxslice/mesh/validation.hpp"
+#include "maxslice/path/toolpath.hpp"
 #include "maxslice/pipeline/slice_job.hpp"
 #include "maxslice/plan/order.hpp"
 #include "maxslice/plan/planner.hpp"
@@ -34,6 +36,10 @@ struct PlanJobSettings {
     plan::PlanSettings plan;
     Orient orient = Orient::kGiven;
     core::Vec3d direction{0.0, 0.0, 1.0};  ///< the base direction when given
+    /// The toolpath settings of the process: when set, every plan's layers on nothing where
+    /// no track fits are moved to plan::Plan::bare_unsupported_layers (before candidates are
+    /// ranked).
+    std::optional<path::PathSettings> tracks;
 };
 
 /// One base direction tried by --orient auto.
@@ -87,6 +93,12 @@ struct PlannedPart {
 /// the one whose plan leaves no layer resting on nothing, then the fewest splits, then the
 /// fewest tilts wanted, then the first tried.
 /// Errors: those of plan_part; with kAuto, the first candidate's error when none plans.
+/// The layers among `ids` whose toolpaths have no track (every feature narrower than the
+/// track), in the order of `ids`.
+[[nodiscard]] core::Result<std::vector<int>> trackless_layers(const plan::Plan& plan,
+                                                              std::span<const int> ids,
+                                                              const path::PathSettings& tracks);
+
 [[nodiscard]] core::Result<PlannedPart> plan_mesh(const mesh::TriangleMesh& mesh,
                                                   const PlanJobSettings& settings,
                                                   const core::Progress* progress = nullptr);

@@ -118,6 +118,12 @@ struct Plan {
     /// free of the rest of the part, material reached only through a gap). They cannot be
     /// built without support from this base; the summary and the plan file list them.
     std::vector<int> unsupported_layers;
+    /// Layers without parents where no track fits (every feature of them narrower than the
+    /// track): nothing is deposited there, as on any feature that narrow, so they rest on
+    /// nothing without a bead on nothing; what stands on them gets tracks only over beads
+    /// (decision 0013). Moved here from unsupported_layers by the pipeline, which knows the
+    /// toolpaths (pipeline::PlanJobSettings::tracks); plan_part leaves it empty.
+    std::vector<int> bare_unsupported_layers;
 
     [[nodiscard]] int split_count() const;
     [[nodiscard]] int tilt_wanted_count() const;
