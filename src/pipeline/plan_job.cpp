@@ -153,7 +153,7 @@ std::vector<OrientCandidate> orientation_candidates(const mesh::TriangleMesh& me
 }
 
 core::Result<std::vector<int>> trackless_layers(const plan::Plan& plan, std::span<const int> ids,
-                                               const path::PathSettings& tracks) {
+                                                const path::PathSettings& tracks) {
     std::vector<const geom2d::WireTree*> regions;
     regions.reserve(ids.size());
     for (const int id : ids) regions.push_back(&plan.layers[static_cast<std::size_t>(id)].wires);
@@ -168,11 +168,60 @@ core::Result<std::vector<int>> trackless_layers(const plan::Plan& plan, std::spa
 
 namespace {
 
-// Moves the plan's layers on nothing that get no track to bare_unsupported_layers.
+// Moves the plan's layers on nothing that get no track to bare_unsupported_layers, unless a
+// layer with a track hangs from them: one whose parents all hang from them (its tracks would
+// all be cut to the beads below, a feature left out, decision 0013). Such a bare layer stays
+// on nothing: the part (a body floating free, reached through a sliver) needs support.
 core::Result<void> set_aside_bare(plan::Plan& plan, const path::PathSettings& tracks) {
     if (plan.unsupported_layers.empty()) return {};
     auto bare = trackless_layers(plan, plan.unsupported_layers, tracks);
     if (!bare) return std::unexpected(bare.error());
+    if (bare->empty()) return {};
+    const auto at = [&](int id) -> const plan::Layer& {
+        return plan.layers[static_cast<std::size_t>(id)];
+    };
+    // What hangs from the bare layers, a generation at a time.
+    std::vector<char> hangs(plan.layers.size(), 0);
+    for (const int id : *bare) hangs[static_cast<std::size_t>(id)] = 1;
+    std::vector<int> level = *bare;
+    std::vector<int> laden;  // hanging layers with a track
+    while (!level.empty()) {
+        std::vector<int> next;
+        for (const int id : level) {
+            for (const int c : at(id).children) {
+                if (hangs[static_cast<std::size_t>(c)] != 0) continue;
+                const auto& ps = at(c).parents;
+                if (std::all_of(ps.begin(), ps.end(),
+                                [&](int q) { return hangs[static_cast<std::size_t>(q)] != 0; })) {
+                    hangs[static_cast<std::size_t>(c)] = 1;
+                    next.push_back(c);
+                }
+            }
+        }
+        std::sort(next.begin(), next.end());
+        auto trackless = trackless_layers(plan, next, tracks);
+        if (!trackless) return std::unexpected(trackless.error());
+        for (const int id : next) {
+            if (!std::binary_search(trackless->begin(), trackless->end(), id)) {
+                laden.push_back(id);
+            }
+        }
+        level = std::move(*trackless);  // a layer with a track carries what is above it
+    }
+    // The bare layers a laden layer hangs from stay on nothing.
+    std::vector<char> keep(plan.layers.size(), 0);
+    std::vector<int> up = std::move(laden);
+    while (!up.empty()) {
+        const int id = up.back();
+        up.pop_back();
+        for (const int q : at(id).parents) {
+            if (hangs[static_cast<std::size_t>(q)] != 0 && keep[static_cast<std::size_t>(q)] == 0) {
+                keep[static_cast<std::size_t>(q)] = 1;
+                up.push_back(q);
+            }
+        }
+    }
+    std::erase_if(*bare, [&](int id) { return keep[static_cast<std::size_t>(id)] != 0; });
     std::erase_if(plan.unsupported_layers,
                   [&](int id) { return std::binary_search(bare->begin(), bare->end(), id); });
     plan.bare_unsupported_layers = std::move(*bare);

@@ -248,8 +248,8 @@ TEST(PlanCli, ALayerOnNothingWhereNoTrackFitsIsLeftBare) {
     const fs::path part = fixture_stl(
         dir, "rod", merged(box({0, 0, 0}, {20, 20, 20}), box({25, 10, 10}, {26, 11, 15})));
     const fs::path plan = dir / "rod.json";
-    const CliRun p = run_cli({"plan", part.string(), "--profile", profile.string(), "--plan",
-                              plan.string()});
+    const CliRun p =
+        run_cli({"plan", part.string(), "--profile", profile.string(), "--plan", plan.string()});
     ASSERT_EQ(p.exit_code, 0) << p.err;
     EXPECT_NE(p.out.find("left bare       1 layers"), std::string::npos) << p.out;
     EXPECT_EQ(p.out.find("rest on nothing"), std::string::npos) << p.out;
@@ -264,13 +264,24 @@ TEST(PlanCli, ALayerOnNothingWhereNoTrackFitsIsLeftBare) {
     const CliRun s =
         run_cli({"slice", part.string(), "--profile", profile.string(), "-o", program.string()});
     ASSERT_EQ(s.exit_code, 0) << s.err;
-    EXPECT_NE(s.err.find("1 layers where no 2.50 mm track fits rest on nothing"),
-              std::string::npos)
+    EXPECT_NE(s.err.find("1 layers where no 2.50 mm track fits rest on nothing"), std::string::npos)
         << s.err;
     EXPECT_NE(s.out.find("verified        0 collisions, 0 unsupported beads, 0 limit"),
               std::string::npos)
         << s.out;
     EXPECT_EQ(s.err.find("cannot be built"), std::string::npos) << s.err;  // built as given
+
+    // A pyramid floating apex down: its first layers are as narrow, but the wider ones above
+    // hang from them and would lose every track: that layer stays on nothing.
+    maxslice::mesh::TriangleMesh pyramid;
+    pyramid.vertices = {{30, 10, 8}, {26, 6, 16}, {34, 6, 16}, {34, 14, 16}, {26, 14, 16}};
+    pyramid.triangles = {{1, 2, 3}, {1, 3, 4}, {0, 2, 1}, {0, 3, 2}, {0, 4, 3}, {0, 1, 4}};
+    const fs::path floating =
+        fixture_stl(dir, "pyramid", merged(box({0, 0, 0}, {20, 20, 20}), pyramid));
+    const CliRun f = run_cli({"plan", floating.string(), "--profile", profile.string()});
+    ASSERT_EQ(f.exit_code, 0) << f.err;
+    EXPECT_NE(f.out.find("unsupported     1 layers rest on nothing"), std::string::npos) << f.out;
+    EXPECT_EQ(f.out.find("left bare"), std::string::npos) << f.out;
 }
 
 // `maxslice verify` measures coverage against what the model's surface encloses: with a body
