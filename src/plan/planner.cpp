@@ -32,6 +32,8 @@ constexpr std::size_t kMaxLayers = 1'000'000;
 // The centroid chain is followed only while sections keep their area within this share of
 // the section a track's height below.
 constexpr double kTiltAreaChange = 0.1;
+/// Rounding room (mm) when following grounded islands up through planar layers.
+constexpr double kGroundSlackMm = 0.02;
 
 bool steady_area(double area, double below) {
     return std::abs(area - below) <= kTiltAreaChange * below;
@@ -372,11 +374,13 @@ private:
                     a.error(), fmt::format("region {}, height {:.3f} mm", rid, s.span.cut)));
             }
             for (const OverhangPiece& p : a->pieces) {
-                // A piece that does not touch the look-back layer stands on the layers in
-                // between (U was compared with L first: it is carried there, or its pieces
-                // are slivers), as a rail does on the roof of an undercut built since: an
-                // overhang by its angle, not a floating piece.
-                if (ref != lower && !p.touches_lower && p.ang_deg <= s_.beta_deg) continue;
+                // A piece that does not touch the look-back layer may stand on the layers in
+                // between, grown out of it (a rail on the roof of an undercut built since):
+                // then it is an overhang by its angle, not a floating piece.
+                if (ref != lower && !p.touches_lower && p.ang_deg <= s_.beta_deg &&
+                    grounded_between(rid, ref, p)) {
+                    continue;
+                }
                 if (!p.touches_lower && !has_sideways(ref, p)) {
                     // Nothing can reach it: it stays in its layer and rests on nothing there
                     // (the plan says so; a refusal of this base, not of the whole plan).
@@ -398,6 +402,40 @@ private:
             }
         }
         return std::optional<bool>();
+    }
+
+    // Whether piece p (in the frame of layer `ref`, a track's height below the region's last
+    // layer) rests on material of the layers after ref that grew out of ref: from ref up,
+    // each layer's islands that meet the grounded part of the layer before (grown by the
+    // self-supporting allowance) are grounded. A piece over an island that floats in those
+    // layers (a thin feature starting in the air, narrower than a track at first) is not.
+    // Planar layers of one direction only (their frames share the in-plane axes); false
+    // otherwise.
+    bool grounded_between(int rid, int ref, const OverhangPiece& p) const {
+        const Region& rr = plan_.regions[static_cast<std::size_t>(rid)];
+        const Layer& base = plan_.layers[static_cast<std::size_t>(ref)];
+        const auto from = std::find(rr.layers.begin(), rr.layers.end(), ref);
+        if (from == rr.layers.end()) return false;
+        const auto grow = core::mm_to_um(
+            s_.layer_mm * std::tan(s_.self_supporting_deg * std::numbers::pi / 180.0) +
+            kGroundSlackMm);
+        Paths2 grounded = base.wires.paths();
+        for (auto it = from + 1; it != rr.layers.end(); ++it) {
+            const Layer& l = plan_.layers[static_cast<std::size_t>(*it)];
+            if (l.tilted || base.tilted || !(l.plane.normal == base.plane.normal) ||
+                !(l.plane.u == base.plane.u) || !(l.plane.v == base.plane.v)) {
+                return false;
+            }
+            const Paths2 reach = geom2d::offset_of(grounded, grow);
+            Paths2 next;
+            for (Paths2& island : l.wires.islands()) {
+                if (!geom2d::intersection_of(island, reach).empty()) {
+                    next.insert(next.end(), island.begin(), island.end());
+                }
+            }
+            grounded = std::move(next);
+        }
+        return !geom2d::intersection_of(p.region, geom2d::offset_of(grounded, grow)).empty();
     }
 
     // Tilted 3D layers (METHOD.md section 4): from layer `lower` up, each layer's top plane
