@@ -770,25 +770,22 @@ std::string plan_summary(const PlannedPart& planned, const mesh::ValidationRepor
     put(out, "tilts wanted    {} (overhangs with alpha < Ang <= beta left planar)\n",
         p.tilt_wanted_count());
     put(out, "layers          {}\n", p.layers.size());
-    if (!p.unsupported_layers.empty()) {
-        const plan::Layer& l = p.layers[static_cast<std::size_t>(p.unsupported_layers.front())];
+    // A list of layers on nothing: its count and where the first is, then what it means.
+    const auto on_nothing = [&](const char* label, const std::vector<int>& ids, const char* what,
+                                const char* meaning) {
+        if (ids.empty()) return;
+        const plan::Layer& l = p.layers[static_cast<std::size_t>(ids.front())];
         const core::Vec3d at = l.plane.origin;
-        put(out,
-            "unsupported     {} layers rest on nothing (a body floating free of the rest, or "
-            "material reached across a gap), first: layer {} of region {} near ({:.3f}, {:.3f}, "
-            "{:.3f}); they need support or another base (--orient auto)\n",
-            p.unsupported_layers.size(), l.id, l.region, at.x, at.y, at.z);
-    }
-    if (!p.bare_unsupported_layers.empty()) {
-        const plan::Layer& l =
-            p.layers[static_cast<std::size_t>(p.bare_unsupported_layers.front())];
-        const core::Vec3d at = l.plane.origin;
-        put(out,
-            "left bare       {} layers without parents where no track fits, first: layer {} of "
-            "region {} near ({:.3f}, {:.3f}, {:.3f}): nothing is laid there (narrower than the "
-            "track), and tracks above them only over beads\n",
-            p.bare_unsupported_layers.size(), l.id, l.region, at.x, at.y, at.z);
-    }
+        put(out, "{}{} layers {}, first: layer {} of region {} near ({:.3f}, {:.3f}, {:.3f}){}\n",
+            label, ids.size(), what, l.id, l.region, at.x, at.y, at.z, meaning);
+    };
+    on_nothing("unsupported     ", p.unsupported_layers,
+               "rest on nothing (a body floating free of the rest, or material reached across a "
+               "gap)",
+               "; they need support or another base (--orient auto)");
+    on_nothing("left bare       ", p.bare_unsupported_layers, "without parents where no track fits",
+               ": nothing is laid there (narrower than the track), and tracks above them only "
+               "over beads");
     const double v = p.volume_mm3();
     put(out, "plan volume     {:.6g} mm3 {}\n", v, volume_against_mesh(v, report));
     put(out, "planning time   {:.3f} s\n", planned.seconds);

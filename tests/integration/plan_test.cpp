@@ -16,10 +16,12 @@
 #include "support/planner_fixtures.hpp"
 
 namespace fs = std::filesystem;
+using maxslice::test::box;
 using maxslice::test::CliRun;
 using maxslice::test::kExample;
 using maxslice::test::kSource;
 using maxslice::test::kTestData;
+using maxslice::test::merged;
 using maxslice::test::run_cli;
 using maxslice::test::slurp;
 
@@ -27,6 +29,10 @@ namespace {
 
 fs::path temp_dir(const std::string& name) {
     return maxslice::test::fresh_temp_dir("plan_test", name);
+}
+
+fs::path reference_profile() {
+    return kSource / "examples/profiles/reference_5axis_ac.toml";
 }
 
 // The properties every plan file has (docs/plan-format.md).
@@ -175,10 +181,8 @@ fs::path fixture_stl(const fs::path& dir, const std::string& name,
 // sharing an edge with another) are sliced as their union; a separate body that faces
 // inwards would be left out of every layer, so it is refused unless --repair turns it out.
 TEST(PlanCli, TouchingBodiesAreBuiltAsOneAndAnInsideOutBodyIsRefused) {
-    using maxslice::test::box;
-    using maxslice::test::merged;
     const fs::path dir = temp_dir("touching");
-    const fs::path profile = kSource / "examples/profiles/reference_5axis_ac.toml";
+    const fs::path profile = reference_profile();
     for (const auto& [name, mesh, volume] :
          {std::tuple{"share_face",
                      merged(box({0, 0, 0}, {10, 10, 10}), box({10, 0, 0}, {20, 10, 10})), 2000.0},
@@ -245,10 +249,8 @@ TEST(PlanCli, TouchingBodiesAreBuiltAsOneAndAnInsideOutBodyIsRefused) {
 // listed as left bare, not as a layer on nothing; the job builds the block, and the verifier
 // finds no bead on nothing.
 TEST(PlanCli, ALayerOnNothingWhereNoTrackFitsIsLeftBare) {
-    using maxslice::test::box;
-    using maxslice::test::merged;
     const fs::path dir = temp_dir("bare_rod");
-    const fs::path profile = kSource / "examples/profiles/reference_5axis_ac.toml";
+    const fs::path profile = reference_profile();
     const fs::path part = fixture_stl(
         dir, "rod", merged(box({0, 0, 0}, {20, 20, 20}), box({25, 10, 10}, {26, 11, 15})));
     const fs::path plan = dir / "rod.json";
@@ -292,10 +294,8 @@ TEST(PlanCli, ALayerOnNothingWhereNoTrackFitsIsLeftBare) {
 // of the model facing inwards it says so (the program deposits that body; the replay counts it
 // as excess).
 TEST(PlanCli, VerifyWarnsWhenTheModelHasAnInsideOutBody) {
-    using maxslice::test::box;
-    using maxslice::test::merged;
     const fs::path dir = temp_dir("verify_inside_out");
-    const fs::path profile = kSource / "examples/profiles/reference_5axis_ac.toml";
+    const fs::path profile = reference_profile();
     const fs::path good = fixture_stl(
         dir, "good", merged(box({0, 0, 0}, {20, 20, 10}), box({30, 0, 0}, {40, 10, 10})));
     const fs::path flipped =
