@@ -89,16 +89,17 @@ struct PlannedPart {
 /// the surface, coplanar facets grouped); duplicates removed. Deterministic.
 [[nodiscard]] std::vector<OrientCandidate> orientation_candidates(const mesh::TriangleMesh& mesh);
 
-/// Plans the part (see plan::plan_part); with Orient::kAuto plans every candidate and keeps
-/// the one whose plan leaves no layer resting on nothing, then the fewest splits, then the
-/// fewest tilts wanted, then the first tried.
-/// Errors: those of plan_part; with kAuto, the first candidate's error when none plans.
 /// The layers among `ids` whose toolpaths have no track (every feature narrower than the
 /// track), in the order of `ids`.
 [[nodiscard]] core::Result<std::vector<int>> trackless_layers(const plan::Plan& plan,
                                                               std::span<const int> ids,
                                                               const path::PathSettings& tracks);
 
+/// Plans the part (see plan::plan_part); with Orient::kAuto plans every candidate and keeps
+/// the one whose plan leaves no layer resting on nothing, then the fewest splits, then the
+/// fewest tilts wanted, then the first tried. With `tracks` set, each plan's layers on
+/// nothing where no track fits are set aside first (plan::Plan::bare_unsupported_layers).
+/// Errors: those of plan_part; with kAuto, the first candidate's error when none plans.
 [[nodiscard]] core::Result<PlannedPart> plan_mesh(const mesh::TriangleMesh& mesh,
                                                   const PlanJobSettings& settings,
                                                   const core::Progress* progress = nullptr);
