@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -13,6 +14,7 @@
 #include <vector>
 
 #include "cli_runner.hpp"
+#include "support/rs274.hpp"
 
 namespace fs = std::filesystem;
 using maxslice::test::CliRun;
@@ -20,7 +22,6 @@ using maxslice::test::kExample;
 using maxslice::test::kSource;
 using maxslice::test::kTestData;
 using maxslice::test::run_cli;
-using maxslice::test::shell_quote;
 using maxslice::test::slurp;
 
 namespace {
@@ -107,7 +108,8 @@ TEST(Program, GmLaserIsOnOnlyWhileDepositing) {
 }
 
 TEST(Program, LinuxCncProgramsOfEverySharedMeshPassRs274) {
-    if (!fs::exists("/usr/bin/rs274")) GTEST_SKIP() << "rs274 (linuxcnc-uspace) not installed";
+    if (maxslice::test::find_rs274().empty())
+        GTEST_SKIP() << "rs274 (linuxcnc-uspace) not installed";
     const fs::path dir = temp_dir("rs274");
     int written = 0;
     for (const auto& e : fs::recursive_directory_iterator(kTestData / "meshes")) {
@@ -125,12 +127,10 @@ TEST(Program, LinuxCncProgramsOfEverySharedMeshPassRs274) {
             continue;
         }
         ++written;
-        const std::string cmd = "rs274 -g " + shell_quote(ngc.string()) + " " +
-                                shell_quote((dir / "canon.txt").string()) + " </dev/null 2>" +
-                                shell_quote((dir / "rs274.err").string());
-        const int status = std::system(cmd.c_str());
-        EXPECT_EQ(status, 0) << e.path() << "\n" << slurp(dir / "rs274.err");
-        EXPECT_NE(slurp(dir / "canon.txt").find("PROGRAM_END"), std::string::npos);
+        const auto run = maxslice::test::run_rs274(slurp(ngc));
+        ASSERT_TRUE(run);
+        EXPECT_EQ(run->status, 0) << e.path() << "\n" << run->errors;
+        EXPECT_NE(run->canon.find("PROGRAM_END"), std::string::npos);
         fs::remove(ngc);
     }
     EXPECT_GE(written, 6);
@@ -302,34 +302,23 @@ TEST(Program, FiveAxisExamplesWriteTheirDialects) {
 // LinuxCNC's interpreter reads the joint-space program and moves every axis to the values
 // written.
 TEST(Program, FiveAxisLinuxCncPassesRs274WithTheWrittenAxisValues) {
-    if (!fs::exists("/usr/bin/rs274")) GTEST_SKIP() << "rs274 (linuxcnc-uspace) not installed";
+    if (maxslice::test::find_rs274().empty())
+        GTEST_SKIP() << "rs274 (linuxcnc-uspace) not installed";
     const fs::path dir = temp_dir("five_axis_rs274");
     const fs::path ngc = dir / "p.ngc";
     const CliRun r = run_cli({"slice", kExample.string(), "--profile",
                               (kSource / "examples/profiles/linuxcnc_5axis_ac.toml").string(), "-o",
                               ngc.string()});
     ASSERT_EQ(r.exit_code, 0) << r.err;
-    const std::string cmd = "rs274 -g " + shell_quote(ngc.string()) + " " +
-                            shell_quote((dir / "canon.txt").string()) + " </dev/null 2>" +
-                            shell_quote((dir / "rs274.err").string());
-    ASSERT_EQ(std::system(cmd.c_str()), 0) << slurp(dir / "rs274.err");
+    const auto run = maxslice::test::run_rs274(slurp(ngc));
+    ASSERT_TRUE(run);
+    ASSERT_EQ(run->status, 0) << run->errors;
     const auto blocks = read_axis_blocks(slurp(ngc), false, 'A', "M64 P0", "M65 P0", "", "");
-    std::istringstream calls(slurp(dir / "canon.txt"));
-    std::string line;
     std::size_t n = 0;
-    while (std::getline(calls, line)) {
-        const auto at = line.find("STRAIGHT_FEED(");
-        if (at == std::string::npos) continue;
+    for (const std::array<double, 6>& v : maxslice::test::canonical_moves(run->canon, false)) {
         ASSERT_LT(n, blocks.size());
         const AxisBlock& b = blocks[n++];
-        double v[6] = {};
-        char comma = 0;
-        std::istringstream args(line.substr(at + 14));
-        for (int a = 0; a < 6; ++a) {
-            args >> v[a];
-            if (a < 5) args >> comma;
-        }
-        ASSERT_FALSE(args.fail()) << line;
+        ASSERT_FALSE(std::isnan(v[0])) << b.text;
         // rs274 starts every axis at 0: an axis not written yet reads 0.
         const double want[6] = {b.mx, b.my, b.mz, b.mtilt, 0.0, b.mc};
         for (int a = 0; a < 6; ++a) {

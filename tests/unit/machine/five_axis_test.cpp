@@ -20,6 +20,7 @@
 #include "maxslice/machine/profile.hpp"
 #include "maxslice/machine/program_builder.hpp"
 #include "maxslice/machine/writer.hpp"
+#include "support/rs274.hpp"
 
 namespace maxslice::machine {
 namespace {
@@ -679,24 +680,10 @@ TEST(MachineMoves, ClearHeightIsAboveThePartInEveryTablePosition) {
 
 // ---- LinuxCNC's interpreter -------------------------------------------------------------------
 
-fs::path find_rs274() {
-    if (const char* env = std::getenv("MAXSLICE_RS274")) return env;
-    for (const char* p : {"/usr/bin/rs274", "/usr/lib/linuxcnc/bin/rs274"}) {
-        if (fs::exists(p)) return p;
-    }
-    return {};
-}
-
-std::string slurp(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
 TEST(FiveAxis, Rs274ReadsTheJointValuesWritten) {
-    const fs::path rs274 = find_rs274();
-    if (rs274.empty()) GTEST_SKIP() << "rs274 not installed (Debian package linuxcnc-uspace)";
+    if (test::find_rs274().empty()) {
+        GTEST_SKIP() << "rs274 not installed (Debian package linuxcnc-uspace)";
+    }
     const ProcessProfile process = reference_ac().process;
     const Program program = five_axis_program(process);
     for (const MachineProfile& machine :
@@ -704,35 +691,17 @@ TEST(FiveAxis, Rs274ReadsTheJointValuesWritten) {
         SCOPED_TRACE(machine.name);
         const auto text = write_program(program, machine, process);
         ASSERT_TRUE(text.has_value()) << text.error().describe();
-        const fs::path dir = fs::path(::testing::TempDir()) / "maxslice_rs274_5axis";
-        fs::create_directories(dir);
-        const fs::path ngc = dir / "program.ngc", canon = dir / "canon.txt", err = dir / "err.txt";
-        std::ofstream(ngc, std::ios::binary) << *text;
-        const std::string command = "'" + rs274.string() + "' -g '" + ngc.string() + "' '" +
-                                    canon.string() + "' < /dev/null > /dev/null 2> '" +
-                                    err.string() + "'";
-        const int status = std::system(command.c_str());
-        const std::string errors = slurp(err);
-        ASSERT_EQ(status, 0) << errors;
-        EXPECT_EQ(errors.find_first_not_of("executing\n"), std::string::npos) << errors;
+        const auto run = test::run_rs274(*text);
+        ASSERT_TRUE(run);
+        ASSERT_EQ(run->status, 0) << run->errors;
+        EXPECT_TRUE(test::only_executing(run->errors)) << run->errors;
 
         // STRAIGHT_FEED(x, y, z, a, b, c), one per G1, in order.
         const bool bc = machine.kinematics == Kinematics::kTableBc;
         const Read read = read_program(*text, Dialect::kLinuxCnc, bc ? 'B' : 'A');
-        std::istringstream calls(slurp(canon));
-        std::string line;
         std::size_t n = 0;
-        while (std::getline(calls, line)) {
-            const auto at = line.find("STRAIGHT_FEED(");
-            if (at == std::string::npos) continue;
-            std::array<double, 6> v{};
-            std::istringstream args(line.substr(at + 14));
-            char comma = 0;
-            for (std::size_t a = 0; a < v.size(); ++a) {
-                args >> v[a];
-                if (a + 1 < v.size()) args >> comma;
-            }
-            ASSERT_FALSE(args.fail()) << line;
+        for (const std::array<double, 6>& v : test::canonical_moves(run->canon, false)) {
+            ASSERT_FALSE(std::isnan(v[0]));
             ASSERT_LT(n, read.g1.size()) << "more STRAIGHT_FEED calls than G1 blocks";
             const Block& b = read.g1[n++];
             // rs274 starts at 0 on every axis: words not written yet read as 0.
@@ -748,8 +717,7 @@ TEST(FiveAxis, Rs274ReadsTheJointValuesWritten) {
             same(v[5], b.mc, "C");
         }
         EXPECT_EQ(n, read.g1.size());
-        EXPECT_NE(slurp(canon).find("PROGRAM_END()"), std::string::npos);
-        fs::remove_all(dir);
+        EXPECT_NE(run->canon.find("PROGRAM_END()"), std::string::npos);
     }
 }
 

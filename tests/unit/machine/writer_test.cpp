@@ -10,6 +10,7 @@
 #include "machine_fixtures.hpp"
 #include "maxslice/machine/program_check.hpp"
 #include "maxslice/machine/writer.hpp"
+#include "support/rs274.hpp"
 
 namespace maxslice::machine {
 namespace {
@@ -307,14 +308,6 @@ TEST(LimitCheck, ProfilesAreValidatedToo) {
 }
 
 // LinuxCNC's own interpreter (package linuxcnc-uspace) must accept the written program.
-fs::path find_rs274() {
-    if (const char* env = std::getenv("MAXSLICE_RS274")) return env;
-    for (const char* p : {"/usr/bin/rs274", "/usr/lib/linuxcnc/bin/rs274"}) {
-        if (fs::exists(p)) return p;
-    }
-    return {};
-}
-
 std::size_t count(const std::string& text, const std::string& what) {
     std::size_t n = 0;
     for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) {
@@ -324,30 +317,21 @@ std::size_t count(const std::string& text, const std::string& what) {
 }
 
 TEST(LinuxCncWriter, Rs274AcceptsTheProgram) {
-    const fs::path rs274 = find_rs274();
-    if (rs274.empty()) GTEST_SKIP() << "rs274 not installed (Debian package linuxcnc-uspace)";
+    if (test::find_rs274().empty()) {
+        GTEST_SKIP() << "rs274 not installed (Debian package linuxcnc-uspace)";
+    }
     const ProcessProfile process = reference_process();
     const Program program = testing::random_program(process, 7, true);
     const auto text = write_program(program, linuxcnc_machine(), process);
     ASSERT_TRUE(text.has_value()) << text.error().describe();
 
-    const fs::path dir = fs::path(::testing::TempDir()) / "maxslice_rs274";
-    fs::create_directories(dir);
-    const fs::path ngc = dir / "program.ngc", canon = dir / "canon.txt", err = dir / "err.txt";
-    std::ofstream(ngc, std::ios::binary) << *text;
-    // -g: batch mode; no tool table or ini needed for this program; stdin closed so that
-    // the interpreter can never wait for an answer.
-    const std::string command = "'" + rs274.string() + "' -g '" + ngc.string() + "' '" +
-                                canon.string() + "' < /dev/null > /dev/null 2> '" + err.string() +
-                                "'";
-    const int status = std::system(command.c_str());
-    const std::string errors = read_file(err);
-    ASSERT_EQ(status, 0) << errors;
-    // The interpreter prints "executing" on stderr; anything else is a complaint.
-    EXPECT_EQ(errors.find_first_not_of("executing\n"), std::string::npos) << errors;
+    const auto run = test::run_rs274(*text);
+    ASSERT_TRUE(run);
+    ASSERT_EQ(run->status, 0) << run->errors;
+    EXPECT_TRUE(test::only_executing(run->errors)) << run->errors;
 
     // What it understood: one STRAIGHT_FEED per G1, one DWELL per laser-on, the outputs.
-    const std::string calls = read_file(canon);
+    const std::string& calls = run->canon;
     std::size_t laser_ons = 0;
     for (const Move& m : program.moves) laser_ons += m.kind == MoveKind::kLaserOn ? 1 : 0;
     EXPECT_EQ(count(calls, "STRAIGHT_FEED("), positioning(program).size());
@@ -356,7 +340,6 @@ TEST(LinuxCncWriter, Rs274AcceptsTheProgram) {
     EXPECT_EQ(count(calls, "CLEAR_AUX_OUTPUT_BIT(0)"), laser_ons);
     EXPECT_EQ(count(calls, "SET_AUX_OUTPUT_VALUE(0,700.000000)"), laser_ons);
     EXPECT_EQ(count(calls, "PROGRAM_END()"), 1u);
-    fs::remove_all(dir);
 }
 
 }  // namespace

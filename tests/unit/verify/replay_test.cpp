@@ -1,7 +1,6 @@
 #include "maxslice/verify/replay.hpp"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <array>
 #include <cmath>
@@ -15,6 +14,7 @@
 
 #include "maxslice/machine/program_builder.hpp"
 #include "maxslice/machine/writer.hpp"
+#include "support/rs274.hpp"
 #include "verify_programs.hpp"
 
 namespace maxslice::verify {
@@ -201,36 +201,12 @@ TEST(Replay, GarbageNeverCrashes) {
     }
 }
 
-// Runs LinuxCNC's standalone interpreter on `program`; the axis values (x, y, z, a, b, c) of its
-// canonical STRAIGHT_FEED / STRAIGHT_TRAVERSE calls, or nothing when it fails.
-std::optional<std::vector<std::array<double, 6>>> rs274_moves(const std::string& program,
-                                                              const std::string& name) {
-    const fs::path dir = fs::temp_directory_path() /
-                         ("maxslice_verify_rs274_" + name + "_" + std::to_string(::getpid()));
-    fs::create_directories(dir);
-    const fs::path ngc = dir / "program.ngc", canon = dir / "canon.txt";
-    std::ofstream(ngc) << program;
-    const std::string cmd =
-        "rs274 -g '" + ngc.string() + "' '" + canon.string() + "' </dev/null >/dev/null 2>&1";
-    if (std::system(cmd.c_str()) != 0) return std::nullopt;
-    std::ifstream in(canon);
-    std::vector<std::array<double, 6>> moves;
-    for (std::string line; std::getline(in, line);) {
-        for (const char* call : {"STRAIGHT_FEED(", "STRAIGHT_TRAVERSE("}) {
-            const auto pos = line.find(call);
-            if (pos == std::string::npos) continue;
-            std::array<double, 6> v{};
-            std::string args = line.substr(pos + std::string(call).size());
-            for (char& ch : args) {
-                if (ch == ',' || ch == ')') ch = ' ';
-            }
-            std::istringstream str(args);
-            for (double& x : v) str >> x;
-            moves.push_back(v);
-        }
-    }
-    fs::remove_all(dir);
-    return moves;
+// LinuxCNC's interpreter on `program`: the axis values of its canonical moves (feeds and
+// traverses), or nothing when it fails.
+std::optional<std::vector<std::array<double, 6>>> rs274_moves(const std::string& program) {
+    const auto run = test::run_rs274(program);
+    if (!run || run->status != 0) return std::nullopt;
+    return test::canonical_moves(run->canon, true);
 }
 
 void expect_same_poses(const std::vector<std::array<double, 6>>& moves, const Replay& r) {
@@ -253,7 +229,7 @@ void expect_same_poses(const std::vector<std::array<double, 6>>& moves, const Re
 // LinuxCNC's standalone interpreter reads a hand-written 5-axis program; its canonical
 // STRAIGHT_FEED / STRAIGHT_TRAVERSE calls give the axis values, which the replay must match.
 TEST(Replay, MachinePosesMatchLinuxCncsInterpreter) {
-    if (!fs::exists("/usr/bin/rs274")) GTEST_SKIP() << "rs274 (linuxcnc-uspace) not installed";
+    if (test::find_rs274().empty()) GTEST_SKIP() << "rs274 (linuxcnc-uspace) not installed";
     const machine::Profiles p = ac_table(machine::Dialect::kLinuxCnc);
     const std::string program =
         "(maxslice verify test)\nG21 G90 G94 G17\nG1 Z200 F2540\nG1 A0 C0\n"
@@ -261,7 +237,7 @@ TEST(Replay, MachinePosesMatchLinuxCncsInterpreter) {
         "G4 P0.5\nG1 X20.125 Y20 Z5.5 A0 C0 F381\nG1 Y30.5 F400.0\nM65 P0\nM68 E0 Q0\n"
         "G1 Z60 F2540\nG1 A45.5 C-30.25\nG0 X-12.5 Y7.75\nG1 Z4.25\nG1 X-10 Y8 Z4.25 A45.5 "
         "C-30.25 F381\nG0 Z100 A-60 C720\nG1 X1 Y2 Z3 A4 C5 F100\nM2\n";
-    const auto moves = rs274_moves(program, "hand");
+    const auto moves = rs274_moves(program);
     ASSERT_TRUE(moves);
     ASSERT_GE(moves->size(), 10U);
     auto r = replay_program(program, p, ProgramDialect::kLinuxCnc);
@@ -279,7 +255,7 @@ TEST(Replay, MachinePosesMatchLinuxCncsInterpreter) {
 // The 5-axis linuxcnc writer's own output (a wire along +Z, a re-orientation, a wire along
 // +Y): LinuxCNC's interpreter and the replay agree on every pose.
 TEST(Replay, WrittenFiveAxisProgramMatchesLinuxCncsInterpreter) {
-    if (!fs::exists("/usr/bin/rs274")) GTEST_SKIP() << "rs274 (linuxcnc-uspace) not installed";
+    if (test::find_rs274().empty()) GTEST_SKIP() << "rs274 (linuxcnc-uspace) not installed";
     const machine::Profiles p = load("linuxcnc_5axis_ac.toml");
     ASSERT_FALSE(p.machine.name.empty());
     machine::Program program;
@@ -291,7 +267,7 @@ TEST(Replay, WrittenFiveAxisProgramMatchesLinuxCncsInterpreter) {
     machine::append_wire(program, slant, p.process, 2, 2, {0.6, 0.0, 0.8});
     auto text = machine::write_program(program, p.machine, p.process);
     ASSERT_TRUE(text) << text.error().describe();
-    const auto moves = rs274_moves(*text, "written");
+    const auto moves = rs274_moves(*text);
     ASSERT_TRUE(moves);
     auto r = replay_program(*text, p, ProgramDialect::kLinuxCnc);
     ASSERT_TRUE(r) << r.error().describe();
