@@ -293,6 +293,15 @@ void print_verification(const std::optional<verify::Report>& report, double trac
                 report->model_open_columns > 0
                     ? " (estimates: the mesh is not closed, the verifier cannot tell its inside)"
                     : "");
+    if (report->below_plate.count > 0) {
+        std::fprintf(stderr,
+                     "maxslice: warning: the head reaches up to %.1f mm below the plate's level "
+                     "in %zu blocks (first: program line %d); the profile models no substrate "
+                     "([machine.substrate], docs/profiles.md): check the plate, clamps and table "
+                     "by hand\n",
+                     report->below_plate_mm, report->below_plate.count,
+                     report->below_plate.first->line);
+    }
     if (report->coverage < 0.97 && report->model_open_columns == 0) {
         // The bundled fine-track profile (0.80 mm) is the hint while the track is wider.
         constexpr double kFineProfileTrackMm = 0.8;

@@ -143,6 +143,13 @@ constexpr std::array<NumberKey<NozzleProfile>, 6> kNozzleNumbers{{
     {"clearance_mm", &NozzleProfile::clearance_mm, {0.0, 50.0, false, false, "mm"}},
 }};
 
+constexpr double kMaxSubstrateMm = 10000.0;  // a plate over 10 m is a unit mistake
+constexpr std::array<NumberKey<SubstrateProfile>, 3> kSubstrateNumbers{{
+    {"size_x_mm", &SubstrateProfile::size_x_mm, {0.0, kMaxSubstrateMm, true, false, "mm"}},
+    {"size_y_mm", &SubstrateProfile::size_y_mm, {0.0, kMaxSubstrateMm, true, false, "mm"}},
+    {"thickness_mm", &SubstrateProfile::thickness_mm, {0.0, kMaxSubstrateMm, true, false, "mm"}},
+}};
+
 constexpr std::array<std::string_view, 3> kXyzAxes{"X", "Y", "Z"};
 constexpr std::array<std::string_view, 5> kAcAxes{"X", "Y", "Z", "A", "C"};
 constexpr std::array<std::string_view, 5> kBcAxes{"X", "Y", "Z", "B", "C"};
@@ -678,10 +685,22 @@ core::Result<std::optional<NozzleProfile>> read_nozzle(const TableReader& machin
     return std::optional<NozzleProfile>{n};
 }
 
+// The optional [machine.substrate] table: all keys required when it is there.
+core::Result<std::optional<SubstrateProfile>> read_substrate(const TableReader& machine) {
+    const auto table = machine.optional_table("substrate", "a table of substrate plate sizes");
+    if (!table) return pass(table);
+    if (*table == nullptr) return std::optional<SubstrateProfile>{};
+    const TableReader reader(**table, machine.path("substrate"));
+    if (auto ok = reader.only(keys_of(kSubstrateNumbers)); !ok) return pass(ok);
+    SubstrateProfile p;
+    if (auto ok = read_numbers(reader, kSubstrateNumbers, p); !ok) return pass(ok);
+    return std::optional<SubstrateProfile>{p};
+}
+
 core::Result<MachineProfile> read_machine(const toml::table& table) {
     const TableReader reader(table, "machine");
     std::vector<std::string_view> known{"name",  "kinematics", "dialect", "axes",
-                                        "codes", "nozzle",     "table"};
+                                        "codes", "nozzle",     "table",   "substrate"};
     for (const auto& f : kMachineNumbers) known.push_back(f.key);
     if (auto ok = reader.only(known); !ok) return pass(ok);
 
@@ -738,6 +757,10 @@ core::Result<MachineProfile> read_machine(const toml::table& table) {
     auto nozzle = read_nozzle(reader);
     if (!nozzle) return pass(nozzle);
     m.nozzle = *nozzle;
+
+    auto substrate = read_substrate(reader);
+    if (!substrate) return pass(substrate);
+    m.substrate = *substrate;
 
     auto table_geometry = read_table(reader, m.kinematics);
     if (!table_geometry) return pass(table_geometry);
@@ -1025,6 +1048,11 @@ core::Result<void> validate(const MachineProfile& m) {
                                           "must not be empty for dialect \"{}\" (nothing else "
                                           "switches the laser)",
                                           dialect_name(m.dialect)));
+        }
+    }
+    if (m.substrate) {
+        if (auto ok = check_numbers("machine.substrate", *m.substrate, kSubstrateNumbers); !ok) {
+            return ok;
         }
     }
     if (m.nozzle) {

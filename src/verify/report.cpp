@@ -75,6 +75,9 @@ std::string report_json(const Report& r) {
     field("unsupported", finding_json(r.unsupported));
     field("unsupported_length_mm", num(r.unsupported_length_mm, 3));
     field("limit_violations", finding_json(r.limit_violations));
+    field("substrate", r.substrate ? "true" : "false");
+    field("below_plate", finding_json(r.below_plate));
+    field("below_plate_mm", num(r.below_plate_mm, 3));
     field("model_volume_mm3", num(r.model_volume_mm3, 3));
     field("deposited_volume_mm3", num(r.deposited_volume_mm3, 3));
     field("covered_volume_mm3", num(r.covered_volume_mm3, 3));
@@ -113,6 +116,14 @@ std::string report_text(const Report& r) {
     out += finding_text("collisions", r.collisions);
     out += finding_text("unsupported", r.unsupported);
     out += finding_text("axis limits", r.limit_violations);
+    if (r.below_plate.count > 0) {
+        fmt::format_to(it,
+                       "plate level     the head reaches up to {:.1f} mm below the plate's level "
+                       "in {} blocks (first: line {}: {}); the profile has no "
+                       "[machine.substrate]: check the plate, clamps and table by hand\n",
+                       r.below_plate_mm, r.below_plate.count, r.below_plate.first->line,
+                       r.below_plate.first->detail);
+    }
     fmt::format_to(it, "coverage        {:.2f}% of the model's {:.1f} mm3 inside beads\n",
                    100.0 * r.coverage, r.model_volume_mm3);
     fmt::format_to(it,

@@ -45,6 +45,8 @@ constexpr double kSupportDepthVoxels = 2.0;
 constexpr double kSupportReachSlackVoxels = 1.0;
 /// A bead bottom this many voxels above the plate (part z = 0) or lower rests on the plate.
 constexpr double kPlateToleranceVoxels = 1.0;
+/// Without a substrate, a head reaching less than this below the plate's level is not noted.
+constexpr double kBelowPlateToleranceMm = 1e-6;
 /// Axis values within this of a limit pass (the program rounds to 3 decimals).
 constexpr double kLimitToleranceMmOrDeg = 1e-6;
 /// Most poses checked along one block (a 100 m move at 1 mm; a program sending the tool
@@ -82,7 +84,13 @@ public:
           kin_(kin),
           settings_(settings),
           nozzle_(nozzle),
-          law_(machine::SpeedLaw::of(profiles.process)) {}
+          law_(machine::SpeedLaw::of(profiles.process)) {
+        if (const auto& p = profiles.machine.substrate) {
+            const Vec3d c = machine::plate_center(profiles.machine);
+            substrate_ = Box{{c.x - 0.5 * p->size_x_mm, c.y - 0.5 * p->size_y_mm, -p->thickness_mm},
+                             {c.x + 0.5 * p->size_x_mm, c.y + 0.5 * p->size_y_mm, 0.0}};
+        }
+    }
 
     core::Result<Report> run(const Replay& replay, const mesh::TriangleMesh& model) {
         Report rep;
@@ -254,6 +262,11 @@ private:
             const double r = nozzle_.body_radius_mm, top = len + nozzle_.body_length_mm;
             nozzle_region_.add({{{len, -r}, {top, -r}, {top, r}, {len, r}}});
         }
+        head_outline_ = {{{apex, apex * t}, {len, len * t}}};
+        if (nozzle_.body_radius_mm > 0.0 && nozzle_.body_length_mm > 0.0) {
+            const double r = nozzle_.body_radius_mm;
+            head_outline_.push_back({{len, r}, {len + nozzle_.body_length_mm, r}});
+        }
     }
 
     // Poses along a move: joint-space blocks interpolate every axis, tool-centre-point blocks
@@ -356,7 +369,101 @@ private:
                 }
                 return;  // one per block
             }
+            if (!substrate_) {
+                note_below_plate(b, s, rep);
+            } else if (substrate_hit(s.tip, s.dir, &hit)) {
+                ++rep.collisions.count;
+                if (!rep.collisions.first) {
+                    rep.collisions.first = Location{
+                        b.line, hit,
+                        fmt::format("{} with the tip at ({:.3f}, {:.3f}, {:.3f}): the head meets "
+                                    "the substrate plate (machine.substrate)",
+                                    b.laser_on ? "deposit" : "travel", s.tip.x, s.tip.y, s.tip.z)};
+                }
+                return;
+            }
         }
+    }
+
+    // Whether the head standing at `tip` with axis `dir` comes within the clearance of the
+    // substrate box. The head is the nozzle region's outline (the cone from a voxel above the
+    // apex, then the body) turned about the axis: its lowest point lies on the circle of one of
+    // the outline's corners, so a head that stays above the plate costs four circles; one that
+    // dips is sampled on its surface, a circle every sample_ along the axis and 64 points on
+    // each (enough for a plate's face; the caps of the body are not sampled).
+    bool substrate_hit(const Vec3d& tip, const Vec3d& dir, Vec3d* hit) const {
+        const Box& box = *substrate_;
+        const double c = settings_.clearance_mm;
+        // How far below its centre a circle of radius 1 about `dir` reaches.
+        const double dip = std::sqrt(std::max(0.0, 1.0 - dir.z * dir.z));
+        const auto below = [&](double t, double r) {
+            return tip.z + dir.z * t - r * dip < box.hi.z + c;
+        };
+        bool reaches = false;
+        for (const auto& [a, b] : head_outline_)
+            reaches = reaches || below(a.t, a.r) || below(b.t, b.r);
+        if (!reaches) return false;
+        const Vec3d e1 = any_perpendicular(dir), e2 = core::cross(dir, e1);
+        constexpr int kAround = 64;
+        for (const auto& [a, b] : head_outline_) {
+            const int n = std::max(1, static_cast<int>(std::ceil((b.t - a.t) / sample_)));
+            for (int k = 0; k <= n; ++k) {
+                const double f = static_cast<double>(k) / n;
+                const double t = lerp(a.t, b.t, f), r = lerp(a.r, b.r, f);
+                if (!below(t, r)) continue;
+                const Vec3d centre = tip + dir * t;
+                for (int j = 0; j < kAround; ++j) {
+                    const double phi = 2.0 * std::numbers::pi * j / kAround;
+                    const Vec3d x = centre + (e1 * std::cos(phi) + e2 * std::sin(phi)) * r;
+                    if (x.x >= box.lo.x - c && x.x <= box.hi.x + c && x.y >= box.lo.y - c &&
+                        x.y <= box.hi.y + c && x.z >= box.lo.z - c && x.z <= box.hi.z + c) {
+                        *hit = x;
+                        return true;
+                    }
+                }
+            }
+        }
+        return false;
+    }
+
+    // Without a substrate: how far the head at this pose reaches below the plate's level (the
+    // lowest point of its outline's corner circles), counted once per block.
+    void note_below_plate(const ReplayBlock& b, const Sample& s, Report& rep) {
+        const double dip = std::sqrt(std::max(0.0, 1.0 - s.dir.z * s.dir.z));
+        double lowest = std::numeric_limits<double>::infinity();
+        Vec3d at;
+        for (const auto& [p, q] : head_outline_) {
+            for (const OutlinePoint& o : {p, q}) {
+                const double z = s.tip.z + s.dir.z * o.t - o.r * dip;
+                if (z < lowest) {
+                    lowest = z;
+                    at = s.tip + s.dir * o.t;
+                    if (dip > 0.0) at = at + (Vec3d{0, 0, -1} + s.dir * s.dir.z) * (o.r / dip);
+                }
+            }
+        }
+        if (lowest >= -kBelowPlateToleranceMm) return;
+        rep.below_plate_mm = std::max(rep.below_plate_mm, -lowest);
+        if (below_plate_line_ == b.line) return;
+        below_plate_line_ = b.line;
+        ++rep.below_plate.count;
+        if (!rep.below_plate.first) {
+            rep.below_plate.first = Location{
+                b.line, at,
+                fmt::format("{} with the tip at ({:.3f}, {:.3f}, {:.3f}): the head "
+                            "reaches {:.1f} mm below the plate's level",
+                            b.laser_on ? "deposit" : "travel", s.tip.x, s.tip.y, s.tip.z, -lowest)};
+        }
+    }
+
+    // Whether a bead bottom at `base` rests on the plate: at its height and, with a substrate,
+    // within half a track of its top face.
+    bool on_plate(const Vec3d& base) const {
+        if (base.z > kPlateToleranceVoxels * voxel_) return false;
+        if (!substrate_) return true;
+        const double w = 0.5 * process_.track_width_mm;
+        return base.x >= substrate_->lo.x - w && base.x <= substrate_->hi.x + w &&
+               base.y >= substrate_->lo.y - w && base.y <= substrate_->hi.y + w;
     }
 
     void check_support(const ReplayBlock& b, const std::vector<Sample>& samples, double h,
@@ -374,7 +481,7 @@ private:
         for (std::size_t i = 0; i < samples.size(); ++i) {
             const Sample& s = samples[i];
             const Vec3d base = s.tip - s.dir * h;
-            if (base.z <= kPlateToleranceVoxels * voxel_) continue;
+            if (on_plate(base)) continue;
             Vec3d hit;
             if (detail::find_occupied(grid_, origin_, voxel_, s.tip, s.dir, region, 0.0, &hit)) {
                 continue;
@@ -526,6 +633,17 @@ private:
     OccupancyPyramid grid_;
     detail::ModelVoxels model_;
     Region nozzle_region_;
+    // The head's side as (axis distance, radius) segments: the cone, then the body.
+    struct OutlinePoint {
+        double t = 0.0;
+        double r = 0.0;
+    };
+    std::vector<std::pair<OutlinePoint, OutlinePoint>> head_outline_;
+    struct Box {
+        Vec3d lo, hi;
+    };
+    std::optional<Box> substrate_;  // the substrate plate (part frame), when modelled
+    int below_plate_line_ = -1;     // the block last counted in Report::below_plate
     std::size_t poses_checked_ = 0;
     double unsupported_length_ = 0.0;
     bool limit_block_counted_ = false;
@@ -585,7 +703,10 @@ core::Result<Report> verify_program(std::string_view program_text,
         profiles.machine.nozzle.value_or(machine::NozzleProfile{});
     Verifier v(profiles, *kin, settings, nozzle);
     auto report = v.run(*replay, placed_model);
-    if (report) report->default_nozzle = !profiles.machine.nozzle.has_value();
+    if (report) {
+        report->default_nozzle = !profiles.machine.nozzle.has_value();
+        report->substrate = profiles.machine.substrate.has_value();
+    }
     return report;
 }
 

@@ -367,6 +367,54 @@ TEST(FiveAxis, APartThatCannotBeBuiltAsGivenIsStoodOnAnotherBase) {
     }
 }
 
+// The bearing seat's boss is built sideways 12 mm above the plate: the head's 30 mm body
+// reaches 18 mm below the plate's level. Without a substrate in the profile the job builds it
+// as given and warns; with a 200 x 200 x 15 mm plate (decision 0016) the verifier finds the
+// head in the plate, and the job stands the part on another base, whose program passes with
+// the plate; --orient given refuses without a program.
+TEST(FiveAxis, AHeadThatWouldMeetTheSubstrateMakesTheJobChooseAnotherBase) {
+    const fs::path dir = temp_dir("substrate");
+    const fs::path part = export_fixture(maxslice::test::bearing_seat(), dir);
+    const fs::path program = dir / "p.gm";
+    const CliRun plain = run_cli(
+        {"slice", part.string(), "--profile", kReference5.string(), "-o", program.string()});
+    ASSERT_EQ(plain.exit_code, 0) << plain.out << plain.err;
+    EXPECT_NE(plain.err.find("the head reaches up to 18.0 mm below the plate's level"),
+              std::string::npos)
+        << plain.err;
+    EXPECT_EQ(plain.err.find("cannot be built"), std::string::npos) << plain.err;
+
+    std::string text = slurp(kReference5);
+    const std::string process = "\n[process]";
+    const auto at = text.find(process);
+    ASSERT_NE(at, std::string::npos);
+    text.insert(at,
+                "\n[machine.substrate]\nsize_x_mm = 200.0\nsize_y_mm = 200.0\n"
+                "thickness_mm = 15.0\n");
+    const fs::path plated = dir / "plated.toml";
+    std::ofstream(plated) << text;
+    const CliRun r =
+        run_cli({"slice", part.string(), "--profile", plated.string(), "-o", program.string()});
+    ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+    EXPECT_NE(r.err.find("the part as given cannot be built: the verifier refused its program"),
+              std::string::npos)
+        << r.err;
+    EXPECT_EQ(r.err.find("below the plate's level"), std::string::npos) << r.err;
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(
+        r.out, m, std::regex(R"(verify with +maxslice verify \S+ --model \S+ --direction (\S+))")))
+        << r.out;
+    const CliRun v = run_cli({"verify", program.string(), "--model", part.string(), "--profile",
+                              plated.string(), "--direction", m[1].str()});
+    EXPECT_EQ(v.exit_code, 0) << v.out << v.err;
+    const fs::path given = dir / "given.gm";
+    const CliRun g = run_cli({"slice", part.string(), "--profile", plated.string(), "-o",
+                              given.string(), "--orient", "given"});
+    EXPECT_EQ(g.exit_code, 2) << g.out << g.err;
+    EXPECT_NE(g.err.find("substrate"), std::string::npos) << g.err;
+    EXPECT_FALSE(fs::exists(given));
+}
+
 // The RS-274 dialects name the base the program builds on in their header; `maxslice verify`
 // without --direction places the model by it (the gm dialect has no comments: it needs the
 // --direction the job prints). The portal frame is built upside down.

@@ -44,8 +44,10 @@ struct MachineMove {
 /// mm (machine Z): for a table machine the top of the sphere about the C axis point
 /// o = (c_offset, 0) that holds every part point q in any table position,
 /// pivot.z + |o| + max |q - o|; for "xyz" the part's top, max q.z. `part_points` are in part
-/// coordinates (the placed mesh's vertices, or a program's positions). No points:
-/// pivot.z + |o| for a table machine, -infinity for "xyz". The profile is assumed valid.
+/// coordinates (the placed mesh's vertices, or a program's positions). The corners of the
+/// profile's substrate plate, when it has one, count as part points: it turns with the part.
+/// No points and no substrate: pivot.z + |o| for a table machine, -infinity for "xyz". The
+/// profile is assumed valid.
 [[nodiscard]] double clear_height_mm(const MachineProfile& machine,
                                      std::span<const core::Vec3d> part_points);
 

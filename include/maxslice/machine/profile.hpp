@@ -97,6 +97,15 @@ struct NozzleProfile {
     double clearance_mm = 1.0;     ///< smallest accepted gap to deposited material, in [0, 50]
 };
 
+/// The substrate plate the part is built on, TOML table [machine.substrate]: a box fixed to
+/// the table, its top face the plate (part z = 0), centred on plate_center(), the part's
+/// place. The head must not meet it; beads rest on it only within its top face.
+struct SubstrateProfile {
+    double size_x_mm = 0.0;     ///< along the part frame's X, > 0
+    double size_y_mm = 0.0;     ///< along Y, > 0
+    double thickness_mm = 0.0;  ///< below the plate, > 0
+};
+
 /// The geometry of a tilting-rotary table, TOML table [machine.table] (docs/profiles.md).
 /// Machine coordinates are the program's X, Y, Z (the tool tip, mm). The part frame is fixed
 /// to the table; with every rotary axis at 0 it is the machine frame moved to `pivot`: a part
@@ -133,6 +142,9 @@ struct MachineProfile {
     /// The head for the collision check; unset = no [machine.nozzle] table, and the planner
     /// then uses NozzleProfile's defaults and says so.
     std::optional<NozzleProfile> nozzle;
+    /// The substrate plate; unset = no [machine.substrate] table: the head is checked against
+    /// deposited material only and every bead at the plate's height rests on the plate.
+    std::optional<SubstrateProfile> substrate;
     /// The table of kTableAc / kTableBc (required there, refused for kXyz).
     std::optional<TableProfile> table;
 

@@ -62,6 +62,13 @@ struct Report {
     Finding unsupported;  ///< deposit blocks with a bead piece resting on nothing
     double unsupported_length_mm = 0.0;
     Finding limit_violations;  ///< blocks with a pose outside machine.axes
+    /// The profile has a [machine.substrate]: the head is checked against the plate too
+    /// (a hit counts as a collision).
+    bool substrate = false;
+    /// Without a substrate: blocks where the head reaches below the plate's level (part
+    /// z = 0), where a plate, clamps or the table may be; a warning, not a failure.
+    Finding below_plate;
+    double below_plate_mm = 0.0;  ///< the deepest such reach (mm below the plate's level)
 
     double model_volume_mm3 = 0.0;      ///< voxelized model
     double deposited_volume_mm3 = 0.0;  ///< voxelized beads

@@ -585,6 +585,38 @@ TEST(Profile, NozzleMissingUnknownAndMistypedKeys) {
                    {"unknown key `machine.nozle`", "did you mean `nozzle`"});
 }
 
+// [machine.substrate]: optional; when there, every size is required and positive.
+TEST(Profile, SubstrateTableIsReadAndChecked) {
+    const std::string plate =
+        "\n[machine.substrate]\nsize_x_mm = 150\nsize_y_mm = 120.5\nthickness_mm = 12\n";
+    const std::string text = std::string(kMachine) + plate + std::string(kProcess);
+    const auto r = parse_profile(text, "test.toml");
+    ASSERT_TRUE(r.has_value()) << r.error().describe();
+    ASSERT_TRUE(r->machine->substrate.has_value());
+    EXPECT_DOUBLE_EQ(r->machine->substrate->size_x_mm, 150.0);
+    EXPECT_DOUBLE_EQ(r->machine->substrate->size_y_mm, 120.5);
+    EXPECT_DOUBLE_EQ(r->machine->substrate->thickness_mm, 12.0);
+    const auto none = parse_profile(base(), "test.toml");
+    ASSERT_TRUE(none.has_value()) << none.error().describe();
+    EXPECT_FALSE(none->machine->substrate.has_value());
+
+    expect_refused(with(text, "size_y_mm", "size_y_mm = -5"),
+                   {"machine.substrate.size_y_mm = -5", "out of range", "(0, 10000] mm"});
+    expect_refused(with(text, "thickness_mm", "thickness_mm = 0"),
+                   {"machine.substrate.thickness_mm = 0", "out of range"});
+    expect_refused(without(text, "size_x_mm"), {"missing key", "machine.substrate.size_x_mm"});
+    expect_refused(with(text, "thickness_mm", "thickness_mm = 12\nsize_z_mm = 3"),
+                   {"unknown key `machine.substrate.size_z_mm`"});
+    expect_refused(with(base(), "name", "name = \"test\"\nsubstrate = 3"),
+                   {"`machine.substrate` must be a table"});
+    // validate() checks a substrate set in code.
+    MachineProfile m = *r->machine;
+    m.substrate->size_x_mm = 0.0;
+    const auto bad = validate(m);
+    ASSERT_FALSE(bad.has_value());
+    EXPECT_NE(bad.error().message.find("machine.substrate.size_x_mm"), std::string::npos);
+}
+
 TEST(Profile, ShippedProfilesCarryANozzle) {
     for (const char* name : {"reference_lmd.toml", "linuxcnc_generic.toml"}) {
         SCOPED_TRACE(name);

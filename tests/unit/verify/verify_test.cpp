@@ -3,7 +3,10 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <numbers>
+#include <optional>
 #include <string>
 
 #include "maxslice/machine/machine_moves.hpp"
@@ -58,6 +61,7 @@ TEST(Verify, CleanZigzagBlockPassesGm) {
     // Deposit time: the length at the deposition feed.
     EXPECT_NEAR(r.deposit_time_s, 60.0 * length / p.process.deposition_feed_mm_min, 1e-6);
     EXPECT_GT(r.poses_checked, 1000U);
+    EXPECT_EQ(r.below_plate.count, 0U);
 }
 
 TEST(Verify, CleanZigzagBlockPassesLinuxCnc) {
@@ -389,6 +393,127 @@ TEST(Verify, FiveAxisWritersOutputReplaysCleanInEveryDialect) {
         EXPECT_EQ(r->unsupported.count, 1U) << report_text(*r);
         EXPECT_EQ(r->collisions.count, 0U) << report_text(*r);
     }
+}
+
+// The block and one track on its +Y wall built along +Y at 3 mm height: the head lies
+// horizontal there, its 30 mm body reaching 27 mm below the plate's level. A substrate plate
+// under the block stops it only where the plate is: a 300 x 300 mm plate is hit, a plate the
+// block's size plus 2 mm is not (the head ends its cone and starts its body beyond the plate's
+// edge), nor a plate that is long in X but short in Y; one long in Y is hit again. A plate
+// smaller than the block leaves the first layer's outer beads on nothing.
+TEST(Verify, TheHeadMeetsTheSubstrateOnlyWhereThePlateIs) {
+    machine::Profiles p = load("reference_5axis_ac.toml");
+    ASSERT_FALSE(p.machine.substrate.has_value());
+    const mesh::TriangleMesh model = placed_block(p);
+    const Vec3d c = mesh::bounding_box(model).center();
+    const double w = p.process.track_width_mm, h = p.process.layer_height_mm;
+    const int tracks = 17;
+    const double pitch = (2 * kHalf - w) / (tracks - 1);
+    machine::Program program;
+    for (int layer = 1; layer <= kLayers; ++layer) {
+        std::vector<Vec3d> wire;
+        for (int i = 0; i < tracks; ++i) {
+            const double y = c.y - kHalf + 0.5 * w + i * pitch;
+            const double xa = c.x - kHalf + 0.5 * w, xb = c.x + kHalf - 0.5 * w;
+            wire.push_back({i % 2 == 0 ? xa : xb, y, layer * h});
+            wire.push_back({i % 2 == 0 ? xb : xa, y, layer * h});
+        }
+        machine::append_wire(program, wire, p.process, layer - 1);
+    }
+    const double yw = c.y + kHalf + h;
+    const std::vector<Vec3d> along = {{c.x - 10.0, yw, 3.0}, {c.x + 10.0, yw, 3.0}};
+    machine::append_wire(program, along, p.process, kLayers, 1, {0.0, 1.0, 0.0});
+    machine::WriteOptions wo;
+    wo.clear_z_mm = machine::clear_height_mm(p.machine, model.vertices);
+    const auto text = machine::write_program(program, p.machine, p.process, wo);
+    ASSERT_TRUE(text) << text.error().describe();
+    const auto with = [&](std::optional<machine::SubstrateProfile> plate) {
+        p.machine.substrate = plate;
+        auto r = verify_program(*text, model, p);
+        EXPECT_TRUE(r) << r.error().describe();
+        return r.value_or(Report{});
+    };
+    const Report none = with(std::nullopt);
+    EXPECT_TRUE(none.passed()) << report_text(none);
+    // Without a substrate the reach below the plate's level is a note: at least the body's
+    // lowest line, its radius below the tip at 3 mm (the table's turn sweeps the head lower).
+    EXPECT_FALSE(none.substrate);
+    EXPECT_GE(none.below_plate.count, 1U);
+    EXPECT_GE(none.below_plate_mm, p.machine.nozzle->body_radius_mm - 3.0 - 1e-6);
+    ASSERT_TRUE(none.below_plate.first);
+    EXPECT_LT(none.below_plate.first->point_mm.z, 0.0);
+    EXPECT_NE(report_text(none).find("below the plate's level"), std::string::npos);
+
+    const Report large = with(machine::SubstrateProfile{300.0, 300.0, 10.0});
+    EXPECT_TRUE(large.substrate);
+    EXPECT_EQ(large.below_plate.count, 0U);
+    EXPECT_GE(large.collisions.count, 1U) << report_text(large);
+    ASSERT_TRUE(large.collisions.first);
+    EXPECT_NE(large.collisions.first->detail.find("substrate"), std::string::npos);
+    EXPECT_LE(large.collisions.first->point_mm.z, 0.0);
+    EXPECT_GE(large.collisions.first->point_mm.z, -10.0);
+    EXPECT_GT(large.collisions.first->point_mm.y, yw);  // beside the wall, under the head
+    EXPECT_EQ(large.unsupported.count, 0U) << report_text(large);
+
+    const double fit = 2 * kHalf + 2.0;
+    const Report snug = with(machine::SubstrateProfile{fit, fit, 10.0});
+    EXPECT_TRUE(snug.passed()) << report_text(snug);
+    const Report long_x = with(machine::SubstrateProfile{300.0, fit, 10.0});
+    EXPECT_TRUE(long_x.passed()) << report_text(long_x);
+    const Report long_y = with(machine::SubstrateProfile{fit, 300.0, 10.0});
+    EXPECT_GE(long_y.collisions.count, 1U) << report_text(long_y);
+
+    const Report small = with(machine::SubstrateProfile{20.0, 20.0, 10.0});
+    EXPECT_EQ(small.collisions.count, 0U) << report_text(small);
+    EXPECT_GE(small.unsupported.count, 1U) << report_text(small);
+    ASSERT_TRUE(small.unsupported.first);
+    EXPECT_GT(std::max(std::abs(small.unsupported.first->point_mm.x - c.x),
+                       std::abs(small.unsupported.first->point_mm.y - c.y)),
+              10.0 - 1e-9);
+}
+
+// A track built along +Y 40 mm up (where the horizontal head clears the plate by 10 mm) after
+// the block: the table turns A by 90 deg between them. Written for a machine without a
+// substrate, the turn happens just above the part's sphere and leaves the tip 13.75 mm under
+// the plate's level, inside a 300 x 300 x 20 mm substrate; written for the machine with it,
+// the turn happens above the sphere that holds the substrate too, and nothing is hit.
+TEST(Verify, TheTableTurnsClearOfTheSubstrate) {
+    machine::Profiles p = load("reference_5axis_ac.toml");
+    const mesh::TriangleMesh model = placed_block(p);
+    const Vec3d c = mesh::bounding_box(model).center();
+    machine::Program program;
+    const double w = p.process.track_width_mm, h = p.process.layer_height_mm;
+    for (int layer = 1; layer <= kLayers; ++layer) {
+        const std::vector<Vec3d> wire = {{c.x - kHalf + 0.5 * w, c.y + kHalf - 0.5 * w, layer * h},
+                                         {c.x + kHalf - 0.5 * w, c.y + kHalf - 0.5 * w, layer * h}};
+        machine::append_wire(program, wire, p.process, layer - 1);
+    }
+    const std::vector<Vec3d> high = {{c.x - 10.0, c.y + kHalf + h, 40.0},
+                                     {c.x + 10.0, c.y + kHalf + h, 40.0}};
+    machine::append_wire(program, high, p.process, kLayers, 1, {0.0, 1.0, 0.0});
+    const machine::SubstrateProfile plate{300.0, 300.0, 20.0};
+    const auto written_for = [&](std::optional<machine::SubstrateProfile> s) {
+        p.machine.substrate = s;
+        machine::WriteOptions wo;
+        wo.clear_z_mm = machine::clear_height_mm(p.machine, model.vertices);
+        auto text = machine::write_program(program, p.machine, p.process, wo);
+        EXPECT_TRUE(text) << text.error().describe();
+        return text.value_or(std::string());
+    };
+    const std::string unaware = written_for(std::nullopt);
+    const std::string aware = written_for(plate);
+    EXPECT_NE(unaware, aware);
+    p.machine.substrate = plate;
+    auto r = verify_program(unaware, model, p);
+    ASSERT_TRUE(r) << r.error().describe();
+    EXPECT_GE(r->collisions.count, 1U) << report_text(*r);
+    ASSERT_TRUE(r->collisions.first);
+    EXPECT_NE(r->collisions.first->detail.find("travel"), std::string::npos);
+    EXPECT_NE(r->collisions.first->detail.find("substrate"), std::string::npos);
+    r = verify_program(aware, model, p);
+    ASSERT_TRUE(r) << r.error().describe();
+    EXPECT_EQ(r->collisions.count, 0U) << report_text(*r);
+    EXPECT_EQ(r->limit_violations.count, 0U) << report_text(*r);
 }
 
 TEST(Verify, CoverageFallsWhenLayersAreMissing) {
