@@ -36,8 +36,8 @@ echo "# maxslice 5-axis job with the verifier  ($(date -u '+%Y-%m-%d %H:%M UTC')
 echo
 echo "machine: $(nproc) cores, load $(cut -d' ' -f1-3 /proc/loadavg); profile: ${profile#"$repo/"}; parts read with --repair"
 echo
-echo "| part | exit | regions | layers (tilted) | collisions | unsupported | limit violations | coverage % | excess % | build time min | verify s | job wall s | note |"
-echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"
+echo "| part | exit | regions | layers (tilted) | collisions | unsupported | limit violations | head below plate mm | coverage % | excess % | build time min | verify s | job wall s | note |"
+echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"
 # The units MANIFEST.md states for parts not in millimetres.
 stated_units() {
     case ${1##*/} in
@@ -73,15 +73,19 @@ stated_units() {
         note=$(grep -m1 "error" "$work/err" | sed 's/^maxslice: error: [^:]*: //; s/|/\\|/g' | cut -c1-150)
     fi
     vs=$(awk '/^timing verify/ { print $3 }' "$work/err")
+    # How far the head reaches below the plate's level (the job's warning; profiles without
+    # [machine.substrate], decision 0016).
+    below=$(sed -n "s/.*the head reaches up to \([0-9.]*\) mm below the plate's level.*/\1/p" "$work/err" | head -1)
     # The verifier's own report when it refused the program (printed on stderr).
-    awk -v rel="$rel" -v rc="$rc" -v wall="$wall" -v note="$note" -v vs="${vs:--}" '
+    awk -v rel="$rel" -v rc="$rc" -v wall="$wall" -v note="$note" -v vs="${vs:--}" -v below="${below:-0}" '
         /^regions/ { regions = $2; layers = $5; tilted = $7; sub(/\(/, "", tilted) }
         /^verified/ { col = $2; uns = $4; lim = $7; sub(/,/, "", col); sub(/,/, "", uns) }
         /^coverage/ { cov = $2; exc = $NF; sub(/%/, "", cov); sub(/%/, "", exc) }
         /^build time/ { bt = $3 }
         END {
-            printf "| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", rel, rc,
+            printf "| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", rel, rc,
                 regions ? regions : "-", layers ? layers " (" tilted ")" : "-", col != "" ? col : "-",
-                uns != "" ? uns : "-", lim != "" ? lim : "-", cov != "" ? cov : "-", exc != "" ? exc : "-",
+                uns != "" ? uns : "-", lim != "" ? lim : "-", col != "" ? below : "-",
+                cov != "" ? cov : "-", exc != "" ? exc : "-",
                 bt ? bt : "-", vs, wall, note }' "$work/out"
 done

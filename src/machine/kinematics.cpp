@@ -29,6 +29,11 @@ constexpr double kTieDeg = 1e-9;
 constexpr double kSameAngleDeg = 1e-9;
 
 constexpr double kDegPerRad = 180.0 / std::numbers::pi;
+// Tilts sampled along a turn of the table when its head is kept above the plate's level.
+constexpr int kTurnSamples = 32;
+// A tilt whose plate normal moves the head's floor less than this per mm across the tilt axis
+// (near no tilt) cannot be helped by moving across.
+constexpr double kFlatSlope = 1e-9;
 
 // v turned by angle about the X, Y or Z axis (right-hand rule).
 Vec3d rotate_x(const Vec3d& v, double angle) {
@@ -98,7 +103,27 @@ core::Result<MachineKinematics> MachineKinematics::create(const MachineProfile& 
     k.tilt_sign_ = t.tilt_direction;
     k.c_sign_ = t.c_direction;
     k.retract_mm_ = t.retract_mm;
+    const NozzleProfile n = machine.nozzle.value_or(NozzleProfile{});
+    const double rim = n.cone_length_mm * std::tan(n.half_angle_deg / kDegPerRad);
+    k.head_outline_ = {{0.0, 0.0}, {n.cone_length_mm, rim}};
+    if (n.body_radius_mm > 0.0) {
+        k.head_outline_.push_back({n.cone_length_mm, n.body_radius_mm});
+        k.head_outline_.push_back({n.cone_length_mm + n.body_length_mm, n.body_radius_mm});
+    }
+    k.head_clearance_mm_ = n.clearance_mm;
     return k;
+}
+
+double MachineKinematics::head_floor_mm(const Vec3d& m, double tilt) const {
+    // The part's +Z in the machine frame; a machine point's part height is its distance from
+    // the pivot along it (C turns about a parallel axis through the plate's level).
+    const Vec3d n = rotate({0.0, 0.0, 1.0}, tilt, 0.0);
+    const double across = std::hypot(n.x, n.y);
+    double lowest = 0.0;
+    for (const auto& [along, radius] : head_outline_) {
+        lowest = std::min(lowest, along * n.z - radius * across);
+    }
+    return core::dot(m - pivot_mm_, n) + lowest;
 }
 
 double MachineKinematics::tilt_rad(const MachinePose& pose) const {
@@ -393,8 +418,40 @@ core::Result<std::vector<MachinePose>> MachineKinematics::reorientation(const Ma
     const auto z_safe = safe_height(from.z, to.z, clear_z_mm);
     if (!z_safe) return std::unexpected(z_safe.error());
     // Straight up along the tool axis, turn the table there, then across above the target.
-    out.push_back({from.x, from.y, *z_safe, from.a_or_b_deg, from.c_deg});
-    out.push_back({from.x, from.y, *z_safe, to.a_or_b_deg, to.c_deg});
+    MachinePose turn{from.x, from.y, *z_safe, from.a_or_b_deg, from.c_deg};
+    out.push_back(turn);
+    // Where to turn across the tilt axis: each sampled tilt of the turn bounds that
+    // coordinate on one side (the head's floor is affine in it); the nearest value to the
+    // retract point within all the bounds and the travel.
+    const bool about_x = kinematics_ == Kinematics::kTableAc;
+    double& w = about_x ? turn.y : turn.x;
+    const Limits& travel = limits_[about_x ? 1 : 0];
+    double lo = travel.min, hi = travel.max;
+    const double w0 = w;
+    for (int k = 0; k <= kTurnSamples; ++k) {
+        const double f = static_cast<double>(k) / kTurnSamples;
+        const MachinePose at{turn.x, turn.y, turn.z,
+                             from.a_or_b_deg + f * (to.a_or_b_deg - from.a_or_b_deg), 0.0};
+        const double tilt = tilt_rad(at);
+        const Vec3d n = rotate({0.0, 0.0, 1.0}, tilt, 0.0);
+        const double slope = about_x ? n.y : n.x;  // d(floor) / dw
+        const double need = head_clearance_mm_ - head_floor_mm({at.x, at.y, at.z}, tilt);
+        if (std::abs(slope) < kFlatSlope) {
+            if (need > 0.0) lo = hi + 1.0;  // no w helps at this tilt
+            continue;
+        }
+        const double bound = w0 + need / slope;
+        if (slope > 0.0) {
+            lo = std::max(lo, bound);
+        } else {
+            hi = std::min(hi, bound);
+        }
+    }
+    if (lo <= hi && (w0 < lo || w0 > hi)) {
+        w = std::clamp(w0, lo, hi);
+        out.push_back(turn);
+    }
+    out.push_back({turn.x, turn.y, *z_safe, to.a_or_b_deg, to.c_deg});
     out.push_back({to.x, to.y, *z_safe, to.a_or_b_deg, to.c_deg});
     return out;
 }

@@ -8,7 +8,6 @@
 #include <numbers>
 #include <optional>
 #include <string>
-#include <vector>
 
 namespace maxslice::machine {
 namespace {
@@ -49,21 +48,9 @@ std::string direction_text(const Vec3d& d) {
 }  // namespace
 
 double clear_height_mm(const MachineProfile& machine, std::span<const Vec3d> part_points) {
-    // The substrate's corners (its top face is the plate, part z = 0, centred on the part).
-    std::vector<Vec3d> plate;
-    if (const auto& p = machine.substrate) {
-        const Vec3d c = plate_center(machine);
-        for (const double x : {-0.5 * p->size_x_mm, 0.5 * p->size_x_mm}) {
-            for (const double y : {-0.5 * p->size_y_mm, 0.5 * p->size_y_mm}) {
-                for (const double z : {-p->thickness_mm, 0.0}) plate.push_back(c + Vec3d{x, y, z});
-            }
-        }
-    }
     if (!is_table_tilt(machine.kinematics) || !machine.table) {
         double top = -std::numeric_limits<double>::infinity();
-        for (const auto points : {part_points, std::span<const Vec3d>(plate)}) {
-            for (const Vec3d& q : points) top = std::max(top, q.z);
-        }
+        for (const Vec3d& q : part_points) top = std::max(top, q.z);
         return top;
     }
     // A part point q sits at pivot + R_tilt (o + R_C (q - o)); rotations keep lengths, so its
@@ -71,9 +58,7 @@ double clear_height_mm(const MachineProfile& machine, std::span<const Vec3d> par
     const TableProfile& t = *machine.table;
     const Vec3d o{t.c_offset_x_mm, t.c_offset_y_mm, 0.0};
     double radius = 0.0;
-    for (const auto points : {part_points, std::span<const Vec3d>(plate)}) {
-        for (const Vec3d& q : points) radius = std::max(radius, core::norm(q - o));
-    }
+    for (const Vec3d& q : part_points) radius = std::max(radius, core::norm(q - o));
     return t.pivot_mm.z + core::norm(o) + radius;
 }
 
@@ -179,10 +164,13 @@ core::Result<std::vector<MachineMove>> to_machine_moves(const Program& program,
             } else {
                 const auto path = kinematics.reorientation(current, pose, clear_z_mm);
                 if (!path) return fail(path.error().message);
-                const ReorientStep roles[] = {ReorientStep::kRetract, ReorientStep::kTurn,
-                                              ReorientStep::kCross};
-                for (std::size_t s = 0; s < path->size() && s < 3; ++s) {
-                    steps.emplace_back((*path)[s], roles[s]);
+                // Retract, (aside,) turn, cross.
+                for (std::size_t s = 0; s < path->size(); ++s) {
+                    const ReorientStep role = s == 0                  ? ReorientStep::kRetract
+                                              : s + 2 == path->size() ? ReorientStep::kTurn
+                                              : s + 1 == path->size() ? ReorientStep::kCross
+                                                                      : ReorientStep::kAside;
+                    steps.emplace_back((*path)[s], role);
                 }
             }
             for (const auto& [step_pose, role] : steps) {

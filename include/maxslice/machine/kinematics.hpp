@@ -3,6 +3,7 @@
 #include <array>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "maxslice/core/result.hpp"
@@ -101,9 +102,14 @@ public:
     /// z_safe = max(from.z, to.z, clear_z_mm) + retract_mm, turn the table there, move across
     /// at z_safe over the target; the caller's next move (to `to`) is the approach along the
     /// tool axis. `clear_z_mm` is the height the tool tip must clear whatever the table does
-    /// (see clear_height_mm in machine_moves.hpp; -infinity: none). Empty when no rotary axis
-    /// changes. Errors (kInvalidInput): z_safe above the Z limit (naming machine.axes.Z and
-    /// machine.table.retract_mm).
+    /// (see clear_height_mm in machine_moves.hpp; -infinity: none). The turn also keeps the
+    /// head (the profile's nozzle, or NozzleProfile's defaults) above the plate's level (part
+    /// z = 0) by the nozzle's clearance: where turning over `from` would sweep the head below
+    /// it, the tip first moves at z_safe across the tilt axis (machine Y for A, X for B) to the
+    /// nearest point, within the travel, from which the whole turn stays above (decision
+    /// 0016); when there is none, the turn is made over `from` as before. Empty when no rotary
+    /// axis changes. Errors (kInvalidInput): z_safe above the Z limit (naming machine.axes.Z
+    /// and machine.table.retract_mm).
     [[nodiscard]] core::Result<std::vector<MachinePose>> reorientation(
         const MachinePose& from, const MachinePose& to,
         double clear_z_mm = -std::numeric_limits<double>::infinity()) const;
@@ -128,6 +134,9 @@ private:
     [[nodiscard]] core::Vec3d unrotate(const core::Vec3d& v, double tilt_rad, double c_rad) const;
     [[nodiscard]] double tilt_rad(const MachinePose& pose) const;
     [[nodiscard]] double c_rad(const MachinePose& pose) const;
+    // The lowest part-frame z the head reaches standing at machine point m with the table
+    // tilted by tilt_rad (the plate's level is 0).
+    [[nodiscard]] double head_floor_mm(const core::Vec3d& m, double tilt_rad) const;
 
     Kinematics kinematics_ = Kinematics::kXyz;
     core::Vec3d pivot_mm_;
@@ -135,6 +144,10 @@ private:
     int tilt_sign_ = 1;
     int c_sign_ = 1;
     double retract_mm_ = 0.0;
+    // The head's outline as (distance along the tool axis, radius) corners: the apex, the
+    // cone's rim, the body's ends; and the clearance it keeps.
+    std::vector<std::pair<double, double>> head_outline_;
+    double head_clearance_mm_ = 0.0;
     std::array<Limits, 5> limits_;  // X, Y, Z, tilt, C (tilt and C unbounded for "xyz")
 };
 

@@ -19,8 +19,11 @@ enum class ReorientStep {
     kStartRetract,  ///< program start: up to z_safe; only Z is known (and written)
     kStartTurn,     ///< program start: the rotary axes to the first pose at z_safe; X, Y unknown
     kRetract,       ///< up the tool axis to z_safe: X, Y and the rotary axes unchanged
-    kTurn,          ///< the rotary axes turn at z_safe: X, Y, Z unchanged
-    kCross,         ///< across at z_safe to X, Y of the target: the rotary axes unchanged
+    /// across the tilt axis at z_safe, where turning over the retract would sweep the head
+    /// below the plate's level (MachineKinematics::reorientation): the rotary axes unchanged
+    kAside,
+    kTurn,   ///< the rotary axes turn at z_safe: X, Y, Z unchanged
+    kCross,  ///< across at z_safe to X, Y of the target: the rotary axes unchanged
 };
 
 /// One move in machine coordinates, as every dialect writes it.
@@ -44,10 +47,10 @@ struct MachineMove {
 /// mm (machine Z): for a table machine the top of the sphere about the C axis point
 /// o = (c_offset, 0) that holds every part point q in any table position,
 /// pivot.z + |o| + max |q - o|; for "xyz" the part's top, max q.z. `part_points` are in part
-/// coordinates (the placed mesh's vertices, or a program's positions). The corners of the
-/// profile's substrate plate, when it has one, count as part points: it turns with the part.
-/// No points and no substrate: pivot.z + |o| for a table machine, -infinity for "xyz". The
-/// profile is assumed valid.
+/// coordinates (the placed mesh's vertices, or a program's positions). No points:
+/// pivot.z + |o| for a table machine, -infinity for "xyz". The profile is assumed valid. The
+/// plate and a substrate under it lie below the part: MachineKinematics::reorientation keeps
+/// the head above the plate's level while the table turns.
 [[nodiscard]] double clear_height_mm(const MachineProfile& machine,
                                      std::span<const core::Vec3d> part_points);
 

@@ -284,12 +284,16 @@ void check_program_text(const Program& program, const MachineProfile& machine,
     // direction changes (every direction change in this program needs a turn).
     const auto expected = positioning(program);
     std::vector<bool> turns(expected.size());
-    std::size_t inserted = 0;
+    std::size_t turn_count = 0;
     for (std::size_t i = 0; i < expected.size(); ++i) {
         turns[i] = i == 0 || expected[i]->direction != expected[i - 1]->direction;
-        inserted += turns[i] ? 3 : 0;
+        turn_count += turns[i] ? 1 : 0;
     }
-    ASSERT_EQ(read.g1.size(), expected.size() + inserted);
+    // Each turn inserts a retract, the turn and the cross, and where turning over the retract
+    // would sweep the head below the plate's level a move across the tilt axis before it.
+    ASSERT_GE(read.g1.size(), expected.size() + 3 * turn_count);
+    ASSERT_LE(read.g1.size(), expected.size() + 4 * turn_count);
+    const bool about_x = machine.kinematics == Kinematics::kTableAc;
 
     // The joint pose of every block, and whether it is a program move.
     std::size_t b = 0;
@@ -299,12 +303,36 @@ void check_program_text(const Program& program, const MachineProfile& machine,
         SCOPED_TRACE(::testing::Message() << "program move " << i << " (layer " << m.layer
                                           << ", region " << m.region << ")");
         if (turns[i]) {
+            ASSERT_LT(b + 3, read.g1.size());
             const Block& retract_b = read.g1[b];
-            const Block& turn_b = read.g1[b + 1];
-            const Block& cross_b = read.g1[b + 2];
-            const Block& target_b = read.g1[b + 3];
+            // A block at the retract's rotary values after it moves across before the turn.
+            const bool across = read.g1[b + 1].mtilt == retract_b.mtilt &&
+                                read.g1[b + 1].mc == retract_b.mc && i > 0;
+            ASSERT_LT(b + (across ? 4 : 3), read.g1.size());
+            const Block& before_b = read.g1[b + (across ? 1 : 0)];
+            const Block& turn_b = read.g1[b + (across ? 2 : 1)];
+            const Block& cross_b = read.g1[b + (across ? 3 : 2)];
+            const Block& target_b = read.g1[b + (across ? 4 : 3)];
             SCOPED_TRACE(::testing::Message() << "re-orientation at line " << retract_b.line);
-            for (const Block* s : {&retract_b, &turn_b, &cross_b}) {
+            if (across) {
+                // Only the coordinate across the tilt axis changes; from there the turn keeps
+                // the head above the plate's level (its lowest outline corner, sampled).
+                EXPECT_EQ(before_b.mz, retract_b.mz);
+                EXPECT_NEAR(about_x ? before_b.mx : before_b.my,
+                            about_x ? retract_b.mx : retract_b.my, 1e-9);
+                EXPECT_NE(about_x ? before_b.my : before_b.mx,
+                          about_x ? retract_b.my : retract_b.mx);
+                for (int q = 0; q <= 64; ++q) {
+                    const double f = q / 64.0;
+                    const MachinePose at{before_b.mx, before_b.my, before_b.mz,
+                                         before_b.mtilt + f * (turn_b.mtilt - before_b.mtilt),
+                                         before_b.mc};
+                    EXPECT_GT(testing::head_floor(*k, machine.nozzle.value_or(NozzleProfile{}), at),
+                              0.0)
+                        << f;
+                }
+            }
+            for (const Block* s : {&retract_b, &before_b, &turn_b, &cross_b}) {
                 EXPECT_FALSE(s->tcp) << "joint space: line " << s->line;
                 EXPECT_FALSE(s->laser_on) << "line " << s->line;
                 EXPECT_NEAR(*s->f, process.travel_feed_mm_min, kFeedRound) << s->line;
@@ -335,8 +363,8 @@ void check_program_text(const Program& program, const MachineProfile& machine,
                 EXPECT_NEAR(z_safe, std::max({previous_joint.z, target_xyz.z, clear_z}) + retract,
                             kRoundMm);
                 // The turn at z_safe with X Y Z unchanged.
-                EXPECT_EQ(*turn_b.x, *retract_b.x);
-                EXPECT_EQ(*turn_b.y, *retract_b.y);
+                EXPECT_EQ(turn_b.mx, before_b.mx);
+                EXPECT_EQ(turn_b.my, before_b.my);
             }
             EXPECT_TRUE(retract_b.z && turn_b.z && cross_b.z);
             EXPECT_EQ(turn_b.mz, z_safe);
@@ -351,7 +379,7 @@ void check_program_text(const Program& program, const MachineProfile& machine,
             EXPECT_NEAR(cross_b.my, target_xyz.y, kRoundMm);
             EXPECT_LT(target_xyz.z, z_safe);
             EXPECT_GE(z_safe, clear_z + retract - kRoundMm);
-            b += 3;
+            b += across ? 4 : 3;
         }
         const Block& blk = read.g1[b++];
         SCOPED_TRACE(::testing::Message() << "line " << blk.line << ": " << blk.text);
@@ -377,6 +405,7 @@ void check_program_text(const Program& program, const MachineProfile& machine,
         EXPECT_TRUE(k->check_limits(joint).has_value());
         previous_joint = joint;
     }
+    EXPECT_EQ(b, read.g1.size());
     // Nothing rotates while the laser is on.
     for (std::size_t i = 1; i < read.g1.size(); ++i) {
         if (!read.g1[i].laser_on) continue;
@@ -385,7 +414,7 @@ void check_program_text(const Program& program, const MachineProfile& machine,
     }
     if (tcp) {
         // One switch-on per re-orientation sequence.
-        EXPECT_EQ(static_cast<std::size_t>(read.tcp_switches), inserted / 3);
+        EXPECT_EQ(static_cast<std::size_t>(read.tcp_switches), turn_count);
     }
 }
 

@@ -2,10 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "machine_fixtures.hpp"
@@ -365,6 +367,55 @@ TEST(Kinematics, ReorientationRetractsAlongTheToolAxisBeforeTurning) {
     ASSERT_FALSE(over.has_value());
     EXPECT_NE(over.error().message.find("machine.axes.Z.max"), std::string::npos);
     EXPECT_NE(over.error().message.find("machine.table.retract_mm"), std::string::npos);
+}
+
+// Turning A from 0 to 90 deg over a point 13.75 mm off the A axis on the +Y side would end
+// with the tip 13.75 mm under the plate's level: the tip first moves across (machine Y) to the
+// nearest point from which the head stays above the plate by the nozzle's clearance through
+// the whole turn. Over a point already clear, or where no point is (a turn from -90 to +90),
+// the sequence is the plain retract, turn, cross. B tables move across in X.
+TEST(Kinematics, TheTableTurnsWithTheHeadAboveThePlate) {
+    const NozzleProfile nozzle{};  // the machine has no [machine.nozzle]: the defaults
+    const MachineKinematics k = make({.retract = 10.0});
+    const MachinePose from{5.0, 13.75, 5.0, 0.0, 0.0};
+    const MachinePose to{0.0, -30.0, 20.0, 90.0, 0.0};
+    const auto path = k.reorientation(from, to);
+    ASSERT_TRUE(path.has_value()) << path.error().describe();
+    ASSERT_EQ(path->size(), 4u);
+    const auto& p = *path;
+    EXPECT_DOUBLE_EQ(p[1].x, from.x);
+    EXPECT_DOUBLE_EQ(p[1].z, p[0].z);
+    EXPECT_DOUBLE_EQ(p[1].a_or_b_deg, from.a_or_b_deg);
+    EXPECT_LT(p[1].y, -20.0);  // the cone's rim reaches 23 mm across
+    EXPECT_DOUBLE_EQ(p[2].y, p[1].y);
+    EXPECT_DOUBLE_EQ(p[2].a_or_b_deg, to.a_or_b_deg);
+    for (int i = 0; i <= 90; ++i) {
+        const MachinePose at{p[1].x, p[1].y, p[1].z, static_cast<double>(i), 0.0};
+        EXPECT_GE(testing::head_floor(k, nozzle, at), nozzle.clearance_mm * 0.99) << i << " deg";
+    }
+    // The nearest such point: a little less far across and the end of the turn is too low.
+    const MachinePose nearer{p[1].x, p[1].y + 0.5, p[1].z, 90.0, 0.0};
+    EXPECT_LT(testing::head_floor(k, nozzle, nearer), nozzle.clearance_mm);
+    // Without the move across the turn would reach under the plate.
+    EXPECT_LT(testing::head_floor(k, nozzle, {from.x, from.y, p[0].z, 90.0, 0.0}), 0.0);
+
+    const auto clear = k.reorientation({5.0, -40.0, 5.0, 0.0, 0.0}, to);
+    ASSERT_TRUE(clear.has_value());
+    EXPECT_EQ(clear->size(), 3u);
+    const auto both_ways = k.reorientation({5.0, 13.75, 5.0, -90.0, 0.0}, to);
+    ASSERT_TRUE(both_ways.has_value());
+    EXPECT_EQ(both_ways->size(), 3u);
+
+    const MachineKinematics b = make({.kinematics = Kinematics::kTableBc, .retract = 10.0});
+    const auto b_path = b.reorientation({-13.75, 5.0, 5.0, 0.0, 0.0}, {0.0, 0.0, 20.0, 90.0, 0.0});
+    ASSERT_TRUE(b_path.has_value());
+    ASSERT_EQ(b_path->size(), 4u);
+    EXPECT_DOUBLE_EQ((*b_path)[1].y, 5.0);
+    EXPECT_NE((*b_path)[1].x, -13.75);
+    for (int i = 0; i <= 90; ++i) {
+        const MachinePose at{(*b_path)[1].x, 5.0, (*b_path)[1].z, static_cast<double>(i), 0.0};
+        EXPECT_GE(testing::head_floor(b, nozzle, at), nozzle.clearance_mm * 0.99) << i << " deg";
+    }
 }
 
 // The clearance height raises z_safe when it is above both poses; the Z limit still applies.

@@ -3,14 +3,18 @@
 // Profiles and programs built in code for the machine tests, and a small reader of the
 // written text that is independent of the writers.
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <numbers>
 #include <optional>
 #include <random>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "maxslice/machine/kinematics.hpp"
 #include "maxslice/machine/profile.hpp"
 #include "maxslice/machine/program.hpp"
 #include "maxslice/machine/program_builder.hpp"
@@ -64,6 +68,26 @@ inline MachineProfile linuxcnc_machine() {
 }
 
 /// A closed square wire of side `side` at height z, starting at (x0, y0).
+/// The lowest part-frame z (the plate's level is 0) of the head standing vertically at the
+/// joint pose: forward kinematics of the tip and of 64 machine points on each circle of the
+/// nozzle outline's corners (the cone's rim, the body's ends), in the tests' own terms.
+inline double head_floor(const MachineKinematics& k, const NozzleProfile& n,
+                         const MachinePose& pose) {
+    const double rim = n.cone_length_mm * std::tan(n.half_angle_deg * std::numbers::pi / 180.0);
+    double lowest = k.forward(pose).tip_mm.z;
+    for (const auto& [along, radius] :
+         {std::pair{n.cone_length_mm, rim}, std::pair{n.cone_length_mm, n.body_radius_mm},
+          std::pair{n.cone_length_mm + n.body_length_mm, n.body_radius_mm}}) {
+        for (int j = 0; j < 64; ++j) {
+            const double phi = 2.0 * std::numbers::pi * j / 64.0;
+            const MachinePose q{pose.x + radius * std::cos(phi), pose.y + radius * std::sin(phi),
+                                pose.z + along, pose.a_or_b_deg, pose.c_deg};
+            lowest = std::min(lowest, k.forward(q).tip_mm.z);
+        }
+    }
+    return lowest;
+}
+
 inline std::vector<core::Vec3d> square(double x0, double y0, double side, double z) {
     return {{x0, y0, z},
             {x0 + side, y0, z},
