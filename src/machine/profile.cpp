@@ -673,28 +673,20 @@ core::Result<void> check_table(const TableProfile& t, Kinematics kinematics) {
     return check_range("machine.table.retract_mm", t.retract_mm, kRetractRange);
 }
 
-// The optional [machine.nozzle] table: all keys required when it is there.
-core::Result<std::optional<NozzleProfile>> read_nozzle(const TableReader& machine) {
-    const auto table = machine.optional_table("nozzle", "a table of nozzle (collision) sizes");
+// An optional table of numbers under [machine] ([machine.nozzle], [machine.substrate]):
+// nothing when it is absent, every key of `keys` required when it is there.
+template <class Profile, std::size_t N>
+core::Result<std::optional<Profile>> read_optional_numbers(
+    const TableReader& machine, std::string_view key, std::string_view expected,
+    const std::array<NumberKey<Profile>, N>& keys) {
+    const auto table = machine.optional_table(key, expected);
     if (!table) return pass(table);
-    if (*table == nullptr) return std::optional<NozzleProfile>{};
-    const TableReader reader(**table, machine.path("nozzle"));
-    if (auto ok = reader.only(keys_of(kNozzleNumbers)); !ok) return pass(ok);
-    NozzleProfile n;
-    if (auto ok = read_numbers(reader, kNozzleNumbers, n); !ok) return pass(ok);
-    return std::optional<NozzleProfile>{n};
-}
-
-// The optional [machine.substrate] table: all keys required when it is there.
-core::Result<std::optional<SubstrateProfile>> read_substrate(const TableReader& machine) {
-    const auto table = machine.optional_table("substrate", "a table of substrate plate sizes");
-    if (!table) return pass(table);
-    if (*table == nullptr) return std::optional<SubstrateProfile>{};
-    const TableReader reader(**table, machine.path("substrate"));
-    if (auto ok = reader.only(keys_of(kSubstrateNumbers)); !ok) return pass(ok);
-    SubstrateProfile p;
-    if (auto ok = read_numbers(reader, kSubstrateNumbers, p); !ok) return pass(ok);
-    return std::optional<SubstrateProfile>{p};
+    if (*table == nullptr) return std::optional<Profile>{};
+    const TableReader reader(**table, machine.path(key));
+    if (auto ok = reader.only(keys_of(keys)); !ok) return pass(ok);
+    Profile p;
+    if (auto ok = read_numbers(reader, keys, p); !ok) return pass(ok);
+    return std::optional<Profile>{p};
 }
 
 core::Result<MachineProfile> read_machine(const toml::table& table) {
@@ -754,11 +746,13 @@ core::Result<MachineProfile> read_machine(const toml::table& table) {
         m.codes.*c.member = *t;
     }
 
-    auto nozzle = read_nozzle(reader);
+    auto nozzle = read_optional_numbers(reader, "nozzle", "a table of nozzle (collision) sizes",
+                                        kNozzleNumbers);
     if (!nozzle) return pass(nozzle);
     m.nozzle = *nozzle;
 
-    auto substrate = read_substrate(reader);
+    auto substrate = read_optional_numbers(reader, "substrate", "a table of substrate plate sizes",
+                                           kSubstrateNumbers);
     if (!substrate) return pass(substrate);
     m.substrate = *substrate;
 

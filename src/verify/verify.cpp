@@ -13,6 +13,7 @@
 #include <limits>
 #include <numbers>
 #include <optional>
+#include <string_view>
 #include <utility>
 
 #include "maxslice/machine/kinematics.hpp"
@@ -354,32 +355,29 @@ private:
     }
 
     void check_collisions(const ReplayBlock& b, const std::vector<Sample>& samples, Report& rep) {
+        // One per block: the first pose whose head meets material, or the substrate.
+        const auto collide = [&](const Sample& s, const Vec3d& hit, std::string_view what) {
+            ++rep.collisions.count;
+            if (!rep.collisions.first) {
+                rep.collisions.first = Location{
+                    b.line, hit,
+                    fmt::format("{} with the tip at ({:.3f}, {:.3f}, {:.3f}): the head meets {}",
+                                b.laser_on ? "deposit" : "travel", s.tip.x, s.tip.y, s.tip.z,
+                                what)};
+            }
+        };
         for (const Sample& s : samples) {
             ++poses_checked_;
             Vec3d hit;
             if (detail::find_occupied(grid_, origin_, voxel_, s.tip, s.dir, nozzle_region_,
                                       settings_.clearance_mm, &hit)) {
-                ++rep.collisions.count;
-                if (!rep.collisions.first) {
-                    rep.collisions.first = Location{
-                        b.line, hit,
-                        fmt::format("{} with the tip at ({:.3f}, {:.3f}, {:.3f}): the head meets "
-                                    "material deposited earlier",
-                                    b.laser_on ? "deposit" : "travel", s.tip.x, s.tip.y, s.tip.z)};
-                }
-                return;  // one per block
+                collide(s, hit, "material deposited earlier");
+                return;
             }
             if (!substrate_) {
                 note_below_plate(b, s, rep);
             } else if (substrate_hit(s.tip, s.dir, &hit)) {
-                ++rep.collisions.count;
-                if (!rep.collisions.first) {
-                    rep.collisions.first = Location{
-                        b.line, hit,
-                        fmt::format("{} with the tip at ({:.3f}, {:.3f}, {:.3f}): the head meets "
-                                    "the substrate plate (machine.substrate)",
-                                    b.laser_on ? "deposit" : "travel", s.tip.x, s.tip.y, s.tip.z)};
-                }
+                collide(s, hit, "the substrate plate (machine.substrate)");
                 return;
             }
         }

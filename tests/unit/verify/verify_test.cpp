@@ -338,6 +338,26 @@ TEST(Verify, AgreesWithTheWritersSummary) {
     }
 }
 
+// The block as a part-frame program built along +Z: kLayers zigzag layers of 17 tracks
+// around the block's centre c.
+machine::Program block_program(const machine::Profiles& p, const Vec3d& c) {
+    const double w = p.process.track_width_mm, h = p.process.layer_height_mm;
+    const int tracks = 17;
+    const double pitch = (2 * kHalf - w) / (tracks - 1);
+    machine::Program program;
+    for (int layer = 1; layer <= kLayers; ++layer) {
+        std::vector<Vec3d> wire;
+        for (int i = 0; i < tracks; ++i) {
+            const double y = c.y - kHalf + 0.5 * w + i * pitch;
+            const double xa = c.x - kHalf + 0.5 * w, xb = c.x + kHalf - 0.5 * w;
+            wire.push_back({i % 2 == 0 ? xa : xb, y, layer * h});
+            wire.push_back({i % 2 == 0 ? xb : xa, y, layer * h});
+        }
+        machine::append_wire(program, wire, p.process, layer - 1);
+    }
+    return program;
+}
+
 // The 5-axis writers' output in every dialect (joint space for gm and linuxcnc, tool centre
 // point control for fanuc and siemens): a block built along +Z, then, after a re-orientation,
 // one wire laid along +Y against the block's +Y wall. It replays clean, covers the block,
@@ -350,20 +370,8 @@ TEST(Verify, FiveAxisWritersOutputReplaysCleanInEveryDialect) {
         ASSERT_FALSE(p.machine.name.empty());
         const mesh::TriangleMesh model = placed_block(p);
         const Vec3d c = mesh::bounding_box(model).center();
-        const double w = p.process.track_width_mm, h = p.process.layer_height_mm;
-        const int tracks = 17;
-        const double pitch = (2 * kHalf - w) / (tracks - 1);
-        machine::Program program;
-        for (int layer = 1; layer <= kLayers; ++layer) {
-            std::vector<Vec3d> wire;
-            for (int i = 0; i < tracks; ++i) {
-                const double y = c.y - kHalf + 0.5 * w + i * pitch;
-                const double xa = c.x - kHalf + 0.5 * w, xb = c.x + kHalf - 0.5 * w;
-                wire.push_back({i % 2 == 0 ? xa : xb, y, layer * h});
-                wire.push_back({i % 2 == 0 ? xb : xa, y, layer * h});
-            }
-            machine::append_wire(program, wire, p.process, layer - 1);
-        }
+        const double h = p.process.layer_height_mm;
+        machine::Program program = block_program(p, c);
         // One track on the +Y wall, built along +Y: its top edge centre h out of the wall.
         const Vec3d side{0.0, 1.0, 0.0};
         const double yw = c.y + kHalf + h;
@@ -406,20 +414,8 @@ TEST(Verify, TheHeadMeetsTheSubstrateOnlyWhereThePlateIs) {
     ASSERT_FALSE(p.machine.substrate.has_value());
     const mesh::TriangleMesh model = placed_block(p);
     const Vec3d c = mesh::bounding_box(model).center();
-    const double w = p.process.track_width_mm, h = p.process.layer_height_mm;
-    const int tracks = 17;
-    const double pitch = (2 * kHalf - w) / (tracks - 1);
-    machine::Program program;
-    for (int layer = 1; layer <= kLayers; ++layer) {
-        std::vector<Vec3d> wire;
-        for (int i = 0; i < tracks; ++i) {
-            const double y = c.y - kHalf + 0.5 * w + i * pitch;
-            const double xa = c.x - kHalf + 0.5 * w, xb = c.x + kHalf - 0.5 * w;
-            wire.push_back({i % 2 == 0 ? xa : xb, y, layer * h});
-            wire.push_back({i % 2 == 0 ? xb : xa, y, layer * h});
-        }
-        machine::append_wire(program, wire, p.process, layer - 1);
-    }
+    const double h = p.process.layer_height_mm;
+    machine::Program program = block_program(p, c);
     const double yw = c.y + kHalf + h;
     const std::vector<Vec3d> along = {{c.x - 10.0, yw, 3.0}, {c.x + 10.0, yw, 3.0}};
     machine::append_wire(program, along, p.process, kLayers, 1, {0.0, 1.0, 0.0});
