@@ -274,8 +274,19 @@ core::Result<std::string> write_and_verify(Written<Planned>& w, const core::Vec3
     w.verify_s = seconds_since(t);
     w.report = std::move(*r);
     w.kept = verifier_keeps(*w.report, so);
-    return w.kept ? std::string()
-                  : "the verifier refused its program " + verifier_counts(*w.report);
+    if (w.kept) return std::string();
+    // The first finding says what went wrong (the part, the substrate, a limit).
+    std::string first;
+    for (const verify::Finding* f :
+         {&w.report->collisions, &w.report->unsupported, &w.report->limit_violations}) {
+        if (f->first) {
+            first = fmt::format("; first: program line {}: {}", f->first->line, f->first->detail);
+            break;
+        }
+    }
+    std::string counts = verifier_counts(*w.report);
+    counts.insert(counts.size() - 1, first);
+    return "the verifier refused its program " + counts;
 }
 
 void print_verification(const std::optional<verify::Report>& report, double track_width_mm) {
