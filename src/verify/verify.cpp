@@ -268,6 +268,10 @@ private:
             const double r = nozzle_.body_radius_mm;
             head_outline_.push_back({{len, r}, {len + nozzle_.body_length_mm, r}});
         }
+        head_reach_ = 0.0;
+        for (const auto& [p, q] : head_outline_) {
+            head_reach_ = std::max({head_reach_, std::hypot(p.t, p.r), std::hypot(q.t, q.r)});
+        }
     }
 
     // Poses along a move: joint-space blocks interpolate every axis, tool-centre-point blocks
@@ -427,6 +431,8 @@ private:
     // Without a substrate: how far the head at this pose reaches below the plate's level (the
     // lowest point of its outline's corner circles), counted once per block.
     void note_below_plate(const ReplayBlock& b, const Sample& s, Report& rep) {
+        // Every point of the head lies within head_reach_ of the tip.
+        if (s.tip.z >= head_reach_) return;
         const double dip = std::sqrt(std::max(0.0, 1.0 - s.dir.z * s.dir.z));
         double lowest = std::numeric_limits<double>::infinity();
         Vec3d at;
@@ -637,6 +643,7 @@ private:
         double r = 0.0;
     };
     std::vector<std::pair<OutlinePoint, OutlinePoint>> head_outline_;
+    double head_reach_ = 0.0;  // the farthest point of the outline from the tip (mm)
     struct Box {
         Vec3d lo, hi;
     };
