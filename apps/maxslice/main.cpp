@@ -220,11 +220,20 @@ bool verifier_keeps(const verify::Report& report, const SliceOptions& so) {
                                report.limit_violations.count == 0);
 }
 
-// "(2 collisions, 0 unsupported beads, 0 axis-limit violations)"
-std::string verifier_counts(const verify::Report& report) {
-    return fmt::format("({} collisions, {} unsupported beads, {} axis-limit violations)",
+// "(2 collisions, 0 unsupported beads, 0 axis-limit violations)"; with `first`, the first
+// finding too ("...; first: program line L: what"): the part, the substrate or a limit.
+std::string verifier_counts(const verify::Report& report, bool first = false) {
+    std::string what;
+    for (const verify::Finding* f :
+         {&report.collisions, &report.unsupported, &report.limit_violations}) {
+        if (first && f->first) {
+            what = fmt::format("; first: program line {}: {}", f->first->line, f->first->detail);
+            break;
+        }
+    }
+    return fmt::format("({} collisions, {} unsupported beads, {} axis-limit violations{})",
                        report.collisions.count, report.unsupported.count,
-                       report.limit_violations.count);
+                       report.limit_violations.count, what);
 }
 
 // Prints the verifier's report of a program it refused and the error.
@@ -274,19 +283,8 @@ core::Result<std::string> write_and_verify(Written<Planned>& w, const core::Vec3
     w.verify_s = seconds_since(t);
     w.report = std::move(*r);
     w.kept = verifier_keeps(*w.report, so);
-    if (w.kept) return std::string();
-    // The first finding says what went wrong (the part, the substrate, a limit).
-    std::string first;
-    for (const verify::Finding* f :
-         {&w.report->collisions, &w.report->unsupported, &w.report->limit_violations}) {
-        if (f->first) {
-            first = fmt::format("; first: program line {}: {}", f->first->line, f->first->detail);
-            break;
-        }
-    }
-    std::string counts = verifier_counts(*w.report);
-    counts.insert(counts.size() - 1, first);
-    return "the verifier refused its program " + counts;
+    return w.kept ? std::string()
+                  : "the verifier refused its program " + verifier_counts(*w.report, true);
 }
 
 void print_verification(const std::optional<verify::Report>& report, double track_width_mm) {

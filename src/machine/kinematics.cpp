@@ -428,6 +428,7 @@ core::Result<std::vector<MachinePose>> MachineKinematics::reorientation(const Ma
     const Limits& travel = limits_[about_x ? 1 : 0];
     double lo = travel.min, hi = travel.max;
     const double w0 = w;
+    bool possible = true;  // no tilt of the turn keeps the head up wherever the tip is
     for (int k = 0; k <= kTurnSamples; ++k) {
         const double f = static_cast<double>(k) / kTurnSamples;
         const MachinePose at{turn.x, turn.y, turn.z,
@@ -437,7 +438,7 @@ core::Result<std::vector<MachinePose>> MachineKinematics::reorientation(const Ma
         const double slope = about_x ? n.y : n.x;  // d(floor) / dw
         const double need = head_clearance_mm_ - head_floor_mm({at.x, at.y, at.z}, tilt);
         if (std::abs(slope) < kFlatSlope) {
-            if (need > 0.0) lo = hi + 1.0;  // no w helps at this tilt
+            possible = possible && need <= 0.0;  // no w helps at this tilt
             continue;
         }
         const double bound = w0 + need / slope;
@@ -447,7 +448,7 @@ core::Result<std::vector<MachinePose>> MachineKinematics::reorientation(const Ma
             hi = std::min(hi, bound);
         }
     }
-    if (lo <= hi && (w0 < lo || w0 > hi)) {
+    if (possible && lo <= hi && (w0 < lo || w0 > hi)) {
         w = std::clamp(w0, lo, hi);
         out.push_back(turn);
     }

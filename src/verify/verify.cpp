@@ -396,15 +396,12 @@ private:
     bool substrate_hit(const Vec3d& tip, const Vec3d& dir, Vec3d* hit) const {
         const Box& box = *substrate_;
         const double c = settings_.clearance_mm;
+        if (lowest_point(tip, dir).z >= box.hi.z + c) return false;
         // How far below its centre a circle of radius 1 about `dir` reaches.
         const double dip = std::sqrt(std::max(0.0, 1.0 - dir.z * dir.z));
         const auto below = [&](double t, double r) {
             return tip.z + dir.z * t - r * dip < box.hi.z + c;
         };
-        bool reaches = false;
-        for (const auto& [a, b] : head_outline_)
-            reaches = reaches || below(a.t, a.r) || below(b.t, b.r);
-        if (!reaches) return false;
         const Vec3d e1 = any_perpendicular(dir), e2 = core::cross(dir, e1);
         constexpr int kAround = 64;
         for (const auto& [a, b] : head_outline_) {
@@ -428,24 +425,28 @@ private:
         return false;
     }
 
-    // Without a substrate: how far the head at this pose reaches below the plate's level (the
-    // lowest point of its outline's corner circles), counted once per block.
-    void note_below_plate(const ReplayBlock& b, const Sample& s, Report& rep) {
-        // Every point of the head lies within head_reach_ of the tip.
-        if (s.tip.z >= head_reach_) return;
-        const double dip = std::sqrt(std::max(0.0, 1.0 - s.dir.z * s.dir.z));
-        double lowest = std::numeric_limits<double>::infinity();
-        Vec3d at;
+    // The head's lowest point at a pose: on the circle of one of its outline's corners. A pose
+    // whose tip is farther above the plate than the head reaches gives just the tip's height
+    // minus that reach (every point of the head lies within head_reach_ of the tip).
+    Vec3d lowest_point(const Vec3d& tip, const Vec3d& dir) const {
+        if (tip.z >= head_reach_) return tip - Vec3d{0, 0, head_reach_};
+        const double dip = std::sqrt(std::max(0.0, 1.0 - dir.z * dir.z));
+        Vec3d at{0, 0, std::numeric_limits<double>::infinity()};
         for (const auto& [p, q] : head_outline_) {
             for (const OutlinePoint& o : {p, q}) {
-                const double z = s.tip.z + s.dir.z * o.t - o.r * dip;
-                if (z < lowest) {
-                    lowest = z;
-                    at = s.tip + s.dir * o.t;
-                    if (dip > 0.0) at = at + (Vec3d{0, 0, -1} + s.dir * s.dir.z) * (o.r / dip);
-                }
+                if (tip.z + dir.z * o.t - o.r * dip >= at.z) continue;
+                at = tip + dir * o.t;
+                if (dip > 0.0) at = at + (Vec3d{0, 0, -1} + dir * dir.z) * (o.r / dip);
             }
         }
+        return at;
+    }
+
+    // Without a substrate: how far the head at this pose reaches below the plate's level,
+    // counted once per block.
+    void note_below_plate(const ReplayBlock& b, const Sample& s, Report& rep) {
+        const Vec3d at = lowest_point(s.tip, s.dir);
+        const double lowest = at.z;
         if (lowest >= -kBelowPlateToleranceMm) return;
         rep.below_plate_mm = std::max(rep.below_plate_mm, -lowest);
         if (below_plate_line_ == b.line) return;

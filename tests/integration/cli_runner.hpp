@@ -13,6 +13,8 @@
 #include <system_error>
 #include <vector>
 
+#include "support/text_files.hpp"
+
 namespace maxslice::test {
 
 struct CliRun {
@@ -20,12 +22,6 @@ struct CliRun {
     std::string out;
     std::string err;
 };
-
-inline std::string shell_quote(const std::string& s) {
-    std::string q = "'";
-    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return q + "'";
-}
 
 /// A fresh, empty folder under the system's temporary folder, maxslice_<suite>_<name>_<pid>,
 /// removed when the test process ends. The process id keeps two test runs at the same time
@@ -54,13 +50,6 @@ inline std::filesystem::path fresh_temp_dir(const std::string& suite, const std:
 inline const std::filesystem::path kTestData = MAXSLICE_TESTDATA_DIR;
 inline const std::filesystem::path kSource = MAXSLICE_SOURCE_DIR;
 inline const std::filesystem::path kExample = kSource / "examples/parts/flanged_bushing.stl";
-
-inline std::string slurp(const std::filesystem::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
 
 /// Runs `maxslice args...` with a time limit (a hang shows as exit code 124).
 inline CliRun run_cli(const std::vector<std::string>& args, int timeout_s = 300) {

@@ -8,25 +8,11 @@
 #include <limits>
 #include <sstream>
 
+#include "support/text_files.hpp"
+
 namespace maxslice::test {
-namespace {
 
 namespace fs = std::filesystem;
-
-std::string quote(const std::string& s) {
-    std::string q = "'";
-    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return q + "'";
-}
-
-std::string read_all(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
-}  // namespace
 
 fs::path find_rs274() {
     if (const char* env = std::getenv("MAXSLICE_RS274")) return env;
@@ -47,14 +33,14 @@ std::optional<Rs274Run> run_rs274(const std::string& program) {
     fs::create_directories(dir);
     const fs::path ngc = dir / "program.ngc", canon = dir / "canon.txt", err = dir / "err.txt";
     std::ofstream(ngc, std::ios::binary) << program;
-    const std::string cmd = "cd " + quote(dir.string()) + " && HOME=" + quote(dir.string()) +
-                            " timeout 120 " + quote(rs274.string()) + " -g " + quote(ngc.string()) +
-                            " " + quote(canon.string()) + " </dev/null >/dev/null 2>" +
-                            quote(err.string());
+    const std::string cmd =
+        "cd " + shell_quote(dir.string()) + " && HOME=" + shell_quote(dir.string()) +
+        " timeout 120 " + shell_quote(rs274.string()) + " -g " + shell_quote(ngc.string()) + " " +
+        shell_quote(canon.string()) + " </dev/null >/dev/null 2>" + shell_quote(err.string());
     Rs274Run run;
     run.status = std::system(cmd.c_str());
-    run.canon = read_all(canon);
-    run.errors = read_all(err);
+    run.canon = slurp(canon);
+    run.errors = slurp(err);
     std::error_code ec;
     fs::remove_all(dir, ec);
     return run;
