@@ -100,6 +100,9 @@ constexpr std::string_view kContourPassesKey = "contour_passes";
 constexpr Range kContourPassesRange{0.0, 100.0, false, false, ""};
 constexpr std::string_view kCatchEfficiencyKey = "powder_catch_efficiency";
 constexpr Range kCatchEfficiencyRange{0.0, 1.0, true, false, ""};
+// Optional: the footing's height (decision 0017); a profile without it keeps the default.
+constexpr std::string_view kFootingKey = "footing_mm";
+constexpr Range kFootingRange{0.0, 50.0, false, false, "mm"};
 // The speed law (METHOD.md section 10): measured (feed, track height) pairs.
 constexpr std::string_view kSpeedHeightKey = "speed_height";
 constexpr std::size_t kMaxSpeedPoints = 64;
@@ -525,6 +528,7 @@ core::Result<ProcessProfile> read_process(const toml::table& table) {
     std::vector<std::string_view> known = keys_of(kProcessNumbers);
     known.push_back(kContourPassesKey);
     known.push_back(kCatchEfficiencyKey);
+    known.push_back(kFootingKey);
     known.push_back(kSpeedHeightKey);
     if (auto ok = reader.only(known); !ok) return pass(ok);
 
@@ -541,6 +545,9 @@ core::Result<ProcessProfile> read_process(const toml::table& table) {
     const auto efficiency = reader.optional_number(kCatchEfficiencyKey, kCatchEfficiencyRange);
     if (!efficiency) return pass(efficiency);
     p.powder_catch_efficiency = *efficiency;
+    const auto footing = reader.optional_number(kFootingKey, kFootingRange);
+    if (!footing) return pass(footing);
+    if (*footing) p.footing_mm = **footing;
     auto law = read_speed_height(reader);
     if (!law) return pass(law);
     p.speed_height = std::move(*law);
@@ -942,6 +949,10 @@ core::Result<void> validate(const ProcessProfile& p) {
             !ok) {
             return ok;
         }
+    }
+    if (auto ok = check_range(key_path("process", kFootingKey), p.footing_mm, kFootingRange);
+        !ok) {
+        return ok;
     }
     if (p.h_min_mm > p.h_max_mm) {
         return core::fail(ErrorCode::kInvalidInput,

@@ -83,6 +83,7 @@ plan::PlanSettings plan_settings(const machine::ProcessProfile& process) {
     s.layer_mm = process.layer_height_mm;
     s.track_width_mm = process.track_width_mm;
     s.self_supporting_deg = process.self_supporting_angle_deg;
+    s.footing_mm = process.footing_mm;
     s.h_min_mm = std::min(process.h_min_mm, s.layer_mm);
     s.h_max_mm = std::max(process.h_max_mm, s.layer_mm);
     return s;
@@ -380,7 +381,8 @@ std::string plan_json(const PlannedPart& planned, const PreparedPart& part) {
                      {"h_min_mm", s.h_min_mm},
                      {"h_max_mm", s.h_max_mm},
                      {"tilt_trigger_deg", s.tilt_trigger_deg},
-                     {"max_tilt_tries", s.max_tilt_tries}};
+                     {"max_tilt_tries", s.max_tilt_tries},
+                     {"footing_mm", s.footing_mm}};
     ordered_json orient;
     orient["mode"] = planned.candidates.empty() ? "given" : "auto";
     orient["base_direction"] = detail::vec_json(p.base_direction);

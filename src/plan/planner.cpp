@@ -34,6 +34,8 @@ constexpr std::size_t kMaxLayers = 1'000'000;
 constexpr double kTiltAreaChange = 0.1;
 /// Rounding room (mm) when following grounded islands up through planar layers.
 constexpr double kGroundSlackMm = 0.02;
+/// Rounding room (mm) when comparing a layer's top with the footing's height.
+constexpr double kFootingSlackMm = 1e-6;
 
 bool steady_area(double area, double below) {
     return std::abs(area - below) <= kTiltAreaChange * below;
@@ -162,7 +164,7 @@ public:
 
     [[nodiscard]] std::size_t size() const { return spans_.size(); }
 
-    // Slice i (index within the whole stack); valid until the next call.
+    // Slice i (index within the whole stack); valid as long as the stack.
     core::Result<const slice::Slice*> at(std::size_t i) {
         while (i >= slices_.size()) {
             const std::size_t begin = slices_.size();
@@ -185,7 +187,7 @@ private:
     const mesh::TriangleMesh& mesh_;
     slice::PlaneFrame base_;
     std::vector<slice::LayerSpan> spans_;
-    std::vector<slice::Slice> slices_;
+    std::deque<slice::Slice> slices_;  // a deque: later batches move no earlier slice
     std::size_t batch_ = 8;
 };
 
@@ -284,12 +286,19 @@ private:
             if (!next) return std::unexpected(next.error());
             const slice::Slice& s = **next;
             Region& r = plan_.regions[static_cast<std::size_t>(rid)];
-            const Paths2 clipped = detail::clip_to_cell(s.wires.paths(), r.cell, s.plane);
+            Paths2 clipped = detail::clip_to_cell(s.wires.paths(), r.cell, s.plane);
+            // Heights above the region's base (slices of a resumed walk start elsewhere).
+            const double off = r.base.height(s.plane.origin) - s.span.cut;
             if (geom2d::signed_area_mm2(clipped) <= 0.0) {
                 // Empty sections after a layer, or at the base plane of a region split from
                 // another: what comes next does not touch what lies below them.
                 gap = gap || lower >= 0 || rid != 0;
                 continue;
+            }
+            if (footing_ && rid == 0 && s.span.top + off <= s_.footing_mm + kFootingSlackMm) {
+                auto pad = footing(rid, slices, i, std::move(clipped));
+                if (!pad) return std::unexpected(pad.error());
+                clipped = std::move(*pad);
             }
             if (lower >= 0) {
                 // U against L, then against the layer a track's height below (look-back):
@@ -329,8 +338,6 @@ private:
             layer.region = rid;
             layer.index_in_region = static_cast<int>(r.layers.size());
             layer.plane = s.plane;
-            // Heights above the region's base (slices of a resumed walk start elsewhere).
-            const double off = r.base.height(s.plane.origin) - s.span.cut;
             layer.span = {s.span.bottom + off, s.span.top + off, s.span.cut + off};
             layer.thickness_min_mm = layer.thickness_max_mm = layer.thickness_mean_mm =
                 s.span.thickness();
@@ -345,6 +352,27 @@ private:
             plan_.layers.push_back(std::move(layer));
         }
         return Next{};
+    }
+
+    // The footing (decision 0017): base-region section i, whose layer's top lies within
+    // footing_mm of the plate, united with every later section of the region up to and with
+    // the first whose top lies above that height (or up to an empty section: a gap). Each
+    // footing layer then carries the next, and the first layer above the footing stands on it
+    // whole. The sections of a walk share their in-plane axes.
+    core::Result<Paths2> footing(int rid, SliceStack& slices, std::size_t i, Paths2 pad) {
+        const Region& r = plan_.regions[static_cast<std::size_t>(rid)];
+        for (std::size_t j = i + 1; j < slices.size(); ++j) {
+            auto next = slices.at(j);
+            if (!next) return std::unexpected(next.error());
+            const slice::Slice& s = **next;
+            Paths2 clipped = detail::clip_to_cell(s.wires.paths(), r.cell, s.plane);
+            if (geom2d::signed_area_mm2(clipped) <= 0.0) break;
+            pad.insert(pad.end(), clipped.begin(), clipped.end());
+            pad = geom2d::union_of(pad);
+            const double off = r.base.height(s.plane.origin) - s.span.cut;
+            if (s.span.top + off > s_.footing_mm + kFootingSlackMm) break;
+        }
+        return pad;
     }
 
     // One section of the mesh by an arbitrary plane, clipped to region rid's cell. Marches
@@ -388,6 +416,7 @@ private:
                     continue;
                 }
                 if (p.ang_deg > s_.beta_deg || !p.touches_lower) {
+                    if (drop_footing(rid, ref)) return std::optional<bool>(true);
                     roll_back(rid, ref);
                     auto again = split(rid, ref, s, p);
                     if (!again) return std::unexpected(again.error());
@@ -567,6 +596,23 @@ private:
 
     // Removes region rid's layers above layer `keep` (the last ones made), and the tilt
     // decisions taken for them.
+    // A split at a footing layer, or within a track's height above the footing, means the
+    // overhang goes on above it (a chamfer, a sphere): the footing only moved the split up and
+    // added material. Then the base region is walked again from the plate without it (every
+    // layer and decision of the walk dropped) and splits where it would have without.
+    bool drop_footing(int rid, int ref) {
+        if (!footing_ || rid != 0) return false;
+        const Layer& l = plan_.layers[static_cast<std::size_t>(ref)];
+        if (l.span.top > s_.footing_mm + look_back_ * s_.layer_mm + kFootingSlackMm) return false;
+        footing_ = false;
+        roll_back(rid, -1);
+        std::erase_if(plan_.decisions, [&](const Decision& d) {
+            return d.region == rid && d.kind != Decision::Kind::kSplit &&
+                   d.kind != Decision::Kind::kFloating;
+        });
+        return true;
+    }
+
     void roll_back(int rid, int keep) {
         Region& r = plan_.regions[static_cast<std::size_t>(rid)];
         while (!r.layers.empty() && r.layers.back() > keep) {
@@ -1029,6 +1075,7 @@ private:
     const core::Progress* progress_;
     AnalysisSettings analysis_;
     int look_back_ = 1;  // layers in a track's height: the look-back distance
+    bool footing_ = s_.footing_mm > 0.0;  // off once a split near the plate shows it no help
     Plan plan_;
     std::deque<RegionJob> jobs_;
     std::optional<detail::SectionIndex> sections_;

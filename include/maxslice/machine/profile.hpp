@@ -35,6 +35,9 @@ struct ProcessProfile {
     double travel_feed_mm_min = 2540.0;      ///< feed of idle moves (laser off)
     double dwell_after_laser_on_ms = 0.0;    ///< wait after switching on, for the powder stream
     double self_supporting_angle_deg = 0.0;  ///< slope the process holds by itself, [0, 90)
+    /// Height above the plate within which the part's footprint is built straight up (a pad
+    /// machined off with the plate; decision 0017), [0, 50]; 0 = off.
+    double footing_mm = 1.0;
     /// Share of the delivered powder that ends up in the bead, (0, 1]; unset = unknown, and
     /// the summary then reports only the powder delivered.
     std::optional<double> powder_catch_efficiency;

@@ -33,6 +33,12 @@ struct PlanSettings {
     /// leans more than this from the build direction (0 = never tilt).
     double tilt_trigger_deg = 10.0;
     int max_tilt_tries = 8;  ///< halvings of a tilt that breaks [h_min, h_max] before giving up
+    /// The footing (decision 0017): the base region's layers whose top lies within this
+    /// height of the plate are laid over the footprint of the part up to the first layer
+    /// above it (every later section of that band united with their own), so a rounded or
+    /// chamfered bottom edge, or a part touching the plate along a line or at a point, stands
+    /// on a straight pad machined off with the plate; 0 = off.
+    double footing_mm = 1.0;
 };
 
 /// Checks ranges (positive sizes, 0 <= alpha <= beta < 180, phi_self in [0, 90), ...);
