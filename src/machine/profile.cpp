@@ -950,8 +950,7 @@ core::Result<void> validate(const ProcessProfile& p) {
             return ok;
         }
     }
-    if (auto ok = check_range(key_path("process", kFootingKey), p.footing_mm, kFootingRange);
-        !ok) {
+    if (auto ok = check_range(key_path("process", kFootingKey), p.footing_mm, kFootingRange); !ok) {
         return ok;
     }
     if (p.h_min_mm > p.h_max_mm) {

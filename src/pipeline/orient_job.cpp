@@ -293,7 +293,7 @@ core::Result<OrientedStack> orient_planar(const mesh::TriangleMesh& part, const 
         auto stack = slice_part(s.placed, along_z, progress, t);
         if (!stack) return std::unexpected(stack.error());
         s.stack = std::move(*stack);
-        auto check = plan::check_planar(s.stack.slices, ps);
+        auto check = plan::check_planar_on_footing(s.stack.slices, ps);
         if (!check) return std::unexpected(check.error());
         s.check = std::move(*check);
         return s;

@@ -152,6 +152,34 @@ Next done_or_rewalk(bool rewalk) {
     return {rewalk ? Next::Kind::kRewalk : Next::Kind::kDone};
 }
 
+// The footing (decision 0017) from section `first` of a stack of n parallel sections (in-plane
+// axes shared), whose layers' tops lie at top(j) above the plate: for each section from first
+// whose top lies within footing_mm, the union of it and every later section up to and with
+// the first whose top lies above that height, or up to an empty section (a gap). Each such
+// layer then carries the next, and the first layer above the footing stands on it whole.
+template <class Section, class Top>
+core::Result<std::vector<Paths2>> footing_pads(std::size_t first, std::size_t n, double footing_mm,
+                                               Section&& section, Top&& top) {
+    std::vector<Paths2> sections;
+    std::size_t band = 0;
+    for (std::size_t j = first; j < n; ++j) {
+        auto c = section(j);
+        if (!c) return std::unexpected(c.error());
+        if (geom2d::signed_area_mm2(*c) <= 0.0) break;
+        sections.push_back(std::move(*c));
+        if (top(j) > footing_mm + kFootingSlackMm) break;
+        ++band;
+    }
+    std::vector<Paths2> pads(band);
+    Paths2 pad;
+    for (std::size_t k = sections.size(); k-- > 0;) {
+        pad.insert(pad.end(), sections[k].begin(), sections[k].end());
+        pad = geom2d::union_of(pad);
+        if (k < band) pads[k] = pad;
+    }
+    return pads;
+}
+
 // A region's uniform slices, cut in batches as the walk asks for them: a walk that stops
 // at a split (most do, in parts that split) does not pay for the slices above it. Each
 // plane's section depends only on its own height (slice::slice_mesh cuts planes
@@ -281,6 +309,8 @@ private:
         const int rid = job.region;
         int lower = job.seed.layer;  // L: a layer id, or -1
         bool gap = false;            // empty sections since L
+        std::vector<Paths2> pads;    // the footing's layers, from slice pads_from up
+        std::size_t pads_from = std::numeric_limits<std::size_t>::max();
         for (std::size_t i = 0; i < slices.size(); ++i) {
             auto next = slices.at(i);
             if (!next) return std::unexpected(next.error());
@@ -296,9 +326,23 @@ private:
                 continue;
             }
             if (footing_ && rid == 0 && s.span.top + off <= s_.footing_mm + kFootingSlackMm) {
-                auto pad = footing(rid, slices, i, std::move(clipped));
-                if (!pad) return std::unexpected(pad.error());
-                clipped = std::move(*pad);
+                if (pads_from > i) {
+                    auto made = footing_pads(
+                        i, slices.size(), s_.footing_mm,
+                        [&](std::size_t j) -> core::Result<Paths2> {
+                            auto sj = slices.at(j);
+                            if (!sj) return std::unexpected(sj.error());
+                            return detail::clip_to_cell((*sj)->wires.paths(), r.cell, (*sj)->plane);
+                        },
+                        [&](std::size_t j) {
+                            const slice::Slice& sj = **slices.at(j);  // sliced above
+                            return r.base.height(sj.plane.origin) - sj.span.cut + sj.span.top;
+                        });
+                    if (!made) return std::unexpected(made.error());
+                    pads = std::move(*made);
+                    pads_from = i;
+                }
+                if (i - pads_from < pads.size()) clipped = pads[i - pads_from];
             }
             if (lower >= 0) {
                 // U against L, then against the layer a track's height below (look-back):
@@ -352,27 +396,6 @@ private:
             plan_.layers.push_back(std::move(layer));
         }
         return Next{};
-    }
-
-    // The footing (decision 0017): base-region section i, whose layer's top lies within
-    // footing_mm of the plate, united with every later section of the region up to and with
-    // the first whose top lies above that height (or up to an empty section: a gap). Each
-    // footing layer then carries the next, and the first layer above the footing stands on it
-    // whole. The sections of a walk share their in-plane axes.
-    core::Result<Paths2> footing(int rid, SliceStack& slices, std::size_t i, Paths2 pad) {
-        const Region& r = plan_.regions[static_cast<std::size_t>(rid)];
-        for (std::size_t j = i + 1; j < slices.size(); ++j) {
-            auto next = slices.at(j);
-            if (!next) return std::unexpected(next.error());
-            const slice::Slice& s = **next;
-            Paths2 clipped = detail::clip_to_cell(s.wires.paths(), r.cell, s.plane);
-            if (geom2d::signed_area_mm2(clipped) <= 0.0) break;
-            pad.insert(pad.end(), clipped.begin(), clipped.end());
-            pad = geom2d::union_of(pad);
-            const double off = r.base.height(s.plane.origin) - s.span.cut;
-            if (s.span.top + off > s_.footing_mm + kFootingSlackMm) break;
-        }
-        return pad;
     }
 
     // One section of the mesh by an arbitrary plane, clipped to region rid's cell. Marches
@@ -1074,7 +1097,7 @@ private:
     PlanSettings s_;
     const core::Progress* progress_;
     AnalysisSettings analysis_;
-    int look_back_ = 1;  // layers in a track's height: the look-back distance
+    int look_back_ = 1;                   // layers in a track's height: the look-back distance
     bool footing_ = s_.footing_mm > 0.0;  // off once a split near the plate shows it no help
     Plan plan_;
     std::deque<RegionJob> jobs_;
@@ -1120,6 +1143,9 @@ core::Result<void> validate(const PlanSettings& s) {
         return invalid("tilt_trigger_deg must be in [0, 90) degrees", ctx);
     }
     if (s.max_tilt_tries < 0) return invalid("max_tilt_tries must be 0 or more", ctx);
+    if (!(s.footing_mm >= 0.0) || !std::isfinite(s.footing_mm)) {
+        return invalid("footing_mm must be 0 or more", ctx);
+    }
     return {};
 }
 
@@ -1222,6 +1248,32 @@ core::Result<PlanarCheck> check_planar(std::span<const slice::Slice> slices,
     }
     out.checked_up_to = slices.size();
     return out;
+}
+
+core::Result<PlanarCheck> check_planar_on_footing(std::vector<slice::Slice>& slices,
+                                                  const PlanSettings& s) {
+    if (auto ok = validate(s); !ok) return std::unexpected(ok.error());
+    if (!(s.footing_mm > 0.0)) return check_planar(slices, s);
+    auto pads = footing_pads(
+        0, slices.size(), s.footing_mm,
+        [&](std::size_t j) -> core::Result<Paths2> { return slices[j].wires.paths(); },
+        [&](std::size_t j) { return slices[j].span.top; });
+    if (!pads) return std::unexpected(pads.error());
+    std::vector<geom2d::WireTree> bare;
+    for (std::size_t k = 0; k < pads->size(); ++k) {
+        bare.push_back(std::move(slices[k].wires));
+        slices[k].wires = geom2d::build_wire_tree((*pads)[k], geom2d::FillRule::kPositive);
+    }
+    auto check = check_planar(slices, s);
+    if (!check || check->overhangs == 0 || bare.empty()) return check;
+    const double look_back = std::ceil(s.track_width_mm / s.layer_mm - 1e-9) * s.layer_mm;
+    const auto at = std::find_if(slices.begin(), slices.end(), [&](const slice::Slice& sl) {
+        return sl.span.cut == check->heights_mm.front();
+    });
+    const double starts = at != slices.end() ? at->span.bottom : 0.0;
+    if (starts > s.footing_mm + look_back + kFootingSlackMm) return check;
+    for (std::size_t k = 0; k < bare.size(); ++k) slices[k].wires = std::move(bare[k]);
+    return check_planar(slices, s);
 }
 
 std::vector<int> topological_order(const Plan& plan) {

@@ -174,6 +174,15 @@ struct PlanarCheck {
 [[nodiscard]] core::Result<PlanarCheck> check_planar(std::span<const slice::Slice> slices,
                                                      const PlanSettings& settings);
 
+/// check_planar on a stack standing on the footing (decision 0017), as the planner lays it
+/// on its base region: the slices whose layers' tops lie within settings.footing_mm of the
+/// plate (the stack's base plane) get the union of their section and every later one up to and
+/// with the first above that height. When the check then finds an overhang on a layer that
+/// starts within a track's height above the footing, the footing only moved it up: the slices
+/// are left as they were and checked as they are. Errors: those of check_planar.
+[[nodiscard]] core::Result<PlanarCheck> check_planar_on_footing(std::vector<slice::Slice>& slices,
+                                                                const PlanSettings& settings);
+
 /// The layers in an order that respects the graph (Kahn's algorithm, smallest id first);
 /// empty when the graph has a cycle.
 [[nodiscard]] std::vector<int> topological_order(const Plan& plan);

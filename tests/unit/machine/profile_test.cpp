@@ -185,6 +185,20 @@ TEST(Profile, CatchEfficiencyIsOptional) {
                    {"process.powder_catch_efficiency = 1.5", "(0, 1]"});
 }
 
+TEST(Profile, FootingIsOptional) {
+    const auto dflt = parse_profile(base(), "test.toml");
+    ASSERT_TRUE(dflt.has_value()) << dflt.error().describe();
+    EXPECT_DOUBLE_EQ(dflt->process->footing_mm, 1.0);
+    const auto off = parse_profile(base() + "footing_mm = 0\n", "test.toml");
+    ASSERT_TRUE(off.has_value()) << off.error().describe();
+    EXPECT_DOUBLE_EQ(off->process->footing_mm, 0.0);
+    const auto r = parse_profile(base() + "footing_mm = 2.5\n", "test.toml");
+    ASSERT_TRUE(r.has_value()) << r.error().describe();
+    EXPECT_DOUBLE_EQ(r->process->footing_mm, 2.5);
+    expect_refused(base() + "footing_mm = -0.5\n", {"process.footing_mm = -0.5", "[0, 50] mm"});
+    expect_refused(base() + "footing_mm = 80\n", {"process.footing_mm = 80", "[0, 50] mm"});
+}
+
 TEST(Profile, SpeedLawIsReadAndChecked) {
     const auto r = parse_profile(
         base() + "speed_height = [[250, 0.72], [381.0, 0.5], [650.0, 0.3]]\n", "test.toml");

@@ -469,6 +469,101 @@ TEST(PlanarCheck, ChannelNarrowerThanATrackIsCarried) {
     EXPECT_EQ(planar_check_of(box({0, 0, 0}, {30, 20, 10})).overhangs, 0);
 }
 
+// ---- The footing (decision 0017) -------------------------------------------------------------
+
+// A block 20 x 20 x 10 whose bottom edge along Y is chamfered `run` mm in over the first `rise`
+// mm, as the rounded or chamfered bottom edge of a machined part is.
+mesh::TriangleMesh chamfered_block(double run, double rise) {
+    const std::vector<test::CapPoint> profile{{run, 0}, {20, 0}, {20, 10}, {0, 10}, {0, rise}};
+    return test::extrude_xz(test::polygon_cap(profile), 0.0, 20.0);
+}
+
+// A fine track (0.8 mm, 0.2 mm layers), with which such an edge is a real overhang.
+PlanSettings fine(double footing_mm) {
+    PlanSettings s = settings();
+    s.layer_mm = 0.2;
+    s.track_width_mm = 0.8;
+    s.h_min_mm = 0.12;
+    s.h_max_mm = 0.28;
+    s.footing_mm = footing_mm;
+    return s;
+}
+
+// 2 mm over 0.4 mm (79 deg from the vertical): without a footing the first layers are an
+// overhang split off sideways from the plate; with the 1 mm footing the block is one region,
+// every layer up to 1 mm is the block's whole 20 x 20 footprint, and the plan holds exactly the
+// chamfer's void (8 mm3) more than the mesh.
+TEST(Planner, AChamferAtThePlateStandsOnAFooting) {
+    const mesh::TriangleMesh m = chamfered_block(2.0, 0.4);
+    const Plan bare = plan_of(m, {0, 0, 1}, fine(0.0));
+    EXPECT_GE(bare.split_count(), 1);
+
+    const Plan p = plan_of(m, {0, 0, 1}, fine(1.0));
+    expect_graph_is_sound(p);
+    expect_support_free(p);
+    EXPECT_EQ(p.split_count(), 0);
+    EXPECT_EQ(p.regions.size(), 1U);
+    EXPECT_TRUE(p.unsupported_layers.empty());
+    int footing_layers = 0;
+    for (const Layer& l : p.layers) {
+        EXPECT_NEAR(l.area_mm2, 400.0, 0.01) << "layer " << l.id << " at " << l.span.cut;
+        if (l.span.top <= 1.0 + 1e-9) ++footing_layers;
+    }
+    EXPECT_EQ(footing_layers, 5);
+    EXPECT_NEAR(p.volume_mm3(), 4000.0, 0.5);
+    EXPECT_NEAR(mesh::signed_volume(m), 3992.0, 1e-6);
+}
+
+// 8 mm over 2 mm: the overhang goes on above the footing, which would only move the split up
+// and add material: the plan is the plan without a footing.
+TEST(Planner, AFootingThatLeavesTheOverhangAboveItIsDropped) {
+    const mesh::TriangleMesh m = chamfered_block(8.0, 2.0);
+    const Plan bare = plan_of(m, {0, 0, 1}, fine(0.0));
+    const Plan p = plan_of(m, {0, 0, 1}, fine(1.0));
+    ASSERT_GE(bare.split_count(), 1);
+    EXPECT_EQ(p.split_count(), bare.split_count());
+    ASSERT_EQ(p.layers.size(), bare.layers.size());
+    for (std::size_t i = 0; i < p.layers.size(); ++i) {
+        EXPECT_EQ(p.layers[i].region, bare.layers[i].region);
+        EXPECT_EQ(p.layers[i].area_mm2, bare.layers[i].area_mm2) << "layer " << i;
+    }
+    EXPECT_EQ(p.decisions.size(), bare.decisions.size());
+}
+
+std::vector<slice::Slice> stack_of(const mesh::TriangleMesh& m, const PlanSettings& s) {
+    const slice::PlaneFrame base = slice::base_frame(m, {0, 0, 1});
+    const auto [lo, hi] = slice::extent_along(m, base);
+    (void)lo;
+    auto slices = slice::slice_mesh(m, base, slice::uniform_layers(0.0, hi, s.layer_mm));
+    EXPECT_TRUE(slices.has_value());
+    return slices ? std::move(*slices) : std::vector<slice::Slice>{};
+}
+
+// The 3-axis check lays the same footing: the small chamfer passes on it (the footing's slices
+// are the whole footprint), the large one is an overhang either way and its slices are left
+// as they were.
+TEST(PlanarCheck, AChamferAtThePlateStandsOnAFooting) {
+    std::vector<slice::Slice> small = stack_of(chamfered_block(2.0, 0.4), fine(1.0));
+    auto bare = check_planar(small, fine(1.0));
+    ASSERT_TRUE(bare.has_value());
+    EXPECT_GE(bare->overhangs, 1);
+    auto on = check_planar_on_footing(small, fine(1.0));
+    ASSERT_TRUE(on.has_value()) << on.error().describe();
+    EXPECT_EQ(on->overhangs, 0);
+    for (const slice::Slice& sl : small) {
+        EXPECT_NEAR(sl.wires.area_mm2(), 400.0, 0.01) << sl.span.cut;
+    }
+
+    std::vector<slice::Slice> large = stack_of(chamfered_block(8.0, 2.0), fine(1.0));
+    std::vector<double> areas;
+    for (const slice::Slice& sl : large) areas.push_back(sl.wires.area_mm2());
+    auto still = check_planar_on_footing(large, fine(1.0));
+    ASSERT_TRUE(still.has_value()) << still.error().describe();
+    EXPECT_GE(still->overhangs, 1);
+    for (std::size_t i = 0; i < large.size(); ++i) EXPECT_EQ(large[i].wires.area_mm2(), areas[i]);
+    EXPECT_LT(areas.front(), 400.0 - 100.0);
+}
+
 TEST(Planner, SettingsAreChecked) {
     PlanSettings s = settings();
     s.alpha_deg = 70;
@@ -479,6 +574,9 @@ TEST(Planner, SettingsAreChecked) {
     EXPECT_FALSE(validate(s).has_value());
     s = settings();
     s.self_supporting_deg = 90;
+    EXPECT_FALSE(validate(s).has_value());
+    s = settings();
+    s.footing_mm = -1;
     EXPECT_FALSE(validate(s).has_value());
     EXPECT_FALSE(plan_part({}, {0, 0, 1}, settings()).has_value());
     EXPECT_FALSE(plan_part(box({0, 0, 0}, {1, 1, 1}), {0, 0, 0}, settings()).has_value());
