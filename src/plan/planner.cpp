@@ -325,7 +325,8 @@ private:
                 gap = gap || lower >= 0 || rid != 0;
                 continue;
             }
-            if (footing_ && rid == 0 && s.span.top + off <= s_.footing_mm + kFootingSlackMm) {
+            if (footing_ == Footing::kOn && rid == 0 &&
+                s.span.top + off <= s_.footing_mm + kFootingSlackMm) {
                 if (pads_from > i) {
                     auto made = footing_pads(
                         i, slices.size(), s_.footing_mm,
@@ -439,7 +440,7 @@ private:
                     continue;
                 }
                 if (p.ang_deg > s_.beta_deg || !p.touches_lower) {
-                    if (drop_footing(rid, ref)) return std::optional<bool>(true);
+                    if (retry_footing(rid, ref)) return std::optional<bool>(true);
                     roll_back(rid, ref);
                     auto again = split(rid, ref, s, p);
                     if (!again) return std::unexpected(again.error());
@@ -619,15 +620,17 @@ private:
 
     // Removes region rid's layers above layer `keep` (the last ones made), and the tilt
     // decisions taken for them.
-    // A split at a footing layer, or within a track's height above the footing, means the
-    // overhang goes on above it (a chamfer, a sphere): the footing only moved the split up and
-    // added material. Then the base region is walked again from the plate without it (every
-    // layer and decision of the walk dropped) and splits where it would have without.
-    bool drop_footing(int rid, int ref) {
-        if (!footing_ || rid != 0) return false;
+    // The footing is laid only where it saves a split at the plate. A split in the base region
+    // at a layer that ends within a track's height above the footing's height: without the
+    // footing (the first walk), the base region is walked again from the plate with it; with
+    // it, the overhang goes on above it (a chamfer, a sphere) and the footing would only move
+    // the split up and add material: walked again without it, for good. Every layer and
+    // decision of the walk is dropped first. True when a walk again is due.
+    bool retry_footing(int rid, int ref) {
+        if (rid != 0 || footing_ == Footing::kDropped) return false;
         const Layer& l = plan_.layers[static_cast<std::size_t>(ref)];
         if (l.span.top > s_.footing_mm + look_back_ * s_.layer_mm + kFootingSlackMm) return false;
-        footing_ = false;
+        footing_ = footing_ == Footing::kUntried ? Footing::kOn : Footing::kDropped;
         roll_back(rid, -1);
         std::erase_if(plan_.decisions, [&](const Decision& d) {
             return d.region == rid && d.kind != Decision::Kind::kSplit &&
@@ -1097,8 +1100,9 @@ private:
     PlanSettings s_;
     const core::Progress* progress_;
     AnalysisSettings analysis_;
-    int look_back_ = 1;                   // layers in a track's height: the look-back distance
-    bool footing_ = s_.footing_mm > 0.0;  // off once a split near the plate shows it no help
+    int look_back_ = 1;  // layers in a track's height: the look-back distance
+    enum class Footing { kUntried, kOn, kDropped };
+    Footing footing_ = s_.footing_mm > 0.0 ? Footing::kUntried : Footing::kDropped;
     Plan plan_;
     std::deque<RegionJob> jobs_;
     std::optional<detail::SectionIndex> sections_;
@@ -1252,28 +1256,31 @@ core::Result<PlanarCheck> check_planar(std::span<const slice::Slice> slices,
 
 core::Result<PlanarCheck> check_planar_on_footing(std::vector<slice::Slice>& slices,
                                                   const PlanSettings& s) {
-    if (auto ok = validate(s); !ok) return std::unexpected(ok.error());
-    if (!(s.footing_mm > 0.0)) return check_planar(slices, s);
+    auto bare = check_planar(slices, s);
+    // Whether a check's first overhang starts within a track's height above the footing.
+    const auto at_plate = [&](const PlanarCheck& c) {
+        if (c.overhangs == 0) return false;
+        const auto at = std::find_if(slices.begin(), slices.end(), [&](const slice::Slice& sl) {
+            return sl.span.cut == c.heights_mm.front();
+        });
+        const double look_back = std::ceil(s.track_width_mm / s.layer_mm - 1e-9) * s.layer_mm;
+        return at != slices.end() && at->span.bottom <= s.footing_mm + look_back + kFootingSlackMm;
+    };
+    if (!bare || !(s.footing_mm > 0.0) || !at_plate(*bare)) return bare;
     auto pads = footing_pads(
         0, slices.size(), s.footing_mm,
         [&](std::size_t j) -> core::Result<Paths2> { return slices[j].wires.paths(); },
         [&](std::size_t j) { return slices[j].span.top; });
     if (!pads) return std::unexpected(pads.error());
-    std::vector<geom2d::WireTree> bare;
+    std::vector<geom2d::WireTree> kept;
     for (std::size_t k = 0; k < pads->size(); ++k) {
-        bare.push_back(std::move(slices[k].wires));
+        kept.push_back(std::move(slices[k].wires));
         slices[k].wires = geom2d::build_wire_tree((*pads)[k], geom2d::FillRule::kPositive);
     }
-    auto check = check_planar(slices, s);
-    if (!check || check->overhangs == 0 || bare.empty()) return check;
-    const double look_back = std::ceil(s.track_width_mm / s.layer_mm - 1e-9) * s.layer_mm;
-    const auto at = std::find_if(slices.begin(), slices.end(), [&](const slice::Slice& sl) {
-        return sl.span.cut == check->heights_mm.front();
-    });
-    const double starts = at != slices.end() ? at->span.bottom : 0.0;
-    if (starts > s.footing_mm + look_back + kFootingSlackMm) return check;
-    for (std::size_t k = 0; k < bare.size(); ++k) slices[k].wires = std::move(bare[k]);
-    return check_planar(slices, s);
+    auto on = check_planar(slices, s);
+    if (!on || !at_plate(*on)) return on;
+    for (std::size_t k = 0; k < kept.size(); ++k) slices[k].wires = std::move(kept[k]);
+    return bare;
 }
 
 std::vector<int> topological_order(const Plan& plan) {

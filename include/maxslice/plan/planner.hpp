@@ -174,12 +174,13 @@ struct PlanarCheck {
 [[nodiscard]] core::Result<PlanarCheck> check_planar(std::span<const slice::Slice> slices,
                                                      const PlanSettings& settings);
 
-/// check_planar on a stack standing on the footing (decision 0017), as the planner lays it
-/// on its base region: the slices whose layers' tops lie within settings.footing_mm of the
-/// plate (the stack's base plane) get the union of their section and every later one up to and
-/// with the first above that height. When the check then finds an overhang on a layer that
-/// starts within a track's height above the footing, the footing only moved it up: the slices
-/// are left as they were and checked as they are. Errors: those of check_planar.
+/// check_planar, with the footing (decision 0017) where it saves an overhang at the plate, as
+/// the planner lays it on its base region: when the stack's first overhang starts within a
+/// track's height above settings.footing_mm (heights from the stack's base plane, the plate),
+/// the slices whose layers' tops lie within footing_mm get the union of their section and
+/// every later one up to and with the first above that height, and the stack is checked
+/// again; if the overhang still starts there, the footing only moves it up: the slices are
+/// left as they were and the first check is returned. Errors: those of check_planar.
 [[nodiscard]] core::Result<PlanarCheck> check_planar_on_footing(std::vector<slice::Slice>& slices,
                                                                 const PlanSettings& settings);
 

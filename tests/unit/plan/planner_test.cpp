@@ -492,7 +492,7 @@ PlanSettings fine(double footing_mm) {
 // 2 mm over 0.4 mm (79 deg from the vertical): without a footing the first layers are an
 // overhang split off sideways from the plate; with the 1 mm footing the block is one region,
 // every layer up to 1 mm is the block's whole 20 x 20 footprint, and the plan holds exactly the
-// chamfer's void (8 mm3) more than the mesh.
+// chamfer's void (8 mm3) more than the mesh. A chamfer the process holds gets no footing.
 TEST(Planner, AChamferAtThePlateStandsOnAFooting) {
     const mesh::TriangleMesh m = chamfered_block(2.0, 0.4);
     const Plan bare = plan_of(m, {0, 0, 1}, fine(0.0));
@@ -512,6 +512,13 @@ TEST(Planner, AChamferAtThePlateStandsOnAFooting) {
     EXPECT_EQ(footing_layers, 5);
     EXPECT_NEAR(p.volume_mm3(), 4000.0, 0.5);
     EXPECT_NEAR(mesh::signed_volume(m), 3992.0, 1e-6);
+
+    // 0.3 mm over 1 mm the process holds: no split to save, no footing, no material added.
+    const mesh::TriangleMesh gentle = chamfered_block(0.3, 1.0);
+    const Plan g = plan_of(gentle, {0, 0, 1}, fine(1.0));
+    EXPECT_EQ(g.split_count(), 0);
+    EXPECT_LT(g.layers.front().area_mm2, 400.0 - 4.0);
+    EXPECT_NEAR(g.volume_mm3(), mesh::signed_volume(gentle), 0.5);
 }
 
 // 8 mm over 2 mm: the overhang goes on above the footing, which would only move the split up
