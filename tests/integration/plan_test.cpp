@@ -450,6 +450,72 @@ TEST(PlanCli, OrientAutoFindsTheSameBuildForATurnedPart) {
     }
 }
 
+// A profile file: `source` with the line of each key replaced by `key = value`.
+fs::path profile_with(const fs::path& dir, const std::string& name, const fs::path& source,
+                      const std::map<std::string, std::string>& values) {
+    std::string text = slurp(source);
+    for (const auto& [key, value] : values) {
+        const std::size_t at = text.find("\n" + key + " = ");
+        EXPECT_NE(at, std::string::npos) << key;
+        if (at == std::string::npos) continue;
+        const std::size_t end = text.find('\n', at + 1);
+        text.replace(at + 1, end - at - 1, key + " = " + value);
+    }
+    const fs::path file = dir / name;
+    std::FILE* f = std::fopen(file.c_str(), "wb");
+    EXPECT_NE(f, nullptr);
+    if (f != nullptr) {
+        std::fwrite(text.data(), 1, text.size(), f);
+        std::fclose(f);
+    }
+    return file;
+}
+
+// A block whose bottom edge is chamfered 2 mm over 0.4 mm, with the 0.8 mm fine track: on 5
+// axes and on 3 the part stands on the footing (decision 0017) and its program verifies; the
+// plan file names the footing. Without a footing (footing_mm = 0) the 5-axis plan splits the
+// chamfer off sideways from the plate, and a 3-axis program is refused.
+TEST(PlanCli, AChamferAtThePlateIsBuiltOnAFooting) {
+    const fs::path dir = temp_dir("footing");
+    const fs::path part = fixture_stl(dir, "chamfer", maxslice::test::chamfered_block(2.0, 0.4));
+    const fs::path fine = kSource / "examples/profiles/fine_5axis_ac.toml";
+    const std::map<std::string, std::string> fine_process{{"track_width_mm", "0.8"},
+                                                          {"layer_height_mm", "0.2"},
+                                                          {"h_min_mm", "0.12"},
+                                                          {"h_max_mm", "0.28"}};
+    const fs::path fine_xyz = profile_with(
+        dir, "fine_xyz.toml", kSource / "examples/profiles/reference_lmd.toml", fine_process);
+    for (const fs::path& profile : {fine, fine_xyz}) {
+        const fs::path out = dir / "chamfer.gm";
+        const CliRun r = run_cli({"slice", part.string(), "--profile", profile.string(), "-o",
+                                  out.string(), "--orient", "given"});
+        EXPECT_EQ(r.exit_code, 0) << profile << r.out << r.err;
+        EXPECT_NE(r.out.find("verified        0 collisions, 0 unsupported beads, 0 limit"),
+                  std::string::npos)
+            << r.out;
+        EXPECT_TRUE(fs::exists(out)) << profile;
+        fs::remove(out);
+    }
+    const fs::path plan = dir / "plan.json";
+    const CliRun p =
+        run_cli({"plan", part.string(), "--profile", fine.string(), "--plan", plan.string()});
+    ASSERT_EQ(p.exit_code, 0) << p.err;
+    const nlohmann::json j = nlohmann::json::parse(slurp(plan));
+    EXPECT_EQ(j.at("settings").at("footing_mm").get<double>(), 1.0);
+    EXPECT_EQ(j.at("regions").size(), 1U);
+
+    const fs::path bare = profile_with(dir, "bare.toml", fine, {{"footing_mm", "0.0"}});
+    const CliRun split =
+        run_cli({"plan", part.string(), "--profile", bare.string(), "--plan", plan.string()});
+    ASSERT_EQ(split.exit_code, 0) << split.err;
+    EXPECT_GT(nlohmann::json::parse(slurp(plan)).at("regions").size(), 1U);
+    const fs::path bare_xyz = profile_with(dir, "bare_xyz.toml", fine_xyz, {{"footing_mm", "0.0"}});
+    const CliRun refused = run_cli({"slice", part.string(), "--profile", bare_xyz.string(), "-o",
+                                    (dir / "bare.gm").string(), "--orient", "given"});
+    EXPECT_EQ(refused.exit_code, 2) << refused.out;
+    EXPECT_NE(refused.err.find("multi-axis build"), std::string::npos) << refused.err;
+}
+
 TEST(PlanCli, BadOptionsExitTwo) {
     EXPECT_EQ(run_cli({"plan", kExample.string(), "--alpha", "70", "--beta", "60"}).exit_code, 2);
     EXPECT_EQ(run_cli({"plan", kExample.string(), "--orient", "sideways"}).exit_code, 2);

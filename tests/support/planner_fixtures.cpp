@@ -334,6 +334,13 @@ TriangleMesh extrude_yz(const Cap& profile, double x0, double x1) {
     return remapped(extrude(profile, x0, x1), [](const Vec3d& p) { return Vec3d{p.z, p.x, p.y}; });
 }
 
+TriangleMesh chamfered_block(double run, double rise) {
+    require(0.0 <= run && run < 20.0 && 0.0 <= rise && rise < 10.0,
+            "chamfered_block: need run in [0, 20) and rise in [0, 10)");
+    const std::vector<CapPoint> profile{{run, 0}, {20, 0}, {20, 10}, {0, 10}, {0, rise}};
+    return extrude_xz(polygon_cap(profile), 0.0, 20.0);
+}
+
 // ---- 1. Vertical walls -------------------------------------------------------------------
 
 PlannerFixture vertical_prism(const PrismSpec& spec) {

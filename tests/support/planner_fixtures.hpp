@@ -61,6 +61,11 @@ struct PlannerFixture {
 /// Extrudes a cap drawn in the (y, z) plane along +X over [x0, x1] (mm).
 [[nodiscard]] mesh::TriangleMesh extrude_yz(const Cap& profile, double x0, double x1);
 
+/// A block 20 x 20 x 10 whose bottom edge along Y is chamfered `run` mm in over the first
+/// `rise` mm, as the rounded or chamfered bottom edge of a machined part is (the footing,
+/// decision 0017). Volume 4000 - 10 run rise.
+[[nodiscard]] mesh::TriangleMesh chamfered_block(double run, double rise);
+
 // ---- 1. Vertical walls -----------------------------------------------------------------------
 
 /// An L-profile prism: the union of [0, leg_length] x [0, leg_width] and [0, leg_width] x

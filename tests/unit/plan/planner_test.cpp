@@ -19,6 +19,7 @@ namespace {
 
 using core::Vec3d;
 using test::box;
+using test::chamfered_block;
 using test::merged;
 using test::rotated;
 using test::translated;
@@ -470,13 +471,6 @@ TEST(PlanarCheck, ChannelNarrowerThanATrackIsCarried) {
 }
 
 // ---- The footing (decision 0017) -------------------------------------------------------------
-
-// A block 20 x 20 x 10 whose bottom edge along Y is chamfered `run` mm in over the first `rise`
-// mm, as the rounded or chamfered bottom edge of a machined part is.
-mesh::TriangleMesh chamfered_block(double run, double rise) {
-    const std::vector<test::CapPoint> profile{{run, 0}, {20, 0}, {20, 10}, {0, 10}, {0, rise}};
-    return test::extrude_xz(test::polygon_cap(profile), 0.0, 20.0);
-}
 
 // A fine track (0.8 mm, 0.2 mm layers), with which such an edge is a real overhang.
 PlanSettings fine(double footing_mm) {
