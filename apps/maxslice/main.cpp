@@ -477,6 +477,7 @@ int run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
     const auto& sum = p->summary;
     std::printf("regions         %zu (%d splits), %zu layers (%d tilted)\n", plan.regions.size(),
                 plan.split_count(), plan.layers.size(), plan.tilted_layer_count());
+    std::fputs(pipeline::footing_line(plan.footing).c_str(), stdout);
     std::printf("build order     %d jumps (fewest %d), %zu sections, %d section travels\n",
                 planned.order->jumps, planned.order->min_jumps, planned.order->sections.size(),
                 p->section_changes);
@@ -685,6 +686,7 @@ int run_slice(const PartOptions& opt, const SliceOptions& so) {
     std::printf("most wires      %zu outer, %zu holes in one layer\n", outers, holes);
     std::printf("sliced volume   %.6g mm3 %s\n", volume,
                 pipeline::volume_against_mesh(volume, part->final_report()).c_str());
+    if (check) std::fputs(pipeline::footing_line(check->footing).c_str(), stdout);
     if (gaps > 0) std::printf("gaps closed     %d (open mesh)\n", gaps);
     if (planned) {
         const auto& sum = planned->summary;

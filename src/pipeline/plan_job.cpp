@@ -492,6 +492,9 @@ std::string plan_json(const PlannedPart& planned, const PreparedPart& part) {
     j["decisions"] = std::move(decisions);
     j["unsupported_layers"] = p.unsupported_layers;
     j["bare_unsupported_layers"] = p.bare_unsupported_layers;
+    j["footing"] = {{"layers", p.footing.layers},
+                    {"height_mm", p.footing.height_mm},
+                    {"added_mm3", p.footing.added_mm3}};
     if (planned.order) {
         j["order"] = planned.order->order;
         j["build_order"] = order_json(planned);
@@ -733,6 +736,15 @@ std::string volume_against_mesh(double volume_mm3, const mesh::ValidationReport&
                        m != 0.0 ? 100.0 * (volume_mm3 - m) / m : 0.0);
 }
 
+std::string footing_line(const plan::Footing& footing) {
+    if (footing.layers == 0) return {};
+    return fmt::format(
+        "footing         {:.2f} mm: {} layers at the plate laid over the part's footprint, "
+        "{:.4g} mm3 outside the part (under a rounded or chamfered bottom edge; machined off "
+        "with the plate)\n",
+        footing.height_mm, footing.layers, footing.added_mm3);
+}
+
 std::string plan_summary(const PlannedPart& planned, const mesh::ValidationReport& report) {
     const plan::Plan& p = planned.plan;
     fmt::memory_buffer out;
@@ -790,6 +802,7 @@ std::string plan_summary(const PlannedPart& planned, const mesh::ValidationRepor
                "over beads");
     const double v = p.volume_mm3();
     put(out, "plan volume     {:.6g} mm3 {}\n", v, volume_against_mesh(v, report));
+    put(out, "{}", footing_line(p.footing));
     put(out, "planning time   {:.3f} s\n", planned.seconds);
     if (planned.order) {
         const plan::BuildOrder& o = *planned.order;

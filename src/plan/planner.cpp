@@ -255,6 +255,12 @@ public:
                                                   static_cast<double>(plan_.regions.size()));
             }
         }
+        for (std::size_t id = 0; id < footing_added_.size() && id < plan_.layers.size(); ++id) {
+            if (footing_added_[id] < 0.0) continue;
+            ++plan_.footing.layers;
+            plan_.footing.height_mm = std::max(plan_.footing.height_mm, plan_.layers[id].span.top);
+            plan_.footing.added_mm3 += footing_added_[id];
+        }
         split_pieces();
         if (auto ok = build_graph(); !ok) return std::unexpected(ok.error());
         return std::move(plan_);
@@ -317,6 +323,7 @@ private:
             const slice::Slice& s = **next;
             Region& r = plan_.regions[static_cast<std::size_t>(rid)];
             Paths2 clipped = detail::clip_to_cell(s.wires.paths(), r.cell, s.plane);
+            double own_mm2 = -1.0;  // the section's own area where a footing pad replaces it
             // Heights above the region's base (slices of a resumed walk start elsewhere).
             const double off = r.base.height(s.plane.origin) - s.span.cut;
             if (geom2d::signed_area_mm2(clipped) <= 0.0) {
@@ -325,7 +332,7 @@ private:
                 gap = gap || lower >= 0 || rid != 0;
                 continue;
             }
-            if (footing_ == Footing::kOn && rid == 0 &&
+            if (footing_ == FootingState::kOn && rid == 0 &&
                 s.span.top + off <= s_.footing_mm + kFootingSlackMm) {
                 if (pads_from > i) {
                     auto made = footing_pads(
@@ -343,7 +350,10 @@ private:
                     pads = std::move(*made);
                     pads_from = i;
                 }
-                if (i - pads_from < pads.size()) clipped = pads[i - pads_from];
+                if (i - pads_from < pads.size()) {
+                    own_mm2 = geom2d::signed_area_mm2(clipped);
+                    clipped = pads[i - pads_from];
+                }
             }
             if (lower >= 0) {
                 // U against L, then against the layer a track's height below (look-back):
@@ -392,6 +402,10 @@ private:
             layer.on_plate = rid == 0 && r.layers.empty();
             layer.after_gap = gap;
             gap = false;
+            if (own_mm2 >= 0.0) {
+                footing_added_.resize(plan_.layers.size() + 1, -1.0);
+                footing_added_.back() = (layer.area_mm2 - own_mm2) * layer.thickness_mean_mm;
+            }
             r.layers.push_back(layer.id);
             lower = layer.id;
             plan_.layers.push_back(std::move(layer));
@@ -627,10 +641,10 @@ private:
     // the split up and add material: walked again without it, for good. Every layer and
     // decision of the walk is dropped first. True when a walk again is due.
     bool retry_footing(int rid, int ref) {
-        if (rid != 0 || footing_ == Footing::kDropped) return false;
+        if (rid != 0 || footing_ == FootingState::kDropped) return false;
         const Layer& l = plan_.layers[static_cast<std::size_t>(ref)];
         if (l.span.top > s_.footing_mm + look_back_ * s_.layer_mm + kFootingSlackMm) return false;
-        footing_ = footing_ == Footing::kUntried ? Footing::kOn : Footing::kDropped;
+        footing_ = footing_ == FootingState::kUntried ? FootingState::kOn : FootingState::kDropped;
         roll_back(rid, -1);
         std::erase_if(plan_.decisions, [&](const Decision& d) {
             return d.region == rid && d.kind != Decision::Kind::kSplit &&
@@ -645,6 +659,7 @@ private:
             r.layers.pop_back();
             plan_.layers.pop_back();
         }
+        if (footing_added_.size() > plan_.layers.size()) footing_added_.resize(plan_.layers.size());
         std::erase_if(plan_.decisions, [&](const Decision& d) {
             return (d.kind == Decision::Kind::kTiltWanted ||
                     d.kind == Decision::Kind::kUnreachable) &&
@@ -1101,8 +1116,10 @@ private:
     const core::Progress* progress_;
     AnalysisSettings analysis_;
     int look_back_ = 1;  // layers in a track's height: the look-back distance
-    enum class Footing { kUntried, kOn, kDropped };
-    Footing footing_ = s_.footing_mm > 0.0 ? Footing::kUntried : Footing::kDropped;
+    enum class FootingState { kUntried, kOn, kDropped };
+    FootingState footing_ = s_.footing_mm > 0.0 ? FootingState::kUntried : FootingState::kDropped;
+    // Per layer id: the area x thickness its footing pad adds, or -1 (not a footing layer).
+    std::vector<double> footing_added_;
     Plan plan_;
     std::deque<RegionJob> jobs_;
     std::optional<detail::SectionIndex> sections_;
@@ -1273,12 +1290,21 @@ core::Result<PlanarCheck> check_planar_on_footing(std::vector<slice::Slice>& sli
         [&](std::size_t j) { return slices[j].span.top; });
     if (!pads) return std::unexpected(pads.error());
     std::vector<geom2d::WireTree> kept;
+    Footing footing;
     for (std::size_t k = 0; k < pads->size(); ++k) {
         kept.push_back(std::move(slices[k].wires));
         slices[k].wires = geom2d::build_wire_tree((*pads)[k], geom2d::FillRule::kPositive);
+        ++footing.layers;
+        footing.height_mm = slices[k].span.top;
+        footing.added_mm3 +=
+            (slices[k].wires.area_mm2() - kept.back().area_mm2()) * slices[k].span.thickness();
     }
     auto on = check_planar(slices, s);
-    if (!on || !at_plate(*on)) return on;
+    if (!on) return on;
+    if (!at_plate(*on)) {
+        on->footing = footing;
+        return on;
+    }
     for (std::size_t k = 0; k < kept.size(); ++k) slices[k].wires = std::move(kept[k]);
     return bare;
 }

@@ -493,6 +493,8 @@ TEST(PlanCli, AChamferAtThePlateIsBuiltOnAFooting) {
         EXPECT_NE(r.out.find("verified        0 collisions, 0 unsupported beads, 0 limit"),
                   std::string::npos)
             << r.out;
+        EXPECT_NE(r.out.find("footing         1.00 mm: 5 layers at the plate"), std::string::npos)
+            << r.out;
         EXPECT_TRUE(fs::exists(out)) << profile;
         fs::remove(out);
     }
@@ -502,6 +504,8 @@ TEST(PlanCli, AChamferAtThePlateIsBuiltOnAFooting) {
     ASSERT_EQ(p.exit_code, 0) << p.err;
     const nlohmann::json j = nlohmann::json::parse(slurp(plan));
     EXPECT_EQ(j.at("settings").at("footing_mm").get<double>(), 1.0);
+    EXPECT_EQ(j.at("footing").at("layers").get<int>(), 5);
+    EXPECT_NEAR(j.at("footing").at("added_mm3").get<double>(), 8.0, 0.05);
     EXPECT_EQ(j.at("regions").size(), 1U);
 
     const fs::path bare = profile_with(dir, "bare.toml", fine, {{"footing_mm", "0.0"}});
@@ -509,6 +513,7 @@ TEST(PlanCli, AChamferAtThePlateIsBuiltOnAFooting) {
         run_cli({"plan", part.string(), "--profile", bare.string(), "--plan", plan.string()});
     ASSERT_EQ(split.exit_code, 0) << split.err;
     EXPECT_GT(nlohmann::json::parse(slurp(plan)).at("regions").size(), 1U);
+    EXPECT_EQ(split.out.find("footing  "), std::string::npos) << split.out;
     const fs::path bare_xyz = profile_with(dir, "bare_xyz.toml", fine_xyz, {{"footing_mm", "0.0"}});
     const CliRun refused = run_cli({"slice", part.string(), "--profile", bare_xyz.string(), "-o",
                                     (dir / "bare.gm").string(), "--orient", "given"});

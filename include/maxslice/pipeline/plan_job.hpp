@@ -135,6 +135,9 @@ enum class PlanColour {
 /// signed volume depends on where the origin is).
 [[nodiscard]] std::string volume_against_mesh(double volume_mm3,
                                               const mesh::ValidationReport& report);
+/// The summary line of a footing at the plate (decision 0017), newline-terminated; "" when
+/// none was laid.
+[[nodiscard]] std::string footing_line(const plan::Footing& footing);
 /// A short human summary (regions, splits, tilts wanted, layers, volume, time).
 [[nodiscard]] std::string plan_summary(const PlannedPart& planned,
                                        const mesh::ValidationReport& report);

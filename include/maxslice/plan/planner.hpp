@@ -111,6 +111,14 @@ struct Decision {
     std::string reason;      ///< one line, for people
 };
 
+/// The footing laid at the plate (decision 0017): its layers are the part's footprint up to
+/// the first layer above height_mm.
+struct Footing {
+    int layers = 0;          ///< footing layers (0: no footing was laid)
+    double height_mm = 0.0;  ///< top of the last footing layer above the plate
+    double added_mm3 = 0.0;  ///< volume the footing adds to the sections (outside the part)
+};
+
 /// The plan of a part.
 struct Plan {
     PlanSettings settings;
@@ -130,6 +138,7 @@ struct Plan {
     /// (decision 0013). Moved here from unsupported_layers by the pipeline, which knows the
     /// toolpaths (pipeline::PlanJobSettings::tracks); plan_part leaves it empty.
     std::vector<int> bare_unsupported_layers;
+    Footing footing;  ///< the footing at the plate, where one saves a split there
 
     [[nodiscard]] int split_count() const;
     [[nodiscard]] int tilt_wanted_count() const;
@@ -164,6 +173,7 @@ struct PlanarCheck {
     std::vector<double> heights_mm;       ///< their slices' cut heights
     std::size_t checked_up_to = 0;        ///< slices checked (the check stops after the
                                           ///< block of 64 with the first overhang)
+    Footing footing;  ///< laid by check_planar_on_footing where it saves an overhang
 };
 
 /// Checks a planar stack (consecutive slices of one direction, as slice_mesh makes them)

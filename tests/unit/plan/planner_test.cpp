@@ -504,6 +504,10 @@ TEST(Planner, AChamferAtThePlateStandsOnAFooting) {
         if (l.span.top <= 1.0 + 1e-9) ++footing_layers;
     }
     EXPECT_EQ(footing_layers, 5);
+    EXPECT_EQ(p.footing.layers, 5);
+    EXPECT_NEAR(p.footing.height_mm, 1.0, 1e-9);
+    EXPECT_NEAR(p.footing.added_mm3, 8.0, 0.05);
+    EXPECT_EQ(bare.footing.layers, 0);
     EXPECT_NEAR(p.volume_mm3(), 4000.0, 0.5);
     EXPECT_NEAR(mesh::signed_volume(m), 3992.0, 1e-6);
 
@@ -511,6 +515,7 @@ TEST(Planner, AChamferAtThePlateStandsOnAFooting) {
     const mesh::TriangleMesh gentle = chamfered_block(0.3, 1.0);
     const Plan g = plan_of(gentle, {0, 0, 1}, fine(1.0));
     EXPECT_EQ(g.split_count(), 0);
+    EXPECT_EQ(g.footing.layers, 0);
     EXPECT_LT(g.layers.front().area_mm2, 400.0 - 4.0);
     EXPECT_NEAR(g.volume_mm3(), mesh::signed_volume(gentle), 0.5);
 }
@@ -529,6 +534,8 @@ TEST(Planner, AFootingThatLeavesTheOverhangAboveItIsDropped) {
         EXPECT_EQ(p.layers[i].area_mm2, bare.layers[i].area_mm2) << "layer " << i;
     }
     EXPECT_EQ(p.decisions.size(), bare.decisions.size());
+    EXPECT_EQ(p.footing.layers, 0);
+    EXPECT_EQ(p.footing.added_mm3, 0.0);
 }
 
 std::vector<slice::Slice> stack_of(const mesh::TriangleMesh& m, const PlanSettings& s) {
@@ -551,6 +558,8 @@ TEST(PlanarCheck, AChamferAtThePlateStandsOnAFooting) {
     auto on = check_planar_on_footing(small, fine(1.0));
     ASSERT_TRUE(on.has_value()) << on.error().describe();
     EXPECT_EQ(on->overhangs, 0);
+    EXPECT_EQ(on->footing.layers, 5);
+    EXPECT_NEAR(on->footing.added_mm3, 8.0, 0.05);
     for (const slice::Slice& sl : small) {
         EXPECT_NEAR(sl.wires.area_mm2(), 400.0, 0.01) << sl.span.cut;
     }
@@ -561,6 +570,7 @@ TEST(PlanarCheck, AChamferAtThePlateStandsOnAFooting) {
     auto still = check_planar_on_footing(large, fine(1.0));
     ASSERT_TRUE(still.has_value()) << still.error().describe();
     EXPECT_GE(still->overhangs, 1);
+    EXPECT_EQ(still->footing.layers, 0);
     for (std::size_t i = 0; i < large.size(); ++i) EXPECT_EQ(large[i].wires.area_mm2(), areas[i]);
     EXPECT_LT(areas.front(), 400.0 - 100.0);
 }
