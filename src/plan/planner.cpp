@@ -632,8 +632,6 @@ private:
         }
     }
 
-    // Removes region rid's layers above layer `keep` (the last ones made), and the tilt
-    // decisions taken for them.
     // The footing is laid only where it saves a split at the plate. A split in the base region
     // at a layer that ends within a track's height above the footing's height: without the
     // footing (the first walk), the base region is walked again from the plate with it; with
@@ -653,6 +651,8 @@ private:
         return true;
     }
 
+    // Removes region rid's layers above layer `keep` (the last ones made), and the tilt
+    // decisions taken for them.
     void roll_back(int rid, int keep) {
         Region& r = plan_.regions[static_cast<std::size_t>(rid)];
         while (!r.layers.empty() && r.layers.back() > keep) {
