@@ -37,6 +37,17 @@ constexpr double kGroundSlackMm = 0.02;
 /// Rounding room (mm) when comparing a layer's top with the footing's height.
 constexpr double kFootingSlackMm = 1e-6;
 
+// The look-back distance in layers: as many as make a track's height (at least one).
+int look_back_layers(const PlanSettings& s) {
+    return std::max(1, static_cast<int>(std::ceil(s.track_width_mm / s.layer_mm - 1e-9)));
+}
+
+// Splits and overhangs on a layer that ends (or the one above starts) at most this high above
+// the plate are where the footing is tried (decision 0017): the footing and a look-back above.
+double footing_zone_mm(const PlanSettings& s) {
+    return s.footing_mm + look_back_layers(s) * s.layer_mm + kFootingSlackMm;
+}
+
 bool steady_area(double area, double below) {
     return std::abs(area - below) <= kTiltAreaChange * below;
 }
@@ -229,8 +240,7 @@ public:
         analysis_.min_piece_area_mm2 = s_.min_piece_area_mm2 > 0.0
                                            ? s_.min_piece_area_mm2
                                            : s_.track_width_mm * s_.track_width_mm;
-        look_back_ =
-            std::max(1, static_cast<int>(std::ceil(s_.track_width_mm / s_.layer_mm - 1e-9)));
+        look_back_ = look_back_layers(s_);
     }
 
     core::Result<Plan> run(const core::Vec3d& base_direction) {
@@ -641,7 +651,7 @@ private:
     bool retry_footing(int rid, int ref) {
         if (rid != 0 || footing_ == FootingState::kDropped) return false;
         const Layer& l = plan_.layers[static_cast<std::size_t>(ref)];
-        if (l.span.top > s_.footing_mm + look_back_ * s_.layer_mm + kFootingSlackMm) return false;
+        if (l.span.top > footing_zone_mm(s_)) return false;
         footing_ = footing_ == FootingState::kUntried ? FootingState::kOn : FootingState::kDropped;
         roll_back(rid, -1);
         std::erase_if(plan_.decisions, [&](const Decision& d) {
@@ -1212,8 +1222,7 @@ core::Result<PlanarCheck> check_planar(std::span<const slice::Slice> slices,
     a.self_supporting_deg = s.self_supporting_deg;
     a.min_piece_area_mm2 =
         s.min_piece_area_mm2 > 0.0 ? s.min_piece_area_mm2 : s.track_width_mm * s.track_width_mm;
-    const auto k = static_cast<std::size_t>(
-        std::max(1, static_cast<int>(std::ceil(s.track_width_mm / s.layer_mm - 1e-9))));
+    const auto k = static_cast<std::size_t>(look_back_layers(s));
     // Per layer: 0 carried, 1 tilt wanted, 2 overhang; and its first overhang piece. Each
     // layer is compared, as the planner's walk does, with the layer right below and with the
     // one a track's height below (or the first layer): overhangs that grow in slivers show
@@ -1280,8 +1289,7 @@ core::Result<PlanarCheck> check_planar_on_footing(std::vector<slice::Slice>& sli
         const auto at = std::find_if(slices.begin(), slices.end(), [&](const slice::Slice& sl) {
             return sl.span.cut == c.heights_mm.front();
         });
-        const double look_back = std::ceil(s.track_width_mm / s.layer_mm - 1e-9) * s.layer_mm;
-        return at != slices.end() && at->span.bottom <= s.footing_mm + look_back + kFootingSlackMm;
+        return at != slices.end() && at->span.bottom <= footing_zone_mm(s);
     };
     if (!bare || !(s.footing_mm > 0.0) || !at_plate(*bare)) return bare;
     auto pads = footing_pads(
