@@ -1,5 +1,6 @@
-// STL, binary and ASCII. The whole file is in memory; numbers are read with from_chars and
-// corners go into one float soup that mesh::weld_exact turns into an indexed mesh.
+// STL, binary and ASCII. ASCII: the whole text is in memory, numbers are read with from_chars
+// and corners go into one float soup that mesh::weld_exact turns into an indexed mesh. Binary:
+// the records are read and welded a block at a time (mesh::BlockWelder).
 //
 // Binary or ASCII is decided from the content, never from the header alone: many binary
 // writers start the 80-byte header with "solid". A file is read as ASCII only when it
@@ -170,18 +171,22 @@ core::Result<RawImport> read_binary(std::uint64_t size, std::string_view header,
     }
     const auto n = static_cast<std::size_t>(records);
 
-    // Written in full below: no need to zero it first.
-    const auto xyz = std::make_unique_for_overwrite<float[]>(n * 9);
-    std::uint32_t exponent_all_ones = 0;
+    // Read and welded a block at a time: the records and their corners stay in the cache and
+    // no buffer the size of the file is ever touched (first touches of fresh pages cost more
+    // than the parsing; measured on a VM: 12 us a page).
+    mesh::BlockWelder welder(n);
+    std::vector<float> xyz;
     std::size_t opposite = 0;
-    constexpr std::size_t kBlock = 1u << 16;  // records per fetch (3.2 MB)
+    constexpr std::size_t kBlock = 4096;  // records per fetch (200 KB)
     for (std::size_t first = 0; first < n; first += kBlock) {
         const std::size_t count = std::min(kBlock, n - first);
         auto block = fetch(first, count);
         if (!block) return std::unexpected(block.error());
+        xyz.resize(count * 9);
+        std::uint32_t exponent_all_ones = 0;
         const char* rec = *block;
-        for (std::size_t t = first; t < first + count; ++t, rec += kRecordBytes) {
-            float* c = xyz.get() + 9 * t;
+        for (std::size_t t = 0; t < count; ++t, rec += kRecordBytes) {
+            float* c = xyz.data() + 9 * t;
             std::memcpy(c, rec + 12, 36);
             float normal[3];
             std::memcpy(normal, rec, 12);
@@ -200,23 +205,22 @@ core::Result<RawImport> read_binary(std::uint64_t size, std::string_view header,
             }
             opposite += static_cast<std::size_t>(normal_opposes_winding(normal, c));
         }
-    }
-    if (exponent_all_ones != 0) {
-        for (std::size_t t = 0; t < n; ++t) {
-            for (std::size_t k = 0; k < 9; ++k) {
-                if (!std::isfinite(xyz[9 * t + k])) {
-                    return core::fail(
-                        core::ErrorCode::kInvalidInput,
-                        fmt::format("triangle {} (byte offset {}): vertex {} has a NaN or "
-                                    "infinite coordinate",
-                                    t + 1, kHeaderBytes + t * kRecordBytes + 12 + 12 * (k / 3),
-                                    k / 3 + 1));
-                }
+        if (exponent_all_ones != 0) {
+            for (std::size_t i = 0; i < count * 9; ++i) {
+                if (std::isfinite(xyz[i])) continue;
+                const std::size_t t = first + i / 9;
+                return core::fail(
+                    core::ErrorCode::kInvalidInput,
+                    fmt::format("triangle {} (byte offset {}): vertex {} has a NaN "
+                                "or infinite coordinate",
+                                t + 1, kHeaderBytes + t * kRecordBytes + 12 + 12 * (i % 9 / 3),
+                                i % 9 / 3 + 1));
             }
         }
+        welder.add(xyz);
     }
     warn_opposite_normals(out, opposite, n);
-    out.mesh = mesh::weld_exact(std::span<const float>(xyz.get(), n * 9));
+    out.mesh = std::move(welder).finish();
     return out;
 }
 

@@ -101,99 +101,126 @@ inline std::uint64_t hash_key(const Bits (&k)[3]) {
     }
 }
 
+// The weld of a soup handed over in blocks of whole triangles: the table and the mesh live
+// across blocks, so the result is the same as one pass over the whole soup.
 template <class Real>
-TriangleMesh weld_impl(std::span<const Real> xyz) {
+class Welder {
     using Bits = std::conditional_t<sizeof(Real) == 4, std::uint32_t, std::uint64_t>;
     using Slot = WeldSlot<Bits>;
-    constexpr Bits kNegZero = Bits{1} << (sizeof(Bits) * 8 - 1);
+    static constexpr Bits kNegZero = Bits{1} << (sizeof(Bits) * 8 - 1);
 
-    // A trailing partial triangle (fewer than 9 numbers) is ignored.
-    const std::size_t tris = xyz.size() / 9;
-    const std::size_t corners = tris * 3;
-    MAXSLICE_ASSERT(corners < kEmpty);
+public:
+    explicit Welder(std::size_t tris)
+        : capacity_(std::bit_ceil(std::max<std::size_t>(64, tris))),
+          table_(capacity_),
+          mask_(capacity_ - 1),
+          grow_at_(capacity_ / 2) {
+        MAXSLICE_ASSERT(tris * 3 < kEmpty);
+        mesh_.triangles.reserve(tris);
+        advise_huge_pages(mesh_.triangles.data(), tris * sizeof(Triangle));
+        mesh_.triangles.resize(tris);
+        mesh_.vertices.reserve(tris * 3 / 5 + 16);
+        advise_huge_pages(mesh_.vertices.data(), mesh_.vertices.capacity() * sizeof(core::Vec3d));
+    }
 
-    TriangleMesh mesh;
-    if (tris == 0) return mesh;
-    mesh.triangles.reserve(tris);
-    advise_huge_pages(mesh.triangles.data(), tris * sizeof(Triangle));
-    mesh.triangles.resize(tris);
-    mesh.vertices.reserve(corners / 5 + 16);
-    advise_huge_pages(mesh.vertices.data(), mesh.vertices.capacity() * sizeof(core::Vec3d));
-
-    std::size_t capacity = std::bit_ceil(std::max<std::size_t>(64, corners / 3));
-    HugeArray<Slot> table(capacity);
-    std::size_t mask = capacity - 1;
-    std::size_t grow_at = capacity / 2;
-
-    auto key_of = [&](std::size_t c, Bits(&k)[3]) {
-        std::memcpy(k, xyz.data() + 3 * c, sizeof(k));
-        for (Bits& b : k) {
-            if (b == kNegZero) b = 0;  // -0.0 and 0.0 are the same position
+    // Adds the whole triangles of xyz (9 numbers each) after those added before.
+    void add(std::span<const Real> xyz) {
+        const std::size_t corners = xyz.size() / 9 * 3;
+        MAXSLICE_ASSERT(done_ + corners <= mesh_.triangles.size() * 3);
+        auto key_of = [&](std::size_t c, Bits(&k)[3]) {
+            std::memcpy(k, xyz.data() + 3 * c, sizeof(k));
+            for (Bits& b : k) {
+                if (b == kNegZero) b = 0;  // -0.0 and 0.0 are the same position
+            }
+        };
+        constexpr std::size_t kAhead = 16;
+        std::uint64_t hashes[kAhead];
+        for (std::size_t c = 0; c < std::min(kAhead, corners); ++c) {
+            Bits k[3];
+            key_of(c, k);
+            hashes[c] = hash_key(k);
+            __builtin_prefetch(&table_[hashes[c] & mask_]);
         }
-    };
+        std::uint32_t* out = mesh_.triangles.front().data() + done_;
+        for (std::size_t c = 0; c < corners; ++c) {
+            Bits k[3];
+            key_of(c, k);
+            const std::uint64_t h = hashes[c % kAhead];
+            if (c + kAhead < corners) {
+                Bits ahead[3];
+                key_of(c + kAhead, ahead);
+                const std::uint64_t ha = hash_key(ahead);
+                hashes[c % kAhead] = ha;
+                __builtin_prefetch(&table_[ha & mask_]);
+            }
+            out[c] = index_of(k, h);
+        }
+        done_ += corners;
+    }
 
-    auto grow = [&] {
-        HugeArray<Slot> bigger(capacity * 2);
-        const std::size_t bigger_mask = capacity * 2 - 1;
-        for (std::size_t j = 0; j < capacity; ++j) {
-            const Slot& s = table[j];
+    // The mesh of the triangles added (fewer than announced if the soup ended early).
+    TriangleMesh finish() {
+        mesh_.triangles.resize(done_ / 3);
+        return std::move(mesh_);
+    }
+
+private:
+    // The vertex of position k (hash h), a new one if k is new. A hash computed before a
+    // grow is still right: the slot is taken from h with the current mask.
+    std::uint32_t index_of(const Bits (&k)[3], std::uint64_t h) {
+        std::size_t i = h & mask_;
+        while (true) {
+            const Slot& s = table_[i];
+            if (s.index_plus_one == 0) break;
+            if (s.key[0] == k[0] && s.key[1] == k[1] && s.key[2] == k[2]) {
+                return s.index_plus_one - 1;
+            }
+            i = (i + 1) & mask_;
+        }
+        const auto found = static_cast<std::uint32_t>(mesh_.vertices.size());
+        Slot& s = table_[i];
+        std::memcpy(s.key, k, sizeof(k));
+        s.index_plus_one = found + 1;
+        Real p[3];
+        std::memcpy(p, k, sizeof(p));
+        mesh_.vertices.push_back(
+            {static_cast<double>(p[0]), static_cast<double>(p[1]), static_cast<double>(p[2])});
+        if (mesh_.vertices.size() > grow_at_) grow();
+        return found;
+    }
+
+    void grow() {
+        HugeArray<Slot> bigger(capacity_ * 2);
+        const std::size_t bigger_mask = capacity_ * 2 - 1;
+        for (std::size_t j = 0; j < capacity_; ++j) {
+            const Slot& s = table_[j];
             if (s.index_plus_one == 0) continue;
             std::size_t i = hash_key(s.key) & bigger_mask;
             while (bigger[i].index_plus_one != 0) i = (i + 1) & bigger_mask;
             bigger[i] = s;
         }
-        table = std::move(bigger);
-        capacity *= 2;
-        mask = bigger_mask;
-        grow_at = capacity / 2;
-    };
-
-    constexpr std::size_t kAhead = 16;
-    std::uint64_t hashes[kAhead];
-    for (std::size_t c = 0; c < std::min(kAhead, corners); ++c) {
-        Bits k[3];
-        key_of(c, k);
-        hashes[c] = hash_key(k);
-        __builtin_prefetch(&table[hashes[c] & mask]);
+        table_ = std::move(bigger);
+        capacity_ *= 2;
+        mask_ = bigger_mask;
+        grow_at_ = capacity_ / 2;
     }
 
-    std::uint32_t* out = mesh.triangles.front().data();
-    for (std::size_t c = 0; c < corners; ++c) {
-        Bits k[3];
-        key_of(c, k);
-        const std::uint64_t h = hashes[c % kAhead];
-        if (c + kAhead < corners) {
-            Bits ahead[3];
-            key_of(c + kAhead, ahead);
-            const std::uint64_t ha = hash_key(ahead);
-            hashes[c % kAhead] = ha;
-            __builtin_prefetch(&table[ha & mask]);
-        }
-        std::size_t i = h & mask;
-        std::uint32_t found = kEmpty;
-        while (true) {
-            const Slot& s = table[i];
-            if (s.index_plus_one == 0) break;
-            if (s.key[0] == k[0] && s.key[1] == k[1] && s.key[2] == k[2]) {
-                found = s.index_plus_one - 1;
-                break;
-            }
-            i = (i + 1) & mask;
-        }
-        if (found == kEmpty) {
-            found = static_cast<std::uint32_t>(mesh.vertices.size());
-            Slot& s = table[i];
-            std::memcpy(s.key, k, sizeof(k));
-            s.index_plus_one = found + 1;
-            Real p[3];
-            std::memcpy(p, k, sizeof(p));
-            mesh.vertices.push_back(
-                {static_cast<double>(p[0]), static_cast<double>(p[1]), static_cast<double>(p[2])});
-            if (mesh.vertices.size() > grow_at) grow();
-        }
-        out[c] = found;
-    }
-    return mesh;
+    TriangleMesh mesh_;
+    std::size_t capacity_;
+    HugeArray<Slot> table_;
+    std::size_t mask_;
+    std::size_t grow_at_;
+    std::size_t done_ = 0;  // corners added
+};
+
+template <class Real>
+TriangleMesh weld_impl(std::span<const Real> xyz) {
+    // A trailing partial triangle (fewer than 9 numbers) is ignored.
+    const std::size_t tris = xyz.size() / 9;
+    if (tris == 0) return {};
+    Welder<Real> welder(tris);
+    welder.add(xyz);
+    return welder.finish();
 }
 
 }  // namespace
@@ -272,6 +299,25 @@ void append(TriangleMesh& a, const TriangleMesh& b) {
 
 TriangleMesh weld_exact(std::span<const float> xyz) {
     return weld_impl(xyz);
+}
+
+struct BlockWelder::Impl {
+    explicit Impl(std::size_t triangles) : welder(triangles) {}
+    Welder<float> welder;
+};
+
+BlockWelder::BlockWelder(std::size_t triangles)
+    : impl_(std::make_unique<Impl>(std::max<std::size_t>(triangles, 1))) {}
+BlockWelder::~BlockWelder() = default;
+BlockWelder::BlockWelder(BlockWelder&&) noexcept = default;
+BlockWelder& BlockWelder::operator=(BlockWelder&&) noexcept = default;
+
+void BlockWelder::add(std::span<const float> xyz) {
+    impl_->welder.add(xyz);
+}
+
+TriangleMesh BlockWelder::finish() && {
+    return impl_->welder.finish();
 }
 TriangleMesh weld_exact(std::span<const double> xyz) {
     return weld_impl(xyz);

@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -54,5 +55,27 @@ void append(TriangleMesh& a, const TriangleMesh& b);
 /// it, repair() removes it); numbers after the last whole triangle are ignored.
 [[nodiscard]] TriangleMesh weld_exact(std::span<const float> xyz);
 [[nodiscard]] TriangleMesh weld_exact(std::span<const double> xyz);
+
+/// weld_exact over a float soup handed over in blocks of whole triangles (a binary STL read a
+/// piece at a time, so that the whole soup never sits in memory): finish() gives the mesh
+/// weld_exact gives for the blocks' concatenation.
+class BlockWelder {
+public:
+    /// `triangles`: how many will be added in all (sizes the table and the mesh).
+    explicit BlockWelder(std::size_t triangles);
+    ~BlockWelder();
+    BlockWelder(BlockWelder&&) noexcept;
+    BlockWelder& operator=(BlockWelder&&) noexcept;
+
+    /// Adds xyz's whole triangles (9 numbers each) after those added before; no more than
+    /// announced in all.
+    void add(std::span<const float> xyz);
+    /// The mesh of the triangles added.
+    [[nodiscard]] TriangleMesh finish() &&;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
 
 }  // namespace maxslice::mesh

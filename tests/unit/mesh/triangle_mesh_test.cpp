@@ -107,6 +107,46 @@ TEST(WeldExact, AllDistinctCornersGrowTheTable) {
     EXPECT_EQ(m2.triangles[30000], m2.triangles[0]);
 }
 
+TEST(BlockWelder, BlocksGiveTheWeldOfTheWholeSoup) {
+    // A grid soup whose second half repeats corners of the first and whose table grows in
+    // the middle of a block: any block split must give weld_exact's mesh, index for index.
+    std::vector<float> soup;
+    auto put = [&](int i, int j) {
+        soup.insert(soup.end(), {static_cast<float>(i) * 0.25f, static_cast<float>(j) * 0.5f,
+                                 i % 3 == 0 ? -0.0f : std::cos(static_cast<float>(i * j))});
+    };
+    constexpr int n = 70;
+    for (int pass = 0; pass < 2; ++pass) {
+        for (int i = 0; i < n; ++i) {
+            for (int j = 0; j < n; ++j) {
+                if (pass == 1 && (i + j) % 2 == 0) continue;
+                put(i, j), put(i + 1, j), put(i + 1, j + 1);
+                put(i, j + 1), put(i, j), put(i + 1, j + 1);
+            }
+        }
+    }
+    const std::size_t tris = soup.size() / 9;
+    const TriangleMesh whole = weld_exact(std::span<const float>(soup));
+    for (const std::size_t block : {std::size_t{1}, std::size_t{7}, std::size_t{4096}, tris}) {
+        BlockWelder welder(tris);
+        for (std::size_t first = 0; first < tris; first += block) {
+            const std::size_t count = std::min(block, tris - first);
+            welder.add(std::span<const float>(soup).subspan(9 * first, 9 * count));
+        }
+        const TriangleMesh m = std::move(welder).finish();
+        EXPECT_EQ(m.vertices, whole.vertices) << "blocks of " << block;
+        EXPECT_EQ(m.triangles, whole.triangles) << "blocks of " << block;
+    }
+    EXPECT_EQ(whole.vertices.size(), static_cast<std::size_t>((n + 1) * (n + 1)));
+
+    // Fewer triangles than announced: the mesh of those added.
+    BlockWelder partial(tris);
+    partial.add(std::span<const float>(soup).first(9 * 10));
+    const TriangleMesh first_ten = std::move(partial).finish();
+    EXPECT_EQ(first_ten.triangles,
+              std::vector<Triangle>(whole.triangles.begin(), whole.triangles.begin() + 10));
+}
+
 TEST(Measures, UnitCubeVolumeAreaAndBox) {
     const TriangleMesh m = test::unit_cube();
     EXPECT_NEAR(signed_volume(m), 1.0, 1e-12);
