@@ -23,3 +23,12 @@ foreach(tk IN LISTS MAXSLICE_OCCT_TOOLKITS)
   find_library(OCCT_${tk}_LIB ${tk} REQUIRED)
   target_link_libraries(maxslice_occt INTERFACE ${OCCT_${tk}_LIB})
 endforeach()
+
+# mimalloc replaces malloc in the maxslice program (not in the libraries, whose users choose
+# their own allocator): its large buffers go on transparent huge pages, which saves most of
+# the page faults a job pays (docs/decisions/0018-allocator.md). The sanitizers bring their
+# own allocator, so it is left out there.
+option(MAXSLICE_MIMALLOC "Link the maxslice program with mimalloc" ON)
+if(MAXSLICE_MIMALLOC AND NOT MAXSLICE_SANITIZE)
+  find_package(mimalloc 2.0 REQUIRED CONFIG)
+endif()

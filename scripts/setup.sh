@@ -8,6 +8,7 @@ packages=(
   libocct-foundation-dev libocct-modeling-data-dev libocct-modeling-algorithms-dev
   libocct-data-exchange-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  libmimalloc-dev   # the allocator of the maxslice program (docs/decisions/0018-allocator.md)
   linuxcnc-uspace   # its standalone interpreter rs274 checks our linuxcnc programs in the tests
 )
 missing=()

@@ -5,6 +5,9 @@
 #include <tbb/global_control.h>
 #include <unistd.h>
 #include <CLI/CLI.hpp>
+#if defined(MAXSLICE_WITH_MIMALLOC)
+#include <mimalloc.h>
+#endif
 
 #include <chrono>
 #include <cstdio>
@@ -930,6 +933,22 @@ int run(int argc, char** argv) {
 }
 
 }  // namespace
+
+#if defined(MAXSLICE_WITH_MIMALLOC)
+namespace {
+// mimalloc puts its segments on transparent huge pages, committed when they are reserved: a
+// first touch of a 4 KiB page costs more than the work done on it in most stages
+// (docs/decisions/0018-allocator.md). mimalloc reads these options when it starts, in its
+// library constructor, which runs before anything of the program but its .preinit_array;
+// setting them is a plain store, no allocation.
+void tune_allocator() {
+    mi_option_enable(mi_option_large_os_pages);
+    mi_option_set(mi_option_eager_commit_delay, 0);
+}
+[[gnu::section(".preinit_array"), gnu::used]] void (*const tune_allocator_early)() =
+    tune_allocator;
+}  // namespace
+#endif
 
 int main(int argc, char** argv) {
     try {
