@@ -945,8 +945,7 @@ void tune_allocator() {
     mi_option_enable(mi_option_large_os_pages);
     mi_option_set(mi_option_eager_commit_delay, 0);
 }
-[[gnu::section(".preinit_array"), gnu::used]] void (*const tune_allocator_early)() =
-    tune_allocator;
+[[gnu::section(".preinit_array"), gnu::used]] void (*const tune_allocator_early)() = tune_allocator;
 }  // namespace
 #endif
 

@@ -352,7 +352,6 @@ ordered_json order_json(const PlannedPart& planned) {
             {"min_jumps", o.min_jumps},
             {"collision_edges", o.collision_edges},
             {"smallest_margin_mm", margin_json(o.smallest_margin_mm())},
-            {"seconds", planned.order_seconds},
             {"sections", std::move(sections)},
             {"conflicts", std::move(conflicts)}};
 }
@@ -363,7 +362,7 @@ std::string plan_json(const PlannedPart& planned, const PreparedPart& part) {
     const plan::Plan& p = planned.plan;
     ordered_json j;
     j["format"] = "maxslice-plan";
-    j["version"] = 1;
+    j["version"] = 2;
     j["units"] = {{"length", "mm"},
                   {"angle", "deg"},
                   {"wire_points", "mm in the layer plane's (u, v) frame"}};
@@ -415,8 +414,7 @@ std::string plan_json(const PlannedPart& planned, const PreparedPart& part) {
                     {"tilts_wanted", p.tilt_wanted_count()},
                     {"tilted_layers", p.tilted_layer_count()},
                     {"unsupported_layers", p.unsupported_layers.size()},
-                    {"plan_volume_mm3", p.volume_mm3()},
-                    {"seconds", planned.seconds}};
+                    {"plan_volume_mm3", p.volume_mm3()}};
     ordered_json regions = ordered_json::array();
     for (const plan::Region& r : p.regions) {
         ordered_json cell = ordered_json::array();

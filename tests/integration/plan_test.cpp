@@ -39,7 +39,7 @@ fs::path reference_profile() {
 void check_plan_file(const fs::path& file) {
     const nlohmann::json j = nlohmann::json::parse(slurp(file));
     EXPECT_EQ(j.at("format"), "maxslice-plan");
-    EXPECT_EQ(j.at("version"), 1);
+    EXPECT_EQ(j.at("version"), 2);
     const auto& layers = j.at("layers");
     const auto& regions = j.at("regions");
     ASSERT_GE(regions.size(), 1u);
@@ -147,6 +147,20 @@ TEST(PlanCli, ExampleWithEveryExport) {
         EXPECT_EQ(svg.rfind("<svg", 0), 0u) << name;
         EXPECT_NE(svg.find("<path"), std::string::npos) << name;
     }
+}
+
+TEST(PlanCli, ThePlanFileIsTheSameBytesForAnyThreadCount) {
+    // No wall-clock time or other run-dependent byte in the file (docs/plan-format.md).
+    const fs::path dir = temp_dir("same_bytes");
+    for (const std::string t : {"1", "2", "0"}) {
+        const CliRun r = run_cli({"plan", kExample.string(), "--threads", t, "--plan",
+                                  (dir / ("t" + t + ".json")).string()});
+        ASSERT_EQ(r.exit_code, 0) << r.err;
+    }
+    const std::string one = slurp(dir / "t1.json");
+    EXPECT_GT(one.size(), 10000u);
+    EXPECT_EQ(one, slurp(dir / "t2.json"));
+    EXPECT_EQ(one, slurp(dir / "t0.json"));
 }
 
 TEST(PlanCli, OrientAutoListsItsCandidates) {
