@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -122,6 +123,20 @@ TEST(Cli, SliceWritesJsonAndSvgsThatAgreeWithThePart) {
     EXPECT_NE(svg.find("<path"), std::string::npos);
     EXPECT_NE(slurp(dir / "sheet.svg").find("</svg>"), std::string::npos);
 }
+
+#if defined(MAXSLICE_WITH_MIMALLOC)
+TEST(Cli, TheProgramRunsOnMimallocWithHugePages) {
+    // Decision 0018: the options are set before mimalloc starts (the program's
+    // .preinit_array); set any later, they are ignored without a word. Its own report says
+    // which are in force.
+    ASSERT_EQ(::setenv("MIMALLOC_VERBOSE", "1", 1), 0);
+    const CliRun r = run_cli({"info", kExample.string()});
+    ::unsetenv("MIMALLOC_VERBOSE");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.err.find("mimalloc: option 'large_os_pages': 1"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("mimalloc: option 'eager_commit_delay': 0"), std::string::npos) << r.err;
+}
+#endif
 
 TEST(Cli, SameBytesForAnyThreadCount) {
     const fs::path dir = temp_dir("determinism");
