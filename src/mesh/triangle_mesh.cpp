@@ -126,6 +126,7 @@ public:
     // Adds the whole triangles of xyz (9 numbers each) after those added before.
     void add(std::span<const Real> xyz) {
         const std::size_t corners = xyz.size() / 9 * 3;
+        if (corners == 0) return;
         MAXSLICE_ASSERT(done_ + corners <= mesh_.triangles.size() * 3);
         auto key_of = [&](std::size_t c, Bits(&k)[3]) {
             std::memcpy(k, xyz.data() + 3 * c, sizeof(k));
@@ -306,8 +307,7 @@ struct BlockWelder::Impl {
     Welder<float> welder;
 };
 
-BlockWelder::BlockWelder(std::size_t triangles)
-    : impl_(std::make_unique<Impl>(std::max<std::size_t>(triangles, 1))) {}
+BlockWelder::BlockWelder(std::size_t triangles) : impl_(std::make_unique<Impl>(triangles)) {}
 BlockWelder::~BlockWelder() = default;
 BlockWelder::BlockWelder(BlockWelder&&) noexcept = default;
 BlockWelder& BlockWelder::operator=(BlockWelder&&) noexcept = default;

@@ -48,6 +48,16 @@ double footing_zone_mm(const PlanSettings& s) {
     return s.footing_mm + look_back_layers(s) * s.layer_mm + kFootingSlackMm;
 }
 
+// The neighbour analysis the planner's walk and the planar check both run.
+AnalysisSettings analysis_settings(const PlanSettings& s) {
+    AnalysisSettings a;
+    a.track_width_mm = s.track_width_mm;
+    a.self_supporting_deg = s.self_supporting_deg;
+    a.min_piece_area_mm2 =
+        s.min_piece_area_mm2 > 0.0 ? s.min_piece_area_mm2 : s.track_width_mm * s.track_width_mm;
+    return a;
+}
+
 bool steady_area(double area, double below) {
     return std::abs(area - below) <= kTiltAreaChange * below;
 }
@@ -234,14 +244,11 @@ class Planner {
 public:
     Planner(const mesh::TriangleMesh& mesh, const PlanSettings& settings,
             const core::Progress* progress)
-        : mesh_(mesh), s_(settings), progress_(progress) {
-        analysis_.track_width_mm = s_.track_width_mm;
-        analysis_.self_supporting_deg = s_.self_supporting_deg;
-        analysis_.min_piece_area_mm2 = s_.min_piece_area_mm2 > 0.0
-                                           ? s_.min_piece_area_mm2
-                                           : s_.track_width_mm * s_.track_width_mm;
-        look_back_ = look_back_layers(s_);
-    }
+        : mesh_(mesh),
+          s_(settings),
+          progress_(progress),
+          analysis_(analysis_settings(settings)),
+          look_back_(look_back_layers(settings)) {}
 
     core::Result<Plan> run(const core::Vec3d& base_direction) {
         plan_.settings = s_;
@@ -1217,11 +1224,7 @@ core::Result<Plan> plan_part(const mesh::TriangleMesh& mesh, const core::Vec3d& 
 core::Result<PlanarCheck> check_planar(std::span<const slice::Slice> slices,
                                        const PlanSettings& s) {
     if (auto ok = validate(s); !ok) return std::unexpected(ok.error());
-    AnalysisSettings a;
-    a.track_width_mm = s.track_width_mm;
-    a.self_supporting_deg = s.self_supporting_deg;
-    a.min_piece_area_mm2 =
-        s.min_piece_area_mm2 > 0.0 ? s.min_piece_area_mm2 : s.track_width_mm * s.track_width_mm;
+    const AnalysisSettings a = analysis_settings(s);
     const auto k = static_cast<std::size_t>(look_back_layers(s));
     // Per layer: 0 carried, 1 tilt wanted, 2 overhang; and its first overhang piece. Each
     // layer is compared, as the planner's walk does, with the layer right below and with the

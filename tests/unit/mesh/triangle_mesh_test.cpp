@@ -145,6 +145,13 @@ TEST(BlockWelder, BlocksGiveTheWeldOfTheWholeSoup) {
     const TriangleMesh first_ten = std::move(partial).finish();
     EXPECT_EQ(first_ten.triangles,
               std::vector<Triangle>(whole.triangles.begin(), whole.triangles.begin() + 10));
+
+    // No triangles announced and an empty block: an empty mesh.
+    BlockWelder none(0);
+    none.add({});
+    const TriangleMesh nothing = std::move(none).finish();
+    EXPECT_TRUE(nothing.triangles.empty());
+    EXPECT_TRUE(nothing.vertices.empty());
 }
 
 TEST(Measures, UnitCubeVolumeAreaAndBox) {
