@@ -146,6 +146,24 @@ bool find_occupied(const OccupancyPyramid& grid, const Vec3d& origin, double vox
         top += std::max(axis[c] * lo_c, axis[c] * hi_c);
     }
     if (top < region.a_min - kFloorSlack) return false;
+    const Query q{grid,   origin, voxel,
+                  apex,   axis,   std::abs(axis.x) + std::abs(axis.y) + std::abs(axis.z),
+                  region, margin, hit};
+    // The voxel at the middle of the region's axis first: the material under a bead usually
+    // lies right there, and a hit there ends the search in one look. (It lies deep inside the
+    // index box below, which a hit lies in anyway: looking before computing that box changes
+    // nothing but the time.)
+    const BitGrid& fine = grid.fine();
+    const std::array<int, 3> n{fine.nx(), fine.ny(), fine.nz()};
+    const Vec3d mid = apex + axis * (0.5 * (region.a_min + region.a_max));
+    std::array<int, 3> probe{};
+    bool probe_inside = true;
+    for (std::size_t c = 0; c < 3; ++c) {
+        const int ci = static_cast<int>(c);
+        probe[c] = floor_index((mid[ci] - origin[ci]) / voxel);
+        probe_inside = probe_inside && probe[c] >= set_lo[c] && probe[c] <= set_hi[c];
+    }
+    if (probe_inside && q.cell(0, probe[0], probe[1], probe[2])) return true;
     // The region's bounding box: the axis segment widened by r_max across it.
     std::array<double, 3> lo{}, hi{};
     const double reach = region.r_max + margin;
@@ -156,8 +174,6 @@ bool find_occupied(const OccupancyPyramid& grid, const Vec3d& origin, double vox
         lo[static_cast<std::size_t>(c)] = std::min(p0, p1) - across - margin;
         hi[static_cast<std::size_t>(c)] = std::max(p0, p1) + across + margin;
     }
-    const BitGrid& fine = grid.fine();
-    const std::array<int, 3> n{fine.nx(), fine.ny(), fine.nz()};
     std::array<int, 3> i0{}, i1{};
     int span = 1;
     for (std::size_t c = 0; c < 3; ++c) {
@@ -170,20 +186,6 @@ bool find_occupied(const OccupancyPyramid& grid, const Vec3d& origin, double vox
     // Start at the level where the box spans about two cells along its longest side.
     int level = 0;
     while (level + 1 < grid.level_count() && (span >> level) > 2) ++level;
-    const Query q{grid,   origin, voxel,
-                  apex,   axis,   std::abs(axis.x) + std::abs(axis.y) + std::abs(axis.z),
-                  region, margin, hit};
-    // The voxel at the middle of the region's axis first: the material under a bead usually
-    // lies right there, and a hit there ends the search in one look.
-    const Vec3d mid = apex + axis * (0.5 * (region.a_min + region.a_max));
-    std::array<int, 3> probe{};
-    bool probe_inside = true;
-    for (std::size_t c = 0; c < 3; ++c) {
-        const int ci = static_cast<int>(c);
-        probe[c] = floor_index((mid[ci] - origin[ci]) / voxel);
-        probe_inside = probe_inside && probe[c] >= i0[c] && probe[c] <= i1[c];
-    }
-    if (probe_inside && q.cell(0, probe[0], probe[1], probe[2])) return true;
     for (int i = i0[0] >> level; i <= i1[0] >> level; ++i) {
         for (int j = i0[1] >> level; j <= i1[1] >> level; ++j) {
             for (int k = i0[2] >> level; k <= i1[2] >> level; ++k) {
@@ -200,18 +202,23 @@ void fill(OccupancyPyramid& grid, const Vec3d& origin, double voxel, const Slabs
     if (box.empty()) return;
     const BitGrid& fine = grid.fine();
     const double inv_voxel = 1.0 / voxel;
-    const auto index = [&](double x, int axis, int n, bool upper) {
-        // Voxel centres origin + (i + 0.5) v inside [x_lo, x_hi].
-        const double f = (x - origin[axis]) * inv_voxel - 0.5;
+    const auto index = [&](double x, double o, int n, bool upper) {
+        // Voxel centres o + (i + 0.5) v inside [x_lo, x_hi].
+        const double f = (x - o) * inv_voxel - 0.5;
         const int i = upper ? floor_index(f) : ceil_index(f);
         return std::clamp(i, -1, n);
     };
-    const int i0 = std::max(0, index(box.min.x, 0, fine.nx(), false));
-    const int i1 = std::min(fine.nx() - 1, index(box.max.x, 0, fine.nx(), true));
-    const int j0 = std::max(0, index(box.min.y, 1, fine.ny(), false));
-    const int j1 = std::min(fine.ny() - 1, index(box.max.y, 1, fine.ny(), true));
-    // Slabs parallel to z bound each row's y range; only the others are evaluated per column.
-    std::array<const Slabs::Slab*, Slabs::kMax> vertical_slabs{};
+    const int i0 = std::max(0, index(box.min.x, origin.x, fine.nx(), false));
+    const int i1 = std::min(fine.nx() - 1, index(box.max.x, origin.x, fine.nx(), true));
+    const int j0 = std::max(0, index(box.min.y, origin.y, fine.ny(), false));
+    const int j1 = std::min(fine.ny() - 1, index(box.max.y, origin.y, fine.ny(), true));
+    // Slabs parallel to z bound each row's y range (with 1 / n.y once per slab, not per row);
+    // only the others are evaluated per column.
+    struct Vertical {
+        const Slabs::Slab* slab;
+        double inv_ny;  // 0 for a slab across x only
+    };
+    std::array<Vertical, Slabs::kMax> vertical_slabs{};
     std::size_t vertical_count = 0;
     struct Tilted {
         double nx_over_nz, ny_over_nz, lo_over_nz, hi_over_nz;
@@ -220,7 +227,7 @@ void fill(OccupancyPyramid& grid, const Vec3d& origin, double voxel, const Slabs
     std::size_t tilted_count = 0;
     for (const auto& sl : solid.slabs()) {
         if (std::abs(sl.n.z) < 1e-12) {
-            vertical_slabs[vertical_count++] = &sl;
+            vertical_slabs[vertical_count++] = {&sl, std::abs(sl.n.y) < 1e-12 ? 0.0 : 1.0 / sl.n.y};
         } else {
             const double inv = 1.0 / sl.n.z;
             double lo = sl.lo * inv, hi = sl.hi * inv;
@@ -228,30 +235,53 @@ void fill(OccupancyPyramid& grid, const Vec3d& origin, double voxel, const Slabs
             tilted_slabs[tilted_count++] = {sl.n.x * inv, sl.n.y * inv, lo, hi};
         }
     }
-    const std::span<const Slabs::Slab* const> vertical(vertical_slabs.data(), vertical_count);
+    const std::span<const Vertical> vertical(vertical_slabs.data(), vertical_count);
     const std::span<const Tilted> tilted(tilted_slabs.data(), tilted_count);
     // No slab's bound on z changes along y (a bead laid straight down): rows are blocks.
     const bool level_rows = std::all_of(tilted.begin(), tilted.end(),
                                         [](const Tilted& t) { return t.ny_over_nz == 0.0; });
+    // Neighbouring rows that set the same columns and bits (a bead along x) are set as one
+    // rectangle, the pyramid above it once; the set box grows once, at the end.
+    std::array<int, 3> set_lo{INT32_MAX, INT32_MAX, INT32_MAX};
+    std::array<int, 3> set_hi{-1, -1, -1};
+    struct Rect {
+        int i0 = 0, i1 = -2, j0 = 0, j1 = 0, k0 = 0, k1 = 0;
+    } rect;
+    const auto flush = [&] {
+        if (rect.i1 < rect.i0) return;
+        grid.set_cells(rect.i0, rect.i1, rect.j0, rect.j1, rect.k0, rect.k1);
+        set_lo = {std::min(set_lo[0], rect.i0), std::min(set_lo[1], rect.j0),
+                  std::min(set_lo[2], rect.k0)};
+        set_hi = {std::max(set_hi[0], rect.i1), std::max(set_hi[1], rect.j1),
+                  std::max(set_hi[2], rect.k1)};
+        rect.i1 = rect.i0 - 1;
+    };
+    const auto set = [&](int i, int ja, int jb, int k0, int k1) {
+        if (i == rect.i1 + 1 && ja == rect.j0 && jb == rect.j1 && k0 == rect.k0 && k1 == rect.k1) {
+            rect.i1 = i;
+            return;
+        }
+        flush();
+        rect = {i, i, ja, jb, k0, k1};
+    };
     for (int i = i0; i <= i1; ++i) {
         const double x = origin.x + (i + 0.5) * voxel;
         double y_lo = box.min.y, y_hi = box.max.y;
         bool empty = false;
-        for (const auto* sl : vertical) {
+        for (const auto& [sl, inv] : vertical) {
             const double base = sl->n.x * x;
-            if (std::abs(sl->n.y) < 1e-12) {
+            if (inv == 0.0) {
                 if (base < sl->lo || base > sl->hi) empty = true;
                 continue;
             }
-            const double inv = 1.0 / sl->n.y;
             double a = (sl->lo - base) * inv, b = (sl->hi - base) * inv;
             if (a > b) std::swap(a, b);
             y_lo = std::max(y_lo, a);
             y_hi = std::min(y_hi, b);
         }
         if (empty || y_lo > y_hi) continue;
-        const int ja = std::max(j0, index(y_lo, 1, fine.ny(), false));
-        const int jb = std::min(j1, index(y_hi, 1, fine.ny(), true));
+        const int ja = std::max(j0, index(y_lo, origin.y, fine.ny(), false));
+        const int jb = std::min(j1, index(y_hi, origin.y, fine.ny(), true));
         if (ja <= jb && level_rows) {
             // Every column of the row gets the same z interval: one block.
             double t0 = box.min.z, t1 = box.max.z;
@@ -261,9 +291,9 @@ void fill(OccupancyPyramid& grid, const Vec3d& origin, double voxel, const Slabs
                 t1 = std::min(t1, sl.hi_over_nz - base);
             }
             if (t0 > t1) continue;
-            const int k0 = std::max(0, index(t0, 2, fine.nz(), false));
-            const int k1 = std::min(fine.nz() - 1, index(t1, 2, fine.nz(), true));
-            if (k0 <= k1) grid.set_block(i, ja, jb, k0, k1);
+            const int k0 = std::max(0, index(t0, origin.z, fine.nz(), false));
+            const int k1 = std::min(fine.nz() - 1, index(t1, origin.z, fine.nz(), true));
+            if (k0 <= k1) set(i, ja, jb, k0, k1);
             continue;
         }
         for (int j = ja; j <= jb; ++j) {
@@ -276,11 +306,13 @@ void fill(OccupancyPyramid& grid, const Vec3d& origin, double voxel, const Slabs
                 t1 = std::min(t1, sl.hi_over_nz - base);
             }
             if (t0 > t1) continue;
-            const int k0 = std::max(0, index(t0, 2, fine.nz(), false));
-            const int k1 = std::min(fine.nz() - 1, index(t1, 2, fine.nz(), true));
-            if (k0 <= k1) grid.set_run(i, j, k0, k1);
+            const int k0 = std::max(0, index(t0, origin.z, fine.nz(), false));
+            const int k1 = std::min(fine.nz() - 1, index(t1, origin.z, fine.nz(), true));
+            if (k0 <= k1) set(i, j, j, k0, k1);
         }
     }
+    flush();
+    if (set_lo[0] <= set_hi[0]) grid.extend_set_box(set_lo, set_hi);
 }
 
 }  // namespace maxslice::verify::detail

@@ -15,12 +15,18 @@
 namespace maxslice::verify::detail {
 
 /// floor / ceil of a grid coordinate as an int, saturated far outside any grid (a program may
-/// send the tool anywhere).
+/// send the tool anywhere). The conversion truncates toward zero and is corrected by one: the
+/// same value as std::floor / std::ceil, without a call into libm (the verifier takes several
+/// per voxel row).
 [[nodiscard]] inline int floor_index(double f) {
-    return static_cast<int>(std::floor(std::clamp(f, -4.0, 1.0e9)));
+    const double c = std::clamp(f, -4.0, 1.0e9);
+    const int t = static_cast<int>(c);
+    return static_cast<double>(t) > c ? t - 1 : t;
 }
 [[nodiscard]] inline int ceil_index(double f) {
-    return static_cast<int>(std::ceil(std::clamp(f, -4.0, 1.0e9)));
+    const double c = std::clamp(f, -4.0, 1.0e9);
+    const int t = static_cast<int>(c);
+    return static_cast<double>(t) < c ? t + 1 : t;
 }
 
 /// A grid of bits. A word holds 64 voxels of one (i, j) column along z; the words of one
@@ -48,7 +54,11 @@ public:
     /// Sets bits k0..k1 (inclusive) of the columns (i, j0) to (i, j1); returns whether every
     /// one of them was set already.
     bool set_block(int i, int j0, int j1, int k0, int k1) {
-        std::uint64_t* row = &bits_[word(i, j0, k0)];
+        return set_rect(i, i, j0, j1, k0, k1);
+    }
+    /// Sets bits k0..k1 (inclusive) of the columns (i0..i1, j0..j1); returns whether every one
+    /// of them was set already.
+    bool set_rect(int i0, int i1, int j0, int j1, int k0, int k1) {
         const std::size_t n = static_cast<std::size_t>(j1 - j0) + 1;
         std::uint64_t missing = 0;
         int k = k0;
@@ -58,13 +68,15 @@ public:
             const std::uint64_t mask =
                 (hi == 63 ? ~std::uint64_t{0} : ((std::uint64_t{1} << (hi + 1)) - 1)) &
                 ~((std::uint64_t{1} << lo) - 1);
-            for (std::size_t j = 0; j < n; ++j) {
-                missing |= mask & ~row[j];
-                row[j] |= mask;
+            std::uint64_t* row = &bits_[word(i0, j0, k)];
+            for (int i = i0; i <= i1; ++i, row += ny_) {
+                for (std::size_t j = 0; j < n; ++j) {
+                    missing |= mask & ~row[j];
+                    row[j] |= mask;
+                }
             }
             k += hi - lo + 1;
             if (k > k1) return missing == 0;
-            row += plane_;
         }
     }
     /// Every word; two grids of the same size match word for word.
@@ -110,21 +122,34 @@ public:
 
     /// Sets bits k0..k1 (inclusive) of the fine columns (i, j0) to (i, j1), and the pyramid.
     void set_block(int i, int j0, int j1, int k0, int k1) {
-        set_lo_ = {std::min(set_lo_[0], i), std::min(set_lo_[1], j0), std::min(set_lo_[2], k0)};
-        set_hi_ = {std::max(set_hi_[0], i), std::max(set_hi_[1], j1), std::max(set_hi_[2], k1)};
-        levels_.front().set_block(i, j0, j1, k0, k1);
+        extend_set_box({i, j0, k0}, {i, j1, k1});
+        set_cells(i, i, j0, j1, k0, k1);
+    }
+    void set_run(int i, int j, int k0, int k1) { set_block(i, j, j, k0, k1); }
+
+    /// Sets the fine columns (i0..i1, j0..j1), bits k0..k1, and the pyramid, but not the set
+    /// box: for a caller that sets many blocks and then extends the box once by their bounds
+    /// (it must, before the next query).
+    void set_cells(int i0, int i1, int j0, int j1, int k0, int k1) {
+        levels_.front().set_rect(i0, i1, j0, j1, k0, k1);
         // A coarse cell already set has every coarser cell above it set: stop at the first
         // level where the block was set already (neighbouring calls share their coarse cells).
         for (std::size_t l = 1; l < levels_.size(); ++l) {
-            i >>= 1;
+            i0 >>= 1;
+            i1 >>= 1;
             j0 >>= 1;
             j1 >>= 1;
             k0 >>= 1;
             k1 >>= 1;
-            if (levels_[l].set_block(i, j0, j1, k0, k1)) break;
+            if (levels_[l].set_rect(i0, i1, j0, j1, k0, k1)) break;
         }
     }
-    void set_run(int i, int j, int k0, int k1) { set_block(i, j, j, k0, k1); }
+    void extend_set_box(const std::array<int, 3>& lo, const std::array<int, 3>& hi) {
+        for (std::size_t c = 0; c < 3; ++c) {
+            set_lo_[c] = std::min(set_lo_[c], lo[c]);
+            set_hi_[c] = std::max(set_hi_[c], hi[c]);
+        }
+    }
 
 private:
     std::vector<BitGrid> levels_;

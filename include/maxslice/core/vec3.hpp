@@ -43,6 +43,16 @@ struct Vec3d {
     return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z);
 }
 
+/// std::fmin / std::fmax (a NaN argument is ignored; of two equal values the second is
+/// returned, as glibc's minsd / maxsd do on x86-64) written out: at the baseline x86-64 ISA
+/// GCC calls into libm for std::fmin, and boxes are grown once per corner in hot loops.
+[[nodiscard]] inline double fmin_inline(double a, double b) {
+    return (a < b || b != b) ? a : b;
+}
+[[nodiscard]] inline double fmax_inline(double a, double b) {
+    return (a > b || b != b) ? a : b;
+}
+
 /// An axis-aligned box; empty until a point is added.
 struct Box3d {
     Vec3d min{INFINITY, INFINITY, INFINITY};
@@ -50,8 +60,8 @@ struct Box3d {
 
     [[nodiscard]] bool empty() const { return min.x > max.x; }
     void add(const Vec3d& p) {
-        min = {std::fmin(min.x, p.x), std::fmin(min.y, p.y), std::fmin(min.z, p.z)};
-        max = {std::fmax(max.x, p.x), std::fmax(max.y, p.y), std::fmax(max.z, p.z)};
+        min = {fmin_inline(min.x, p.x), fmin_inline(min.y, p.y), fmin_inline(min.z, p.z)};
+        max = {fmax_inline(max.x, p.x), fmax_inline(max.y, p.y), fmax_inline(max.z, p.z)};
     }
     void add(const Box3d& b) {
         if (!b.empty()) {

@@ -36,7 +36,8 @@ Vec3d random_unit(std::mt19937& rng) {
 }
 
 // A box with edges along t, s = d x t and d: the shape of a bead piece. Half of them have d
-// straight up, as in a planar layer (the fill's row-at-once path).
+// straight up, as in a planar layer (the fill's row-at-once path); a third of those run along
+// x or y (rows that set the same columns, which the fill sets as one rectangle).
 struct Box {
     Slabs slabs;
     std::vector<std::pair<Vec3d, std::pair<double, double>>> planes;
@@ -50,7 +51,8 @@ Box random_box(std::mt19937& rng) {
     const Vec3d d = upright ? Vec3d{0, 0, 1} : random_unit(rng);
     Vec3d t;
     if (upright) {
-        const double a = ang(rng);
+        const int quarter = std::uniform_int_distribution<int>(0, 11)(rng);
+        const double a = quarter < 4 ? 0.5 * std::numbers::pi * quarter : ang(rng);
         t = {std::cos(a), std::sin(a), 0.0};
     } else {
         const Vec3d other = std::abs(d.x) < 0.9 ? Vec3d{1, 0, 0} : Vec3d{0, 1, 0};
