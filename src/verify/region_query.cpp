@@ -256,13 +256,19 @@ void fill(OccupancyPyramid& grid, const Vec3d& origin, double voxel, const Slabs
                   std::max(set_hi[2], rect.k1)};
         rect.i1 = rect.i0 - 1;
     };
-    const auto set = [&](int i, int ja, int jb, int k0, int k1) {
+    const auto set_row = [&](int i, int ja, int jb, int k0, int k1) {
         if (i == rect.i1 + 1 && ja == rect.j0 && jb == rect.j1 && k0 == rect.k0 && k1 == rect.k1) {
             rect.i1 = i;
             return;
         }
         flush();
         rect = {i, i, ja, jb, k0, k1};
+    };
+    // A column of its own (the z interval changes along the row): set at once.
+    const auto set_column = [&](int i, int j, int k0, int k1) {
+        grid.set_cells(i, i, j, j, k0, k1);
+        set_lo = {std::min(set_lo[0], i), std::min(set_lo[1], j), std::min(set_lo[2], k0)};
+        set_hi = {std::max(set_hi[0], i), std::max(set_hi[1], j), std::max(set_hi[2], k1)};
     };
     for (int i = i0; i <= i1; ++i) {
         const double x = origin.x + (i + 0.5) * voxel;
@@ -293,7 +299,7 @@ void fill(OccupancyPyramid& grid, const Vec3d& origin, double voxel, const Slabs
             if (t0 > t1) continue;
             const int k0 = std::max(0, index(t0, origin.z, fine.nz(), false));
             const int k1 = std::min(fine.nz() - 1, index(t1, origin.z, fine.nz(), true));
-            if (k0 <= k1) set(i, ja, jb, k0, k1);
+            if (k0 <= k1) set_row(i, ja, jb, k0, k1);
             continue;
         }
         for (int j = ja; j <= jb; ++j) {
@@ -308,7 +314,7 @@ void fill(OccupancyPyramid& grid, const Vec3d& origin, double voxel, const Slabs
             if (t0 > t1) continue;
             const int k0 = std::max(0, index(t0, origin.z, fine.nz(), false));
             const int k1 = std::min(fine.nz() - 1, index(t1, origin.z, fine.nz(), true));
-            if (k0 <= k1) set(i, j, j, k0, k1);
+            if (k0 <= k1) set_column(i, j, k0, k1);
         }
     }
     flush();

@@ -53,9 +53,7 @@ public:
     void set_run(int i, int j, int k0, int k1) { set_block(i, j, j, k0, k1); }
     /// Sets bits k0..k1 (inclusive) of the columns (i, j0) to (i, j1); returns whether every
     /// one of them was set already.
-    bool set_block(int i, int j0, int j1, int k0, int k1) {
-        return set_rect(i, i, j0, j1, k0, k1);
-    }
+    bool set_block(int i, int j0, int j1, int k0, int k1) { return set_rect(i, i, j0, j1, k0, k1); }
     /// Sets bits k0..k1 (inclusive) of the columns (i0..i1, j0..j1); returns whether every one
     /// of them was set already.
     bool set_rect(int i0, int i1, int j0, int j1, int k0, int k1) {
