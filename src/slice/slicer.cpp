@@ -55,17 +55,15 @@ std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
     return (static_cast<std::uint64_t>(lo) << 32) | hi;
 }
 
-struct alignas(32) VertexInPlane {
-    double h, u, v;  // height along the normal, in-plane coordinates (mm)
-};
-
-// Per-mesh data shared by all planes: vertex heights along the normal and in-plane
-// coordinates (mm), and for each plane (in sorted order) the segments of the triangles that
-// cross it, in triangle order: plane k's are segs[bucket_begin[k], bucket_begin[k + 1]).
+// Per-mesh data shared by all planes: vertex heights along the normal (mm), and for each
+// plane (in sorted order) the segments of the triangles that cross it, in triangle order:
+// plane k's are segs[bucket_begin[k], bucket_begin[k + 1]). In-plane coordinates are
+// computed only for the vertices of crossed edges (most vertices of a large mesh lie on no
+// crossed edge; a table of them would be the largest array of the cut).
 struct CutContext {
     const mesh::TriangleMesh* mesh = nullptr;
-    std::vector<double> height;         // dense, for bucketing
-    std::vector<VertexInPlane> vertex;  // one cache line per vertex, for the segments
+    PlaneFrame base;
+    std::unique_ptr<double[]> height;  // uninitialised until written
     std::vector<double> sorted_heights;
     std::vector<std::size_t> bucket_begin;  // size planes + 1
     std::unique_ptr<Segment[]> segs;        // uninitialised until written: no zeroing pass
@@ -75,11 +73,14 @@ struct CutContext {
 // from the lower vertex id to the higher one so both triangles of the edge get equal bits.
 Point2 crossing(const CutContext& ctx, std::uint32_t a, std::uint32_t b, double h) {
     if (a > b) std::swap(a, b);
-    const VertexInPlane& pa = ctx.vertex[a];
-    const VertexInPlane& pb = ctx.vertex[b];
-    const double t = (h - pa.h) / (pb.h - pa.h);
-    const double u = pa.u + (pb.u - pa.u) * t;
-    const double v = pa.v + (pb.v - pa.v) * t;
+    const core::Vec3d da = ctx.mesh->vertices[a] - ctx.base.origin;
+    const core::Vec3d db = ctx.mesh->vertices[b] - ctx.base.origin;
+    const double ha = ctx.height[a], hb = ctx.height[b];
+    const double ua = core::dot(da, ctx.base.u), va = core::dot(da, ctx.base.v);
+    const double ub = core::dot(db, ctx.base.u), vb = core::dot(db, ctx.base.v);
+    const double t = (h - ha) / (hb - ha);
+    const double u = ua + (ub - ua) * t;
+    const double v = va + (vb - va) * t;
     return {core::mm_to_um(u), core::mm_to_um(v)};
 }
 
@@ -94,7 +95,7 @@ Segment segment_of(const CutContext& ctx, const std::array<std::uint32_t, 3>& tr
     for (int e = 0; e < 3; ++e) {
         const std::uint32_t a = tri[static_cast<std::size_t>(e)];
         const std::uint32_t b = tri[static_cast<std::size_t>((e + 1) % 3)];
-        const bool above_a = ctx.vertex[a].h > h, above_b = ctx.vertex[b].h > h;
+        const bool above_a = ctx.height[a] > h, above_b = ctx.height[b] > h;
         if (above_a && !above_b) {
             fa = a, fb = b;
         } else if (!above_a && above_b) {
@@ -109,15 +110,14 @@ core::Result<CutContext> prepare(const mesh::TriangleMesh& mesh, const PlaneFram
                                  std::span<const double> heights) {
     CutContext ctx;
     ctx.mesh = &mesh;
+    ctx.base = base;
     const std::size_t nv = mesh.vertices.size();
-    ctx.height.resize(nv);
-    ctx.vertex.resize(nv);
+    ctx.height = std::make_unique_for_overwrite<double[]>(nv);
     std::atomic<bool> finite{true};
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nv, 1 << 14), [&](const auto& r) {
         for (std::size_t i = r.begin(); i != r.end(); ++i) {
             const core::Vec3d d = mesh.vertices[i] - base.origin;
             ctx.height[i] = core::dot(d, base.normal);
-            ctx.vertex[i] = {ctx.height[i], core::dot(d, base.u), core::dot(d, base.v)};
             if (!core::is_finite(mesh.vertices[i])) finite.store(false);
         }
     });
@@ -164,12 +164,25 @@ core::Result<CutContext> prepare(const mesh::TriangleMesh& mesh, const PlaneFram
         while (k < np && hs[k] < x) ++k;
         return static_cast<std::uint32_t>(k);
     };
+    // Plane range [k0, k1) of triangle t; empty for a triangle with a repeated vertex (its
+    // crossing edges are one edge: no segment). k1 = lower_bound(max) >= k0 is found by a
+    // scan from k0: most triangles cross no plane, and one that crosses several has as many
+    // segments to make. Computed in both passes below rather than stored (two arrays the size
+    // of the mesh, written once and read once).
+    const auto planes_of = [&](std::size_t t) -> std::pair<std::uint32_t, std::uint32_t> {
+        const auto& tri = mesh.triangles[t];
+        if (tri[0] == tri[1] || tri[1] == tri[2] || tri[2] == tri[0]) return {0, 0};
+        const double a = ctx.height[tri[0]], b = ctx.height[tri[1]], e = ctx.height[tri[2]];
+        const double hi = std::max({a, b, e});
+        const std::uint32_t k0 = lower_bound(std::min({a, b, e}));
+        std::uint32_t k = k0;
+        while (k < np && hs[k] < hi) ++k;
+        return {k0, k};
+    };
     // Counting sort of (plane, triangle) pairs, in parallel over fixed chunks of triangles:
     // each chunk counts its triangles per plane, and a chunk's segments of a plane go after
     // those of the chunks before it, so every plane lists its segments in triangle order
-    // whatever the number of chunks or threads. A triangle with a repeated vertex has no
-    // segment (its crossing edges are one edge) and is left out here.
-    std::vector<std::uint32_t> k0(nt), k1(nt);
+    // whatever the number of chunks or threads.
     const std::size_t chunk = std::max<std::size_t>(std::size_t{1} << 15, (nt + 63) / 64);
     const std::size_t chunks = (nt + chunk - 1) / chunk;
     // counts[c * (np + 1) + k]: chunk c's triangles that cross plane k (first as differences).
@@ -177,20 +190,9 @@ core::Result<CutContext> prepare(const mesh::TriangleMesh& mesh, const PlaneFram
     tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
         std::uint32_t* d = counts.data() + c * (np + 1);
         for (std::size_t t = c * chunk, end = std::min(nt, t + chunk); t < end; ++t) {
-            const auto& tri = mesh.triangles[t];
-            if (tri[0] == tri[1] || tri[1] == tri[2] || tri[2] == tri[0]) {
-                k0[t] = k1[t] = 0;
-                continue;
-            }
-            const double a = ctx.height[tri[0]], b = ctx.height[tri[1]], e = ctx.height[tri[2]];
-            const double hi = std::max({a, b, e});
-            // k1 = lower_bound(hi) >= k0, found by a scan from k0: most triangles cross no
-            // plane, and one that crosses several has as many segments to make.
-            std::uint32_t k = k0[t] = lower_bound(std::min({a, b, e}));
-            while (k < np && hs[k] < hi) ++k;
-            k1[t] = k;
-            ++d[k0[t]];
-            --d[k1[t]];
+            const auto [k0, k1] = planes_of(t);
+            ++d[k0];
+            --d[k1];
         }
         std::uint32_t run = 0;
         for (std::size_t k = 0; k <= np; ++k) d[k] = run += d[k];
@@ -210,7 +212,8 @@ core::Result<CutContext> prepare(const mesh::TriangleMesh& mesh, const PlaneFram
     tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
         std::size_t* fill = offsets.data() + c * (np + 1);
         for (std::size_t t = c * chunk, end = std::min(nt, t + chunk); t < end; ++t) {
-            for (std::uint32_t k = k0[t]; k < k1[t]; ++k) {
+            const auto [k0, k1] = planes_of(t);
+            for (std::uint32_t k = k0; k < k1; ++k) {
                 ctx.segs[fill[k]++] = segment_of(ctx, mesh.triangles[t], hs[k]);
             }
         }
