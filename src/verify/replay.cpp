@@ -33,10 +33,10 @@ bool is_alpha(char c) {
     return std::isalpha(static_cast<unsigned char>(c)) != 0;
 }
 
-// Upper case, runs of blanks as one space, no blanks at either end.
-std::string normalize(std::string_view s) {
-    std::string out;
-    out.reserve(s.size());
+// Upper case, runs of blanks as one space, no blanks at either end; into `out` (a buffer
+// reused from line to line).
+void normalize_into(std::string_view s, std::string& out) {
+    out.clear();
     for (char c : s) {
         if (is_space(c)) {
             if (!out.empty() && out.back() != ' ') out += ' ';
@@ -45,6 +45,10 @@ std::string normalize(std::string_view s) {
         }
     }
     while (!out.empty() && out.back() == ' ') out.pop_back();
+}
+std::string normalize(std::string_view s) {
+    std::string out;
+    normalize_into(s, out);
     return out;
 }
 
@@ -119,10 +123,26 @@ bool match_template(const TemplateLine& t, std::string_view line, double power_m
     return j == line.size();
 }
 
+// The G or M codes of one block, in place (a block is read per line of the program). RS-274
+// allows one code per modal group, and there are fewer groups than kMax.
+template <class T>
+struct Codes {
+    static constexpr std::size_t kMax = 16;
+    std::array<T, kMax> code{};
+    std::size_t count = 0;
+    [[nodiscard]] bool push(T c) {
+        if (count == kMax) return false;
+        code[count++] = c;
+        return true;
+    }
+    [[nodiscard]] const T* begin() const { return code.data(); }
+    [[nodiscard]] const T* end() const { return code.data() + count; }
+};
+
 struct Words {
     std::array<std::optional<double>, 26> value;  // by letter
-    std::vector<double> g;                        // G codes in the block
-    std::vector<int> m;                           // M codes
+    Codes<double> g;                              // G codes in the block
+    Codes<int> m;                                 // M codes
     bool traori = false;
     bool trafoof = false;
 
@@ -212,9 +232,11 @@ private:
             set_laser(*power > profiles_.process.laser_power_off_w + kPowerOnMarginW, out);
             block = block.substr(p);
         }
-        auto stripped = strip_comments(block, line_no);
-        if (!stripped) return std::unexpected(stripped.error());
-        const std::string norm = normalize(*stripped);
+        if (auto ok = strip_comments(block, line_no, stripped_); !ok) {
+            return std::unexpected(ok.error());
+        }
+        normalize_into(stripped_, norm_);
+        const std::string& norm = norm_;
         if (norm.empty()) return {};
         if (dialect_ == ProgramDialect::kFanuc && norm == "%") return {};
         if (match_codes(norm, out)) return {};
@@ -223,12 +245,12 @@ private:
         return apply(*words, line_no, raw, out);
     }
 
-    core::Result<std::string> strip_comments(std::string_view s, int line_no) const {
+    // The block without its comments, into `out` (a buffer reused from line to line).
+    core::Result<void> strip_comments(std::string_view s, int line_no, std::string& out) const {
         const bool parens = dialect_ != ProgramDialect::kSiemens;
         const bool semicolon =
             dialect_ == ProgramDialect::kLinuxCnc || dialect_ == ProgramDialect::kSiemens;
-        std::string out;
-        out.reserve(s.size());
+        out.clear();
         for (std::size_t i = 0; i < s.size(); ++i) {
             if (semicolon && s[i] == ';') break;
             if (parens && s[i] == '(') {
@@ -243,7 +265,7 @@ private:
             }
             out += s[i];
         }
-        return out;
+        return {};
     }
 
     void set_laser(bool on, Replay& out) {
@@ -313,14 +335,19 @@ private:
                     line_no, ErrorCode::kInvalidInput,
                     fmt::format("malformed number after '{}' in block '{}'", letter, s)));
             }
+            const auto too_many = [&] {
+                return std::unexpected(line_error(line_no, ErrorCode::kInvalidInput,
+                                                  fmt::format("more than {} {} codes in block '{}'",
+                                                              Codes<int>::kMax, letter, s)));
+            };
             if (letter == 'G') {
-                w.g.push_back(*v);
+                if (!w.g.push(*v)) return too_many();
             } else if (letter == 'M') {
                 if (*v != std::floor(*v)) {
                     return std::unexpected(line_error(line_no, ErrorCode::kInvalidInput,
                                                       fmt::format("malformed M code in '{}'", s)));
                 }
-                w.m.push_back(static_cast<int>(*v));
+                if (!w.m.push(static_cast<int>(*v))) return too_many();
             } else {
                 auto& slot = w.value[static_cast<std::size_t>(letter - 'A')];
                 if (slot) {
@@ -513,6 +540,7 @@ private:
     bool laser_on_ = false;
     bool tcp_ = false;
     bool ended_ = false;
+    std::string stripped_, norm_;  // the line being read, reused
 };
 
 }  // namespace

@@ -143,6 +143,12 @@ TEST(Replay, ToolCentrePointBlocksAreThePartFrameTipPlusThePivot) {
     }
 }
 
+std::string repeat(const std::string& s, int n) {
+    std::string out;
+    for (int i = 0; i < n; ++i) out += s;
+    return out;
+}
+
 TEST(Replay, MalformedOrUnknownLinesNameTheLine) {
     const machine::Profiles xyz = load("linuxcnc_generic.toml");
     const machine::Profiles gm = load("reference_lmd.toml");
@@ -171,7 +177,14 @@ TEST(Replay, MalformedOrUnknownLinesNameTheLine) {
         {&gm, ProgramDialect::kGm, "0.00 0.00 G21\n0.00 G1 X1\n", 2, "columns"},
         {&gm, ProgramDialect::kGm, "0.00 0.00 G21\n0.00 0.00 G1 X1 Y- F100\n", 2, "malformed"},
         {&gm, ProgramDialect::kGm, "0.00 0.00 G21\n0.00 0.00 G5\n", 2, "G5"},
+        {&xyz, ProgramDialect::kLinuxCnc, "G21\n" + repeat("G90 ", 17) + "\n", 2,
+         "more than 16 G codes"},
+        {&xyz, ProgramDialect::kLinuxCnc, "G21\n" + repeat("M2 ", 17) + "\n", 2,
+         "more than 16 M codes"},
     };
+    // Sixteen codes in one block are read (RS-274 has fewer modal groups than that).
+    EXPECT_TRUE(
+        replay_program("G21\n" + repeat("G90 ", 16) + "\n", xyz, ProgramDialect::kLinuxCnc));
     for (const Case& c : cases) {
         auto r = replay_program(c.text, *c.p, c.d);
         ASSERT_FALSE(r) << c.text;
