@@ -150,9 +150,9 @@ bool find_occupied(const OccupancyPyramid& grid, const Vec3d& origin, double vox
                   apex,   axis,   std::abs(axis.x) + std::abs(axis.y) + std::abs(axis.z),
                   region, margin, hit};
     // The voxel at the middle of the region's axis first: the material under a bead usually
-    // lies right there, and a hit there ends the search in one look. (It lies deep inside the
-    // index box below, which a hit lies in anyway: looking before computing that box changes
-    // nothing but the time.)
+    // lies right there, and a hit there ends the search in one look. A hit there lies inside
+    // the index box computed below (the region's box cut to the set voxels), so looking before
+    // computing that box changes only the time.
     const BitGrid& fine = grid.fine();
     const std::array<int, 3> n{fine.nx(), fine.ny(), fine.nz()};
     const Vec3d mid = apex + axis * (0.5 * (region.a_min + region.a_max));
