@@ -247,13 +247,14 @@ void fill(OccupancyPyramid& grid, const Vec3d& origin, double voxel, const Slabs
     struct Rect {
         int i0 = 0, i1 = -2, j0 = 0, j1 = 0, k0 = 0, k1 = 0;
     } rect;
+    const auto set = [&](const Rect& r) {
+        grid.set_cells(r.i0, r.i1, r.j0, r.j1, r.k0, r.k1);
+        set_lo = {std::min(set_lo[0], r.i0), std::min(set_lo[1], r.j0), std::min(set_lo[2], r.k0)};
+        set_hi = {std::max(set_hi[0], r.i1), std::max(set_hi[1], r.j1), std::max(set_hi[2], r.k1)};
+    };
     const auto flush = [&] {
         if (rect.i1 < rect.i0) return;
-        grid.set_cells(rect.i0, rect.i1, rect.j0, rect.j1, rect.k0, rect.k1);
-        set_lo = {std::min(set_lo[0], rect.i0), std::min(set_lo[1], rect.j0),
-                  std::min(set_lo[2], rect.k0)};
-        set_hi = {std::max(set_hi[0], rect.i1), std::max(set_hi[1], rect.j1),
-                  std::max(set_hi[2], rect.k1)};
+        set(rect);
         rect.i1 = rect.i0 - 1;
     };
     const auto set_row = [&](int i, int ja, int jb, int k0, int k1) {
@@ -265,11 +266,7 @@ void fill(OccupancyPyramid& grid, const Vec3d& origin, double voxel, const Slabs
         rect = {i, i, ja, jb, k0, k1};
     };
     // A column of its own (the z interval changes along the row): set at once.
-    const auto set_column = [&](int i, int j, int k0, int k1) {
-        grid.set_cells(i, i, j, j, k0, k1);
-        set_lo = {std::min(set_lo[0], i), std::min(set_lo[1], j), std::min(set_lo[2], k0)};
-        set_hi = {std::max(set_hi[0], i), std::max(set_hi[1], j), std::max(set_hi[2], k1)};
-    };
+    const auto set_column = [&](int i, int j, int k0, int k1) { set({i, i, j, j, k0, k1}); };
     for (int i = i0; i <= i1; ++i) {
         const double x = origin.x + (i + 0.5) * voxel;
         double y_lo = box.min.y, y_hi = box.max.y;
