@@ -2,6 +2,7 @@
 // Exit codes: 0 success, 2 bad input (unreadable, invalid, unsliceable, bad options),
 // 1 internal error.
 #include <fmt/format.h>
+#include <fmt/printf.h>
 #include <tbb/global_control.h>
 #include <unistd.h>
 #include <CLI/CLI.hpp>
@@ -9,10 +10,13 @@
 #include <mimalloc.h>
 #endif
 
+#include <algorithm>
+#include <charconv>
 #include <chrono>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -89,17 +93,50 @@ void print_warnings(const pipeline::PreparedPart& part) {
     for (const auto& r : part.repairs) std::fprintf(stderr, "maxslice: repaired: %s\n", r.c_str());
 }
 
-void print_timings(const pipeline::StageTimes& t, bool program = false) {
-    std::fprintf(stderr, "timing load %.4f\ntiming validate %.4f\ntiming slice %.4f\n", t.load_s,
-                 t.validate_s, t.slice_s);
+std::string timings_text(const pipeline::StageTimes& t, bool program = false) {
+    std::string out =
+        fmt::format("timing load {:.4f}\ntiming validate {:.4f}\ntiming slice {:.4f}\n", t.load_s,
+                    t.validate_s, t.slice_s);
     if (program)
-        std::fprintf(stderr, "timing paths %.4f\ntiming write %.4f\n", t.paths_s, t.write_s);
-    if (t.verify_s > 0.0) std::fprintf(stderr, "timing verify %.4f\n", t.verify_s);
+        out += fmt::format("timing paths {:.4f}\ntiming write {:.4f}\n", t.paths_s, t.write_s);
+    if (t.verify_s > 0.0) out += fmt::format("timing verify {:.4f}\n", t.verify_s);
+    return out;
+}
+
+void print_timings(const pipeline::StageTimes& t) {
+    std::fputs(timings_text(t).c_str(), stderr);
 }
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
+
+// What a program job prints, kept until the job is done: a job whose process leaves the part
+// under the coverage target is run again with a finer one, and only the run kept is printed
+// (decision 0019). printf-style, as the rest of this file.
+struct Printed {
+    std::string out, err;  // stdout and stderr
+    template <class... A>
+    void print(const char* format, const A&... args) {
+        out += fmt::sprintf(format, args...);
+    }
+    template <class... A>
+    void warn(const char* format, const A&... args) {
+        err += fmt::sprintf(format, args...);
+    }
+    std::string refusal;  // the last error's message up to its first detail
+    // report_error's line and exit code, kept.
+    int error(const core::Error& e) {
+        err += fmt::format("maxslice: error: {}\n", e.describe());
+        refusal = e.message.substr(
+            0, std::min({e.message.find(": "), e.message.find(" ("), e.message.find("; ")}));
+        return e.code == core::ErrorCode::kInternal ? kExitInternal : kExitBadInput;
+    }
+    void flush() const {
+        std::fputs(err.c_str(), stderr);
+        std::fputs(out.c_str(), stdout);
+    }
+};
 
 // A one-line progress bar on stderr, only when stderr is a terminal.
 std::unique_ptr<core::Progress> make_progress() {
@@ -142,6 +179,7 @@ struct SliceOptions {
     std::string svg_dir, contact_sheet, json_file;
     bool allow_overhangs = false;
     bool no_verify = false;
+    std::string finer = "auto";  ///< auto, off, or N: the profile's finer processes (0019)
 };
 
 // The profiles for a program: the files given, or the built-in reference cell, with the
@@ -191,11 +229,11 @@ int write_text_file(const std::string& file, const std::string& text) {
 // A program that deposits nothing is refused (every feature narrower than the track, or a
 // part in other units); one that leaves more than 5% of the section area without a track is
 // written with a loud warning: the program is not the part then.
-int check_tracks(const machine::ProgramSummary& sum, double uncovered_mm2, double area_mm2,
-                 int layers_with_uncovered, const machine::ProcessProfile& process,
+int check_tracks(Printed& o, const machine::ProgramSummary& sum, double uncovered_mm2,
+                 double area_mm2, int layers_with_uncovered, const machine::ProcessProfile& process,
                  const std::string& part) {
     if (sum.laser_on_count == 0) {
-        return report_error(
+        return o.error(
             {core::ErrorCode::kInvalidInput,
              fmt::format("no track fits in any layer: every feature of the part is narrower than "
                          "the {:.2f} mm track (process.track_width_mm), or the part is in other "
@@ -204,12 +242,11 @@ int check_tracks(const machine::ProgramSummary& sum, double uncovered_mm2, doubl
              part});
     }
     if (area_mm2 > 0.0 && uncovered_mm2 > 0.05 * area_mm2) {
-        std::fprintf(stderr,
-                     "maxslice: warning: %.1f%% of the section area gets no track (features "
-                     "narrower than the %.2f mm track, process.track_width_mm); %d layers are "
-                     "affected\n",
-                     100.0 * uncovered_mm2 / area_mm2, process.track_width_mm,
-                     layers_with_uncovered);
+        o.warn(
+            "maxslice: warning: %.1f%% of the section area gets no track (features "
+            "narrower than the %.2f mm track, process.track_width_mm); %d layers are "
+            "affected\n",
+            100.0 * uncovered_mm2 / area_mm2, process.track_width_mm, layers_with_uncovered);
     }
     return kExitOk;
 }
@@ -240,12 +277,12 @@ std::string verifier_counts(const verify::Report& report, bool first = false) {
 }
 
 // Prints the verifier's report of a program it refused and the error.
-int refuse_unverified(const verify::Report& report, const SliceOptions& so) {
-    std::fputs(verify::report_text(report).c_str(), stderr);
-    return report_error({core::ErrorCode::kInvalidInput,
-                         fmt::format("the verifier refused the program {}: nothing written",
-                                     verifier_counts(report)),
-                         so.output});
+int refuse_unverified(Printed& o, const verify::Report& report, const SliceOptions& so) {
+    o.err += verify::report_text(report);
+    return o.error({core::ErrorCode::kInvalidInput,
+                    fmt::format("the verifier refused the program {}: nothing written",
+                                verifier_counts(report)),
+                    so.output});
 }
 
 // The program of the last plan (or planar stack) the orientation search asked about,
@@ -290,46 +327,46 @@ core::Result<std::string> write_and_verify(Written<Planned>& w, const core::Vec3
                   : "the verifier refused its program " + verifier_counts(*w.report, true);
 }
 
-void print_verification(const std::optional<verify::Report>& report, double track_width_mm) {
+void print_verification(Printed& o, const std::optional<verify::Report>& report,
+                        double track_width_mm) {
     if (!report) {
-        std::printf("verified        no (--no-verify)\n");
+        o.print("verified        no (--no-verify)\n");
         return;
     }
-    std::printf(
+    o.print(
         "verified        %zu collisions, %zu unsupported beads, %zu limit violations "
         "(%zu poses, %.3f mm voxels)\n",
         report->collisions.count, report->unsupported.count, report->limit_violations.count,
         report->poses_checked, report->voxel_mm);
-    std::printf("coverage        %.2f%% of the part, excess %.2f%%%s\n", 100.0 * report->coverage,
-                100.0 * report->excess,
-                report->model_open_columns > 0
-                    ? " (estimates: the mesh is not closed, the verifier cannot tell its inside)"
-                    : "");
+    o.print("coverage        %.2f%% of the part, excess %.2f%%%s\n", 100.0 * report->coverage,
+            100.0 * report->excess,
+            report->model_open_columns > 0
+                ? " (estimates: the mesh is not closed, the verifier cannot tell its inside)"
+                : "");
     if (report->below_plate.count > 0) {
-        std::fprintf(stderr,
-                     "maxslice: warning: the head reaches up to %.1f mm below the plate's level "
-                     "in %zu blocks (first: program line %d); the profile models no substrate "
-                     "([machine.substrate], docs/profiles.md): check the plate, clamps and table "
-                     "by hand\n",
-                     report->below_plate_mm, report->below_plate.count,
-                     report->below_plate.first->line);
+        o.warn(
+            "maxslice: warning: the head reaches up to %.1f mm below the plate's level "
+            "in %zu blocks (first: program line %d); the profile models no substrate "
+            "([machine.substrate], docs/profiles.md): check the plate, clamps and table "
+            "by hand\n",
+            report->below_plate_mm, report->below_plate.count, report->below_plate.first->line);
     }
     if (report->coverage < 0.97 && report->model_open_columns == 0) {
         // The bundled fine-track profile (0.80 mm) is the hint while the track is wider.
         constexpr double kFineProfileTrackMm = 0.8;
-        std::fprintf(stderr,
-                     "maxslice: warning: the beads cover %.1f%% of the part's volume (features "
-                     "narrower than the %.2f mm track get no material: %s)\n",
-                     100.0 * report->coverage, track_width_mm,
-                     track_width_mm > kFineProfileTrackMm + 1e-9
-                         ? "a narrower track builds them, e.g. "
-                           "examples/profiles/fine_5axis_ac.toml"
-                         : "a narrower track (process.track_width_mm) builds them; or is the "
-                           "part in other units (--units)?");
+        o.warn(
+            "maxslice: warning: the beads cover %.1f%% of the part's volume (features "
+            "narrower than the %.2f mm track get no material: %s)\n",
+            100.0 * report->coverage, track_width_mm,
+            track_width_mm > kFineProfileTrackMm + 1e-9
+                ? "a narrower track builds them, e.g. "
+                  "examples/profiles/fine_5axis_ac.toml"
+                : "a narrower track (process.track_width_mm) builds them; or is the "
+                  "part in other units (--units)?");
     }
-    std::printf("build time      %.1f min (deposit %.1f, idle %.1f, dwell %.1f; verifier)\n",
-                report->build_time_s / 60.0, report->deposit_time_s / 60.0,
-                report->idle_time_s / 60.0, report->dwell_time_s / 60.0);
+    o.print("build time      %.1f min (deposit %.1f, idle %.1f, dwell %.1f; verifier)\n",
+            report->build_time_s / 60.0, report->deposit_time_s / 60.0, report->idle_time_s / 60.0,
+            report->dwell_time_s / 60.0);
 }
 
 // The orientation policy of a program job: --orient, or the default (the given direction,
@@ -342,47 +379,95 @@ std::optional<pipeline::OrientPolicy> orient_policy(const SliceOptions& so) {
 }
 
 // Says which base direction a job kept when it is not the part as given: a warning and a
-// summary line when the given one could not be built, the summary line with --orient auto.
-void print_orientation(const std::vector<pipeline::OrientTry>& tries, int chosen,
-                       const std::string& program, const std::string& part) {
-    if (tries.empty()) return;
-    const pipeline::OrientTry& kept = tries[static_cast<std::size_t>(chosen)];
-    if (kept.source == "as given") return;
+// summary line when the given one could not be built, the summary line with --orient auto;
+// and how to replay the program when the verifier needs more than the part and the profile
+// (the direction, or the profile's finer process `finer` when it is not 0).
+void print_orientation(Printed& o, const std::vector<pipeline::OrientTry>& tries, int chosen,
+                       const std::string& program, const std::string& part, int finer = 0) {
+    const pipeline::OrientTry* kept =
+        tries.empty() ? nullptr : &tries[static_cast<std::size_t>(chosen)];
     // The program builds the part placed along this direction: the verifier must place the
     // model the same way (shortest round-trip digits: the same placement bit for bit).
     const auto replay = [&] {
-        std::printf(
-            "verify with     maxslice verify %s --model %s --direction %s (and the "
-            "same --profile)\n",
-            program.c_str(), part.c_str(),
-            fmt::format("{},{},{}", kept.direction.x, kept.direction.y, kept.direction.z).c_str());
+        o.print("verify with     maxslice verify %s --model %s%s%s (and the same --profile)\n",
+                program.c_str(), part.c_str(),
+                kept != nullptr && kept->source != "as given"
+                    ? fmt::format(" --direction {},{},{}", kept->direction.x, kept->direction.y,
+                                  kept->direction.z)
+                          .c_str()
+                    : "",
+                finer > 0 ? fmt::format(" --finer {}", finer).c_str() : "");
     };
+    if (kept == nullptr || kept->source == "as given") {
+        if (finer > 0) replay();
+        return;
+    }
     // Axis candidates are named by their direction ("-Z", "+Z (as given)"); flat faces are not.
-    const core::Vec3d& d = kept.direction;
+    const core::Vec3d& d = kept->direction;
     const std::string where =
-        kept.source.starts_with('+') || kept.source.starts_with('-')
-            ? kept.source
-            : fmt::format("({:.4f}, {:.4f}, {:.4f}), {}", d.x, d.y, d.z, kept.source);
+        kept->source.starts_with('+') || kept->source.starts_with('-')
+            ? kept->source
+            : fmt::format("({:.4f}, {:.4f}, {:.4f}), {}", d.x, d.y, d.z, kept->source);
     if (tries.front().source != "as given") {
-        std::printf("orientation     along %s (--orient auto)\n", where.c_str());
+        o.print("orientation     along %s (--orient auto)\n", where.c_str());
         replay();
         return;
     }
     const std::string why = "the part as given cannot be built: " + tries.front().refusal;
-    std::fprintf(stderr,
-                 "maxslice: warning: %s; it is built standing along %s instead (--orient given "
-                 "keeps the file's orientation)\n",
-                 why.c_str(), where.c_str());
-    std::printf("orientation     along %s (%s)\n", where.c_str(), why.c_str());
+    o.warn(
+        "maxslice: warning: %s; it is built standing along %s instead (--orient given "
+        "keeps the file's orientation)\n",
+        why.c_str(), where.c_str());
+    o.print("orientation     along %s (%s)\n", where.c_str(), why.c_str());
     replay();
 }
 
+// What a job came to with one process: the lines it prints, the program to write (rc ==
+// kExitOk), the previews to write, and whether the track was what failed the part
+// (decision 0019): no track fits where the part stands or anywhere, or the program misses
+// the coverage target (97 %) or the excess bound (5 %), so that a finer process may do better.
+struct JobOutcome {
+    int rc = kExitOk;
+    Printed printed;
+    std::string program;
+    std::function<core::Result<void>()> files;  // previews and JSON, when asked for
+    bool track_limited = false;
+    std::string figures;  // "90.77% coverage, 0.05% excess", or why nothing was written
+
+    JobOutcome done(int code) {
+        rc = code;
+        // The refusal's own words, for the note of a job that falls back.
+        if (figures.empty() && rc != kExitOk) figures = "refused: " + printed.refusal;
+        return std::move(*this);
+    }
+
+    // A kept program's figures: whether it misses the target, by the verifier (a closed
+    // model) or, without its report, by the share of the section area without a track.
+    void note_figures(const std::optional<verify::Report>& report, double uncovered_mm2,
+                      double area_mm2) {
+        const double open = area_mm2 > 0.0 ? uncovered_mm2 / area_mm2 : 0.0;
+        if (report) {
+            figures = fmt::format("{:.2f}% coverage, {:.2f}% excess", 100.0 * report->coverage,
+                                  100.0 * report->excess);
+            track_limited = report->model_open_columns == 0 &&
+                            (report->coverage < 0.97 || report->excess >= 0.05);
+        } else {
+            figures = fmt::format("{:.1f}% of the section area without a track", 100.0 * open);
+            track_limited = open > 0.05;
+        }
+    }
+};
+
 // A table-tilt machine: plan the placed part (regions, tilts, splits), order its layers with
-// the nozzle check, turn them into moves and write the 5-axis program.
-int run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
-                        pipeline::PreparedPart& part, const machine::Profiles& profiles,
-                        pipeline::StageTimes& times, const core::Vec3d& given,
-                        pipeline::OrientPolicy policy) {
+// the nozzle check, turn them into moves and make the 5-axis program. `finer`: which of the
+// profile's finer processes `profiles` holds (0: the main one).
+JobOutcome run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
+                               const mesh::TriangleMesh& part, const machine::Profiles& profiles,
+                               pipeline::StageTimes& times, const core::Vec3d& given,
+                               pipeline::OrientPolicy policy, int finer) {
+    JobOutcome r;
+    Printed& o = r.printed;
+    const auto done = [&](int rc) { return r.done(rc); };
     const auto progress = make_progress();
     const std::string name = std::filesystem::path(opt.path).filename().string();
     Written<pipeline::MultiAxisProgram> w;
@@ -403,39 +488,40 @@ int run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
         return refusal;
     };
     auto t0 = std::chrono::steady_clock::now();
-    auto oriented = pipeline::orient_multiaxis(part.imported.mesh, given, policy, profiles,
-                                               progress.get(), check);
-    if (!oriented) return report_error(oriented.error());
-    part.imported.mesh = std::move(oriented->placed);
+    auto oriented =
+        pipeline::orient_multiaxis(part, given, policy, profiles, progress.get(), check);
+    if (!oriented) return done(o.error(oriented.error()));
+    const mesh::TriangleMesh placed = std::move(oriented->placed);
     const pipeline::PlannedPart& planned = oriented->planned;
     times.slice_s = seconds_since(t0) - checks_s;
     const std::string tried = pipeline::other_tries(oriented->tries, oriented->chosen);
     const plan::Plan& plan = planned.plan;
     if (!plan.unsupported_layers.empty()) {
         const plan::Layer& l = plan.layers[static_cast<std::size_t>(plan.unsupported_layers[0])];
-        return report_error({core::ErrorCode::kInvalidInput,
+        return done(o.error({core::ErrorCode::kInvalidInput,
                              fmt::format("{} layers rest on nothing (the first: layer {} in region "
                                          "{}, a body or branch the plan cannot reach from the "
                                          "plate): no program without support is possible{}",
                                          plan.unsupported_layers.size(), l.id, l.region, tried),
-                             opt.path});
+                             opt.path}));
     }
     if (!plan.bare_unsupported_layers.empty()) {
         const plan::Layer& l =
             plan.layers[static_cast<std::size_t>(plan.bare_unsupported_layers.front())];
-        std::fprintf(stderr,
-                     "maxslice: warning: %zu layers where no %.2f mm track fits rest on nothing "
-                     "(the first: layer %d in region %d, %.1f mm2): nothing is laid there, and "
-                     "what stands on them gets tracks only over beads\n",
-                     plan.bare_unsupported_layers.size(), profiles.process.track_width_mm, l.id,
-                     l.region, l.area_mm2);
+        o.warn(
+            "maxslice: warning: %zu layers where no %.2f mm track fits rest on nothing "
+            "(the first: layer %d in region %d, %.1f mm2): nothing is laid there, and "
+            "what stands on them gets tracks only over beads\n",
+            plan.bare_unsupported_layers.size(), profiles.process.track_width_mm, l.id, l.region,
+            l.area_mm2);
     }
     if (!oriented->bare_plate_layers.empty()) {
         const plan::Layer& l =
             plan.layers[static_cast<std::size_t>(oriented->bare_plate_layers.front())];
         const geom2d::Centroid2 c = geom2d::centroid_um(l.wires.paths());
         const core::Vec3d at = l.plane.to_3d({std::llround(c.x), std::llround(c.y)});
-        return report_error(
+        r.track_limited = true;
+        return done(o.error(
             {core::ErrorCode::kInvalidInput,
              fmt::format("the part stands on {} piece(s) where no {:.2f} mm track fits (the first: "
                          "{:.1f} mm2 near ({:.3f}, {:.3f}, {:.3f}), an edge or a tip): nothing can "
@@ -444,67 +530,327 @@ int run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
                          "(process.track_width_mm){}",
                          oriented->bare_plate_layers.size(), profiles.process.track_width_mm,
                          l.area_mm2, at.x, at.y, at.z, tried),
-             opt.path});
+             opt.path}));
     }
     if (!planned.order->complete()) {
         const plan::Conflict& c = planned.order->conflicts.front();
-        return report_error(
-            {core::ErrorCode::kInvalidInput,
-             fmt::format("no collision-free build order exists with this nozzle ({} "
-                         "conflicts), so no program is written: {}. See the partial order: "
-                         "maxslice plan PART --profile FILE --plan plan.json{}",
-                         planned.order->conflicts.size(), c.reason, tried),
-             opt.path});
+        return done(
+            o.error({core::ErrorCode::kInvalidInput,
+                     fmt::format("no collision-free build order exists with this nozzle ({} "
+                                 "conflicts), so no program is written: {}. See the partial order: "
+                                 "maxslice plan PART --profile FILE --plan plan.json{}",
+                                 planned.order->conflicts.size(), c.reason, tried),
+                     opt.path}));
     }
-    print_orientation(oriented->tries, oriented->chosen, so.output, opt.path);
+    print_orientation(o, oriented->tries, oriented->chosen, so.output, opt.path, finer);
     // The search stops at the first plan it keeps, so `w` is that plan's program; otherwise
     // (nothing kept: the given plan comes back with its refusal) it is made again here.
     if (!w.kept) {
         auto again = check(oriented->tries[static_cast<std::size_t>(oriented->chosen)].direction,
-                           part.imported.mesh, planned);
-        if (!again) return report_error(again.error());
+                           placed, planned);
+        if (!again) return done(o.error(again.error()));
     }
     times.paths_s = w.paths_s;
     times.write_s = w.write_s;
     times.verify_s = w.verify_s;
     const pipeline::MultiAxisProgram* p = &*w.program;
-    if (const int rc = check_tracks(p->summary, p->uncovered_mm2, p->region_area_mm2,
+    if (const int rc = check_tracks(o, p->summary, p->uncovered_mm2, p->region_area_mm2,
                                     p->layers_with_uncovered, profiles.process, opt.path);
         rc != kExitOk) {
-        return rc;
+        r.track_limited = p->summary.laser_on_count == 0;
+        return done(rc);
     }
-    if (!w.kept) return refuse_unverified(*w.report, so);
+    if (!w.kept) return done(refuse_unverified(o, *w.report, so));
     const std::optional<verify::Report>& report = w.report;
-    if (const int rc = write_text_file(so.output, w.text); rc != kExitOk) return rc;
+    r.program = std::move(w.text);
+    r.note_figures(report, p->uncovered_mm2, p->region_area_mm2);
 
     const auto& sum = p->summary;
-    std::printf("regions         %zu (%d splits), %zu layers (%d tilted)\n", plan.regions.size(),
-                plan.split_count(), plan.layers.size(), plan.tilted_layer_count());
-    std::fputs(pipeline::footing_line(plan.footing).c_str(), stdout);
-    std::printf("build order     %d jumps (fewest %d), %zu sections, %d section travels\n",
-                planned.order->jumps, planned.order->min_jumps, planned.order->sections.size(),
-                p->section_changes);
-    std::printf("program         %s (%s, %s, %zu moves)\n", so.output.c_str(),
-                std::string(machine::dialect_name(profiles.machine.dialect)).c_str(),
-                std::string(machine::kinematics_name(profiles.machine.kinematics)).c_str(),
-                sum.move_count);
-    std::printf("deposition      %.1f mm in %d wires\n", sum.deposit_length_mm, sum.laser_on_count);
-    std::printf("idle travel     %.1f mm (before re-orientation moves)\n", sum.travel_length_mm);
+    o.print("regions         %zu (%d splits), %zu layers (%d tilted)\n", plan.regions.size(),
+            plan.split_count(), plan.layers.size(), plan.tilted_layer_count());
+    o.out += pipeline::footing_line(plan.footing);
+    o.print("build order     %d jumps (fewest %d), %zu sections, %d section travels\n",
+            planned.order->jumps, planned.order->min_jumps, planned.order->sections.size(),
+            p->section_changes);
+    o.print("program         %s (%s, %s, %zu moves)\n", so.output.c_str(),
+            std::string(machine::dialect_name(profiles.machine.dialect)).c_str(),
+            std::string(machine::kinematics_name(profiles.machine.kinematics)).c_str(),
+            sum.move_count);
+    o.print("deposition      %.1f mm in %d wires\n", sum.deposit_length_mm, sum.laser_on_count);
+    o.print("idle travel     %.1f mm (before re-orientation moves)\n", sum.travel_length_mm);
     const pipeline::ThicknessReport& th = p->thickness;
-    std::printf("local thickness %.3f - %.3f mm; %zu of %zu segments off the speed window",
-                th.thickness_min_mm, th.thickness_max_mm, th.clamped, th.segments);
+    o.print("local thickness %.3f - %.3f mm; %zu of %zu segments off the speed window",
+            th.thickness_min_mm, th.thickness_max_mm, th.clamped, th.segments);
     if (th.clamped > 0) {
-        std::printf(" (worst %.3f mm, layer %d at %.2f, %.2f, %.2f)", th.worst_error_mm,
-                    th.worst_layer, th.worst_at.x, th.worst_at.y, th.worst_at.z);
+        o.print(" (worst %.3f mm, layer %d at %.2f, %.2f, %.2f)", th.worst_error_mm, th.worst_layer,
+                th.worst_at.x, th.worst_at.y, th.worst_at.z);
     }
-    std::printf("\n");
-    std::printf("uncovered       %.2f mm2 of %.1f mm2 (%d layers over 1%%)\n", p->uncovered_mm2,
-                p->region_area_mm2, p->layers_with_uncovered);
-    std::printf("left out        %.1f mm of track in %d layers (no bead below it)\n", p->trimmed_mm,
-                p->layers_trimmed);
-    print_verification(report, profiles.process.track_width_mm);
-    if (opt.timings) print_timings(times, true);
+    o.print("\n");
+    o.print("uncovered       %.2f mm2 of %.1f mm2 (%d layers over 1%%)\n", p->uncovered_mm2,
+            p->region_area_mm2, p->layers_with_uncovered);
+    o.print("left out        %.1f mm of track in %d layers (no bead below it)\n", p->trimmed_mm,
+            p->layers_trimmed);
+    print_verification(o, report, profiles.process.track_width_mm);
+    if (opt.timings) o.err += timings_text(times, true);
+    return done(kExitOk);
+}
+
+// The layers of a program's process: its layer height, its h_min / h_max for adaptive layers
+// (unless --min-layer / --max-layer).
+void layers_of_process(pipeline::SliceSettings& ss, const machine::ProcessProfile& process,
+                       const SliceOptions& so) {
+    ss.layers.layer_mm = process.layer_height_mm;
+    ss.layers.min_layer_mm = so.min_layer.value_or(process.h_min_mm);
+    ss.layers.max_layer_mm =
+        so.max_layer.value_or(so.adaptive ? process.h_max_mm : process.layer_height_mm);
+}
+
+// A program job with the profile's main process and, when its track is what fails the part,
+// with its finer processes in turn (decision 0019): the first whose program meets the
+// figures is kept, else the main process's job stands, with a note of what the finer ones
+// gave. --finer off keeps the main process, --finer N takes finer process N at once.
+core::Result<JobOutcome> with_finer_processes(
+    const machine::Profiles& profiles, const SliceOptions& so,
+    const std::function<JobOutcome(const machine::Profiles&, int)>& attempt) {
+    const auto& finer = profiles.process.finer;
+    const auto track = [](const machine::Profiles& p) { return p.process.track_width_mm; };
+    if (so.finer != "auto" && so.finer != "off") {
+        int n = 0;
+        const auto [end, ec] =
+            std::from_chars(so.finer.data(), so.finer.data() + so.finer.size(), n);
+        if (ec != std::errc{} || end != so.finer.data() + so.finer.size() || n < 1) {
+            return core::fail(
+                core::ErrorCode::kInvalidInput,
+                "unknown value '" + so.finer + "' (use auto, off or a number 1, 2, ...)",
+                "--finer");
+        }
+        auto p = machine::with_finer_process(profiles, n);
+        if (!p) return std::unexpected(core::with_context(p.error(), "--finer"));
+        return attempt(*p, n);
+    }
+    JobOutcome main = attempt(profiles, 0);
+    // --layer is a choice of the main process's layers: the finer ones have their own.
+    if (!main.track_limited || finer.empty() || so.finer == "off" || so.layer_given) return main;
+    std::string tried;
+    for (int n = 1; n <= static_cast<int>(finer.size()); ++n) {
+        auto p = machine::with_finer_process(profiles, n);
+        if (!p) return std::unexpected(p.error());
+        JobOutcome f = attempt(*p, n);
+        if (f.rc == kExitOk && !f.track_limited) {
+            f.printed.err = fmt::format(
+                "maxslice: note: the {:.2f} mm track misses 97% coverage with under 5% excess "
+                "({}); the program uses the profile's finer process {} ({:.2f} mm track, "
+                "{:.2f} mm layers; --finer off keeps the {:.2f} mm track)\n{}",
+                track(profiles), main.figures, n, track(*p), p->process.layer_height_mm,
+                track(profiles), f.printed.err);
+            f.printed.out = fmt::format(
+                "process         finer {}: {:.2f} mm track, {:.2f} mm layers (the {:.2f} mm "
+                "track: {})\n{}",
+                n, track(*p), p->process.layer_height_mm, track(profiles), main.figures,
+                f.printed.out);
+            return f;
+        }
+        tried += fmt::format("{}the {:.2f} mm track (finer process {}): {}",
+                             tried.empty() ? "" : "; ", track(*p), n, f.figures);
+    }
+    main.printed.err += fmt::format(
+        "maxslice: note: the profile's finer processes do no better: {} (--finer N makes "
+        "the program with finer process N)\n",
+        tried);
+    return main;
+}
+
+// Prints a job's lines and writes what it made: the program (-o) and the previews.
+int finish_job(JobOutcome job, const SliceOptions& so) {
+    std::fputs(job.printed.err.c_str(), stderr);
+    if (job.rc != kExitOk) return job.rc;
+    if (!so.output.empty()) {
+        if (const int rc = write_text_file(so.output, job.program); rc != kExitOk) return rc;
+    }
+    if (job.files) {
+        if (auto ok = job.files(); !ok) return report_error(ok.error());
+    }
+    std::fputs(job.printed.out.c_str(), stdout);
     return kExitOk;
+}
+
+// Slices the part along one direction: the slices' previews and summary, and with a 3-axis
+// profile and -o the planar program (the part standing on the plate). `finer` as for
+// run_multiaxis_slice.
+JobOutcome run_planar_slice(const PartOptions& opt, const SliceOptions& so,
+                            pipeline::PreparedPart part, const pipeline::SliceSettings& ss,
+                            const std::optional<machine::Profiles>& profiles,
+                            pipeline::StageTimes& times, const core::Vec3d& given,
+                            pipeline::OrientPolicy policy, int finer) {
+    JobOutcome r;
+    Printed& o = r.printed;
+    const auto done = [&](int rc) { return r.done(rc); };
+    const bool program_mode = !so.output.empty();
+    const auto progress = make_progress();
+    std::optional<pipeline::SliceStack> stack;
+    std::optional<plan::PlanarCheck> check;
+    std::vector<pipeline::OrientTry> tries;
+    int chosen = 0;
+    const plan::PlanSettings ps =
+        profiles ? pipeline::plan_settings(profiles->process) : plan::PlanSettings{};
+    const std::string name = std::filesystem::path(opt.path).filename().string();
+    Written<pipeline::PlannedProgram> w;
+    core::Vec3d built_along = ss.direction;  // the file's direction the program builds upwards
+    const auto write_stack = [&](const core::Vec3d& direction, const mesh::TriangleMesh& placed,
+                                 const pipeline::SliceStack& s) -> core::Result<std::string> {
+        w = {};
+        const auto start = std::chrono::steady_clock::now();
+        auto p = pipeline::plan_program(s, *profiles, name, progress.get());
+        if (!p) return std::unexpected(p.error());
+        w.program = std::move(*p);
+        w.paths_s = seconds_since(start);
+        return write_and_verify(w, direction, placed, *profiles, so, machine::WriteOptions{});
+    };
+    if (program_mode) {
+        // A 3-axis machine builds every layer along one direction: the part stands on the
+        // plate along the given direction (or, when that has overhangs a planar build cannot
+        // hold, or a program the verifier refuses, and --orient allows it, along another),
+        // checked with the planner's analysis.
+        auto oriented = pipeline::orient_planar(
+            part.imported.mesh, given, so.allow_overhangs ? pipeline::OrientPolicy::kGiven : policy,
+            ss, *profiles, progress.get(), &times, write_stack);
+        if (!oriented) return done(o.error(oriented.error()));
+        built_along = oriented->direction;
+        part.imported.mesh = std::move(oriented->placed);
+        stack = std::move(oriented->stack);
+        check = std::move(oriented->check);
+        tries = std::move(oriented->tries);
+        chosen = oriented->chosen;
+    } else {
+        auto sliced = pipeline::slice_part(part.imported.mesh, ss, progress.get(), &times);
+        if (!sliced) return done(o.error(sliced.error()));
+        stack = std::move(*sliced);
+    }
+
+    std::optional<pipeline::PlannedProgram> planned;
+    std::optional<verify::Report> report;
+    if (program_mode) {
+        // Refuse a part whose overhangs need a split, never deposit on air.
+        if (check->overhangs > 0 && so.allow_overhangs) {
+            o.warn(
+                "maxslice: warning: --allow-overhangs: overhangs a planar build cannot "
+                "hold from %.3f mm up are deposited on nothing\n",
+                check->heights_mm.front());
+        } else if (check->overhangs > 0) {
+            const plan::OverhangPiece& p = check->examples.front();
+            return done(o.error(
+                {core::ErrorCode::kInvalidInput,
+                 fmt::format("the part needs a multi-axis build: overhangs a planar build cannot "
+                             "hold from {:.3f} mm up ({} of the first {} layers; first: a piece of "
+                             "{:.1f} mm2 at "
+                             "({:.3f}, {:.3f}, {:.3f}) with Ang = {:.1f} deg > beta {:.0f}{}); the "
+                             "machine profile is 3-axis (kinematics xyz), so no program is "
+                             "written. See where it splits: maxslice plan PART --orient auto{}",
+                             check->heights_mm.front(), check->overhangs, check->checked_up_to,
+                             p.area_mm2, p.C.x, p.C.y, p.C.z, p.ang_deg, ps.beta_deg,
+                             p.touches_lower ? "" : ", floating",
+                             pipeline::other_tries(tries, chosen)),
+                 opt.path}));
+        }
+        print_orientation(o, tries, chosen, so.output, opt.path, finer);
+        if (check->tilts_wanted > 0) {
+            o.warn(
+                "maxslice: warning: %d layers overhang by an angle between alpha (%.0f) and "
+                "beta (%.0f) deg: a multi-axis build would tilt them\n",
+                check->tilts_wanted, ps.alpha_deg, ps.beta_deg);
+        }
+    }
+    if (program_mode) {
+        // The search stops at the first stack it keeps, so `w` is that stack's program;
+        // otherwise (nothing kept) it is made again here.
+        if (!w.kept) {
+            auto again = write_stack(built_along, part.imported.mesh, *stack);
+            if (!again) return done(o.error(again.error()));
+        }
+        times.paths_s = w.paths_s;
+        times.write_s = w.write_s;
+        times.verify_s = w.verify_s;
+        const pipeline::PlannedProgram& p = *w.program;
+        if (const int rc = check_tracks(o, p.summary, p.uncovered_mm2, p.region_area_mm2,
+                                        p.layers_with_uncovered, profiles->process, opt.path);
+            rc != kExitOk) {
+            r.track_limited = p.summary.laser_on_count == 0;
+            return done(rc);
+        }
+        if (!w.kept) return done(refuse_unverified(o, *w.report, so));
+        r.program = std::move(w.text);
+        r.note_figures(w.report, p.uncovered_mm2, p.region_area_mm2);
+        report = std::move(w.report);
+        planned = std::move(*w.program);
+    }
+
+    double volume = 0.0, hmin = 1e300, hmax = 0.0;
+    std::size_t outers = 0, holes = 0;
+    int gaps = 0;
+    for (const auto& s : stack->slices) {
+        volume += s.area_mm2() * s.thickness();
+        hmin = std::min(hmin, s.thickness());
+        hmax = std::max(hmax, s.thickness());
+        outers = std::max(outers, s.wires.outer_count());
+        holes = std::max(holes, s.wires.hole_count());
+        gaps += s.gaps_closed;
+    }
+    const auto& n = stack->base.normal;
+    o.print("layers          %zu along (%.4f, %.4f, %.4f)\n", stack->slices.size(), n.x, n.y, n.z);
+    o.print("thickness       %.4f - %.4f mm\n", hmin, hmax);
+    o.print("most wires      %zu outer, %zu holes in one layer\n", outers, holes);
+    o.print("sliced volume   %.6g mm3 %s\n", volume,
+            pipeline::volume_against_mesh(volume, part.final_report()).c_str());
+    if (check) o.out += pipeline::footing_line(check->footing);
+    if (gaps > 0) o.print("gaps closed     %d (open mesh)\n", gaps);
+    if (planned) {
+        const auto& sum = planned->summary;
+        o.print("program         %s (%s, %zu moves)\n", so.output.c_str(),
+                std::string(machine::dialect_name(profiles->machine.dialect)).c_str(),
+                sum.move_count);
+        o.print("deposition      %.1f mm in %d wires\n", sum.deposit_length_mm, sum.laser_on_count);
+        o.print("idle travel     %.1f mm\n", sum.travel_length_mm);
+        o.print("build time      %.1f min (deposit %.1f, travel %.1f, dwell %.1f)\n",
+                sum.build_time_s / 60.0, sum.deposit_time_s / 60.0, sum.travel_time_s / 60.0,
+                sum.dwell_time_s / 60.0);
+        o.print("powder          %.1f g delivered while depositing%s\n", sum.powder_delivered_g,
+                sum.deposited_mass_g
+                    ? fmt::format(", {:.1f} g deposited", *sum.deposited_mass_g).c_str()
+                    : "");
+        o.print("uncovered       %.2f mm2 of %.1f mm2 (%d layers over 1%%)\n",
+                planned->uncovered_mm2, planned->region_area_mm2, planned->layers_with_uncovered);
+        print_verification(o, report, profiles->process.track_width_mm);
+    }
+    if (opt.timings) o.err += timings_text(times, program_mode);
+    // The previews and the JSON are written when this job is the one kept.
+    if (!so.json_file.empty() || !so.svg_dir.empty() || !so.contact_sheet.empty()) {
+        struct Files {
+            pipeline::SliceStack stack;
+            std::optional<pipeline::PlannedProgram> planned;
+            pipeline::PreparedPart part;
+            double track_mm;
+        };
+        auto kept =
+            std::make_shared<Files>(Files{std::move(*stack), std::move(planned), std::move(part),
+                                          profiles ? profiles->process.track_width_mm : 0.0});
+        r.files = [kept, &so]() -> core::Result<void> {
+            if (!so.json_file.empty()) {
+                auto ok = pipeline::write_slices_json(so.json_file, kept->stack, kept->part);
+                if (!ok) return ok;
+            }
+            if (!so.svg_dir.empty()) {
+                auto ok = pipeline::write_layer_svgs(
+                    so.svg_dir, kept->stack, kept->planned ? &kept->planned->toolpaths : nullptr,
+                    kept->track_mm);
+                if (!ok) return ok;
+            }
+            if (!so.contact_sheet.empty()) {
+                return pipeline::write_contact_sheet(so.contact_sheet, kept->stack);
+            }
+            return {};
+        };
+    }
+    return done(kExitOk);
 }
 
 int run_slice(const PartOptions& opt, const SliceOptions& so) {
@@ -534,10 +880,7 @@ int run_slice(const PartOptions& opt, const SliceOptions& so) {
         auto loaded = load_profiles(so);
         if (!loaded) return report_error(loaded.error());
         profiles = *loaded;
-        ss.layers.layer_mm = profiles->process.layer_height_mm;
-        ss.layers.min_layer_mm = so.min_layer.value_or(profiles->process.h_min_mm);
-        ss.layers.max_layer_mm = so.max_layer.value_or(
-            so.adaptive ? profiles->process.h_max_mm : profiles->process.layer_height_mm);
+        layers_of_process(ss, profiles->process, so);
         if (auto ok = pipeline::validate(ss); !ok) return report_error(ok.error());
     }
 
@@ -546,173 +889,31 @@ int run_slice(const PartOptions& opt, const SliceOptions& so) {
     if (!part) return report_error(part.error());
     print_warnings(*part);
     const core::Vec3d given = ss.direction;
-    if (program_mode && machine::is_table_tilt(profiles->machine.kinematics)) {
-        if (so.adaptive) {
-            std::fprintf(stderr,
-                         "maxslice: warning: --adaptive is not used on a table-tilt machine: its "
-                         "layers are the planner's (process.layer_height_mm, tilted where the "
-                         "part leans, METHOD.md section 4)\n");
-        }
-        return run_multiaxis_slice(opt, so, *part, *profiles, times, given, *policy);
+    if (!program_mode) {
+        return finish_job(
+            run_planar_slice(opt, so, std::move(*part), ss, profiles, times, given, *policy, 0),
+            so);
     }
-    const auto progress = make_progress();
-    std::optional<pipeline::SliceStack> stack;
-    std::optional<plan::PlanarCheck> check;
-    std::vector<pipeline::OrientTry> tries;
-    int chosen = 0;
-    const plan::PlanSettings ps =
-        profiles ? pipeline::plan_settings(profiles->process) : plan::PlanSettings{};
-    const std::string name = std::filesystem::path(opt.path).filename().string();
-    Written<pipeline::PlannedProgram> w;
-    core::Vec3d built_along = ss.direction;  // the file's direction the program builds upwards
-    const auto write_stack = [&](const core::Vec3d& direction, const mesh::TriangleMesh& placed,
-                                 const pipeline::SliceStack& s) -> core::Result<std::string> {
-        w = {};
-        const auto start = std::chrono::steady_clock::now();
-        auto p = pipeline::plan_program(s, *profiles, name, progress.get());
-        if (!p) return std::unexpected(p.error());
-        w.program = std::move(*p);
-        w.paths_s = seconds_since(start);
-        return write_and_verify(w, direction, placed, *profiles, so, machine::WriteOptions{});
+    const bool table_tilt = machine::is_table_tilt(profiles->machine.kinematics);
+    if (table_tilt && so.adaptive) {
+        std::fprintf(stderr,
+                     "maxslice: warning: --adaptive is not used on a table-tilt machine: its "
+                     "layers are the planner's (process.layer_height_mm, tilted where the "
+                     "part leans, METHOD.md section 4)\n");
+    }
+    // One job with the main process or one of the finer ones (decision 0019).
+    const auto attempt = [&](const machine::Profiles& p, int finer) {
+        if (table_tilt) {
+            return run_multiaxis_slice(opt, so, part->imported.mesh, p, times, given, *policy,
+                                       finer);
+        }
+        pipeline::SliceSettings pss = ss;
+        layers_of_process(pss, p.process, so);
+        return run_planar_slice(opt, so, *part, pss, p, times, given, *policy, finer);
     };
-    if (program_mode) {
-        // A 3-axis machine builds every layer along one direction: the part stands on the
-        // plate along the given direction (or, when that has overhangs a planar build cannot
-        // hold, or a program the verifier refuses, and --orient allows it, along another),
-        // checked with the planner's analysis.
-        auto oriented =
-            pipeline::orient_planar(part->imported.mesh, given,
-                                    so.allow_overhangs ? pipeline::OrientPolicy::kGiven : *policy,
-                                    ss, *profiles, progress.get(), &times, write_stack);
-        if (!oriented) return report_error(oriented.error());
-        built_along = oriented->direction;
-        part->imported.mesh = std::move(oriented->placed);
-        stack = std::move(oriented->stack);
-        check = std::move(oriented->check);
-        tries = std::move(oriented->tries);
-        chosen = oriented->chosen;
-    } else {
-        auto sliced = pipeline::slice_part(part->imported.mesh, ss, progress.get(), &times);
-        if (!sliced) return report_error(sliced.error());
-        stack = std::move(*sliced);
-    }
-
-    std::optional<pipeline::PlannedProgram> planned;
-    std::optional<verify::Report> report;
-    if (program_mode) {
-        // Refuse a part whose overhangs need a split, never deposit on air.
-        if (check->overhangs > 0 && so.allow_overhangs) {
-            std::fprintf(stderr,
-                         "maxslice: warning: --allow-overhangs: overhangs a planar build cannot "
-                         "hold from %.3f mm up are deposited on nothing\n",
-                         check->heights_mm.front());
-        } else if (check->overhangs > 0) {
-            const plan::OverhangPiece& p = check->examples.front();
-            return report_error(
-                {core::ErrorCode::kInvalidInput,
-                 fmt::format("the part needs a multi-axis build: overhangs a planar build cannot "
-                             "hold from {:.3f} mm up ({} of the first {} layers; first: a piece of "
-                             "{:.1f} mm2 at "
-                             "({:.3f}, {:.3f}, {:.3f}) with Ang = {:.1f} deg > beta {:.0f}{}); the "
-                             "machine profile is 3-axis (kinematics xyz), so no program is "
-                             "written. See where it splits: maxslice plan PART --orient auto{}",
-                             check->heights_mm.front(), check->overhangs, check->checked_up_to,
-                             p.area_mm2, p.C.x, p.C.y, p.C.z, p.ang_deg, ps.beta_deg,
-                             p.touches_lower ? "" : ", floating",
-                             pipeline::other_tries(tries, chosen)),
-                 opt.path});
-        }
-        print_orientation(tries, chosen, so.output, opt.path);
-        if (check->tilts_wanted > 0) {
-            std::fprintf(
-                stderr,
-                "maxslice: warning: %d layers overhang by an angle between alpha (%.0f) and "
-                "beta (%.0f) deg: a multi-axis build would tilt them\n",
-                check->tilts_wanted, ps.alpha_deg, ps.beta_deg);
-        }
-    }
-    if (program_mode) {
-        // The search stops at the first stack it keeps, so `w` is that stack's program;
-        // otherwise (nothing kept) it is made again here.
-        if (!w.kept) {
-            auto again = write_stack(built_along, part->imported.mesh, *stack);
-            if (!again) return report_error(again.error());
-        }
-        times.paths_s = w.paths_s;
-        times.write_s = w.write_s;
-        times.verify_s = w.verify_s;
-        const pipeline::PlannedProgram& p = *w.program;
-        if (const int rc = check_tracks(p.summary, p.uncovered_mm2, p.region_area_mm2,
-                                        p.layers_with_uncovered, profiles->process, opt.path);
-            rc != kExitOk) {
-            return rc;
-        }
-        if (!w.kept) return refuse_unverified(*w.report, so);
-        if (const int rc = write_text_file(so.output, w.text); rc != kExitOk) return rc;
-        report = std::move(w.report);
-        planned = std::move(*w.program);
-    }
-
-    double volume = 0.0, hmin = 1e300, hmax = 0.0;
-    std::size_t outers = 0, holes = 0;
-    int gaps = 0;
-    for (const auto& s : stack->slices) {
-        volume += s.area_mm2() * s.thickness();
-        hmin = std::min(hmin, s.thickness());
-        hmax = std::max(hmax, s.thickness());
-        outers = std::max(outers, s.wires.outer_count());
-        holes = std::max(holes, s.wires.hole_count());
-        gaps += s.gaps_closed;
-    }
-    if (!so.json_file.empty()) {
-        if (auto ok = pipeline::write_slices_json(so.json_file, *stack, *part); !ok) {
-            return report_error(ok.error());
-        }
-    }
-    if (!so.svg_dir.empty()) {
-        if (auto ok = pipeline::write_layer_svgs(so.svg_dir, *stack,
-                                                 planned ? &planned->toolpaths : nullptr,
-                                                 profiles ? profiles->process.track_width_mm : 0.0);
-            !ok) {
-            return report_error(ok.error());
-        }
-    }
-    if (!so.contact_sheet.empty()) {
-        if (auto ok = pipeline::write_contact_sheet(so.contact_sheet, *stack); !ok) {
-            return report_error(ok.error());
-        }
-    }
-    const auto& n = stack->base.normal;
-    std::printf("layers          %zu along (%.4f, %.4f, %.4f)\n", stack->slices.size(), n.x, n.y,
-                n.z);
-    std::printf("thickness       %.4f - %.4f mm\n", hmin, hmax);
-    std::printf("most wires      %zu outer, %zu holes in one layer\n", outers, holes);
-    std::printf("sliced volume   %.6g mm3 %s\n", volume,
-                pipeline::volume_against_mesh(volume, part->final_report()).c_str());
-    if (check) std::fputs(pipeline::footing_line(check->footing).c_str(), stdout);
-    if (gaps > 0) std::printf("gaps closed     %d (open mesh)\n", gaps);
-    if (planned) {
-        const auto& sum = planned->summary;
-        std::printf("program         %s (%s, %zu moves)\n", so.output.c_str(),
-                    std::string(machine::dialect_name(profiles->machine.dialect)).c_str(),
-                    sum.move_count);
-        std::printf("deposition      %.1f mm in %d wires\n", sum.deposit_length_mm,
-                    sum.laser_on_count);
-        std::printf("idle travel     %.1f mm\n", sum.travel_length_mm);
-        std::printf("build time      %.1f min (deposit %.1f, travel %.1f, dwell %.1f)\n",
-                    sum.build_time_s / 60.0, sum.deposit_time_s / 60.0, sum.travel_time_s / 60.0,
-                    sum.dwell_time_s / 60.0);
-        std::printf("powder          %.1f g delivered while depositing%s\n", sum.powder_delivered_g,
-                    sum.deposited_mass_g
-                        ? fmt::format(", {:.1f} g deposited", *sum.deposited_mass_g).c_str()
-                        : "");
-        std::printf("uncovered       %.2f mm2 of %.1f mm2 (%d layers over 1%%)\n",
-                    planned->uncovered_mm2, planned->region_area_mm2,
-                    planned->layers_with_uncovered);
-        print_verification(report, profiles->process.track_width_mm);
-    }
-    if (opt.timings) print_timings(times, program_mode);
-    return kExitOk;
+    auto job = with_finer_processes(*profiles, so, attempt);
+    if (!job) return report_error(job.error());
+    return finish_job(std::move(*job), so);
 }
 
 struct PlanOptions {
@@ -866,6 +1067,10 @@ int run(int argc, char** argv) {
                     "build (they are deposited on nothing; for trials)");
     slice->add_flag("--no-verify", so.no_verify,
                     "Do not replay the written program in the independent verifier");
+    slice->add_option("--finer", so.finer,
+                      "The profile's finer processes ([[process.finer]]): auto (when the main "
+                      "track leaves the part under 97% covered or lays nothing), off, or N (use "
+                      "finer process N)");
 
     PartOptions plan_opt;
     PlanOptions po;

@@ -115,6 +115,10 @@ CLI::App* add_verify_command(CLI::App& app, VerifyCommandOptions& opts) {
         ->check(CLI::NonNegativeNumber);
     cmd->add_option("--units", opts.units,
                     "Unit of the model file's numbers: mm, in, m, cm, um, ft");
+    cmd->add_option("--finer", opts.finer,
+                    "The program was made with the profile's finer process N "
+                    "([[process.finer]]; the job's 'verify with' line names it)")
+        ->check(CLI::PositiveNumber);
     return cmd;
 }
 
@@ -122,6 +126,10 @@ int run_verify(const VerifyCommandOptions& opts) {
     std::vector<std::filesystem::path> files(opts.profiles.begin(), opts.profiles.end());
     auto profiles = machine::load_profiles(files);
     if (!profiles) return report_error(profiles.error());
+    if (opts.finer > 0) {
+        profiles = machine::with_finer_process(*profiles, opts.finer);
+        if (!profiles) return report_error(core::with_context(profiles.error(), "--finer"));
+    }
 
     verify::VerifySettings settings;
     settings.voxel_mm = opts.voxel_mm;

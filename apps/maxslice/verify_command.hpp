@@ -22,6 +22,7 @@ struct VerifyCommandOptions {
     double voxel_mm = 0.0;
     double clearance_mm = 0.0;
     std::string units;
+    int finer = 0;  ///< the profile's finer process the program was made with (0: the main one)
 };
 
 /// Adds the `verify` subcommand to `app`, binding its options to `opts` (which must outlive

@@ -97,6 +97,7 @@ constexpr std::array<NumberKey<ProcessProfile>, 12> kProcessNumbers{{
      {0.0, 90.0, false, true, "deg"}},
 }};
 constexpr std::string_view kContourPassesKey = "contour_passes";
+constexpr std::string_view kFinerKey = "finer";
 constexpr Range kContourPassesRange{0.0, 100.0, false, false, ""};
 constexpr std::string_view kCatchEfficiencyKey = "powder_catch_efficiency";
 constexpr Range kCatchEfficiencyRange{0.0, 1.0, true, false, ""};
@@ -523,13 +524,14 @@ core::Result<std::vector<SpeedPoint>> read_speed_height(const TableReader& reade
     return out;
 }
 
-core::Result<ProcessProfile> read_process(const toml::table& table) {
+core::Result<ProcessProfile> read_process(const toml::table& table, bool finer_allowed = true) {
     const TableReader reader(table, "process");
     std::vector<std::string_view> known = keys_of(kProcessNumbers);
     known.push_back(kContourPassesKey);
     known.push_back(kCatchEfficiencyKey);
     known.push_back(kFootingKey);
     known.push_back(kSpeedHeightKey);
+    if (finer_allowed) known.push_back(kFinerKey);
     if (auto ok = reader.only(known); !ok) return pass(ok);
 
     ProcessProfile p;
@@ -553,6 +555,30 @@ core::Result<ProcessProfile> read_process(const toml::table& table) {
     p.speed_height = std::move(*law);
 
     if (auto ok = validate(p); !ok) return pass(ok);
+    if (!finer_allowed || !table.contains(kFinerKey)) return p;
+    // [[process.finer]]: an array of whole process tables, tracks narrowing one by one.
+    const auto* finer = table[kFinerKey].as_array();
+    if (finer == nullptr || finer->empty() || !finer->is_array_of_tables()) {
+        return core::fail(ErrorCode::kInvalidInput,
+                          fmt::format("`process.{}` must be one or more tables "
+                                      "([[process.{}]]), each a whole [process]",
+                                      kFinerKey, kFinerKey));
+    }
+    double wider = p.track_width_mm;
+    for (std::size_t i = 0; i < finer->size(); ++i) {
+        const std::string where = fmt::format("[[process.{}]] number {}", kFinerKey, i + 1);
+        auto f = read_process(*finer->get(i)->as_table(), false);
+        if (!f) return std::unexpected(core::with_context(f.error(), where));
+        if (!(f->track_width_mm < wider)) {
+            return core::fail(ErrorCode::kInvalidInput,
+                              fmt::format("its track_width_mm = {} must be narrower than the "
+                                          "{} mm before it",
+                                          f->track_width_mm, wider),
+                              where);
+        }
+        wider = f->track_width_mm;
+        p.finer.push_back(std::move(*f));
+    }
     return p;
 }
 
@@ -1105,7 +1131,27 @@ core::Result<void> check_compatible(const MachineProfile& m, const ProcessProfil
                                       "machine.powder_feed_max_g_min = {}",
                                       p.powder_feed_g_min, m.powder_feed_max_g_min));
     }
+    for (std::size_t i = 0; i < p.finer.size(); ++i) {
+        if (auto ok = check_compatible(m, p.finer[i]); !ok) {
+            return std::unexpected(core::with_context(
+                ok.error(), fmt::format("[[process.{}]] number {}", kFinerKey, i + 1)));
+        }
+    }
     return {};
+}
+
+core::Result<Profiles> with_finer_process(const Profiles& profiles, int n) {
+    const auto& finer = profiles.process.finer;
+    if (n < 0 || static_cast<std::size_t>(n) > finer.size()) {
+        return core::fail(ErrorCode::kInvalidInput,
+                          fmt::format("the profile has no finer process {} (it has {}: "
+                                      "[[process.{}]])",
+                                      n, finer.size(), kFinerKey));
+    }
+    Profiles out{profiles.machine,
+                 n == 0 ? profiles.process : finer[static_cast<std::size_t>(n - 1)]};
+    out.process.finer.clear();
+    return out;
 }
 
 core::Result<ProfileFile> parse_profile(std::string_view toml_text, std::string_view source) {

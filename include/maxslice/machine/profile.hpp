@@ -45,6 +45,11 @@ struct ProcessProfile {
     /// decreasing (METHOD.md section 10); empty = the constant-mass law through the nominal
     /// point (machine/speed_law.hpp).
     std::vector<SpeedPoint> speed_height;
+    /// `[[process.finer]]`: whole processes with narrower tracks (another head, or a zoom
+    /// optic), each track narrower than the one before; a program job falls back to them in
+    /// order when this process leaves the part under the coverage target or lays no track
+    /// (docs/decisions/0019). Each is read and checked like [process]; they hold no `finer`.
+    std::vector<ProcessProfile> finer;
 };
 
 /// How machine axes follow from part coordinates (METHOD.md section 11). The head is fixed and
@@ -166,6 +171,10 @@ struct Profiles {
     MachineProfile machine;
     ProcessProfile process;
 };
+
+/// The profiles with `process.finer[n - 1]` as the process (n >= 1; n = 0 gives them
+/// unchanged); the result holds no finer processes. kInvalidInput when there is no such one.
+[[nodiscard]] core::Result<Profiles> with_finer_process(const Profiles& profiles, int n);
 
 /// Checks every range and cross-check of a process profile (h_min <= layer <= h_max, layer
 /// <= track width, 0 <= overlap < 1, positive widths and feeds ...). Errors (kInvalidInput)
