@@ -717,5 +717,110 @@ TEST_F(ProfileFiles, ErrorsNameTheFile) {
     EXPECT_EQ(r.error().context, "profile " + file.string());
 }
 
+
+// [[process.finer]]: whole processes with narrower tracks, read and checked like [process]
+// (decision 0019).
+TEST(Profile, FinerProcessesAreReadAndChecked) {
+    // The base process with another track and layer, as a finer one.
+    const auto finer = [](std::string_view track, std::string_view layer) {
+        std::string p(kProcess);
+        p = with(p, "track_width_mm", "track_width_mm = " + std::string(track));
+        p = with(p, "layer_height_mm", "layer_height_mm = " + std::string(layer));
+        p = with(p, "h_min_mm", "h_min_mm = 0.1");
+        p.replace(p.find("[process]"), 9, "[[process.finer]]");
+        return p;
+    };
+    const auto r = parse_profile(base() + finer("1.0", "0.25") + finer("0.6", "0.2"), "t.toml");
+    ASSERT_TRUE(r.has_value()) << r.error().describe();
+    const ProcessProfile& p = *r->process;
+    EXPECT_DOUBLE_EQ(p.track_width_mm, 2.5);
+    ASSERT_EQ(p.finer.size(), 2u);
+    EXPECT_DOUBLE_EQ(p.finer[0].track_width_mm, 1.0);
+    EXPECT_DOUBLE_EQ(p.finer[0].layer_height_mm, 0.25);
+    EXPECT_DOUBLE_EQ(p.finer[1].track_width_mm, 0.6);
+    EXPECT_DOUBLE_EQ(p.finer[1].laser_power_w, 700.0);
+    EXPECT_TRUE(p.finer[0].finer.empty());
+
+    // Picking one: its process, no finer ones left; 0 the main one; others refused.
+    const Profiles both{*r->machine, p};
+    const auto second = with_finer_process(both, 2);
+    ASSERT_TRUE(second.has_value()) << second.error().describe();
+    EXPECT_DOUBLE_EQ(second->process.track_width_mm, 0.6);
+    EXPECT_TRUE(second->process.finer.empty());
+    const auto main = with_finer_process(both, 0);
+    ASSERT_TRUE(main.has_value());
+    EXPECT_DOUBLE_EQ(main->process.track_width_mm, 2.5);
+    EXPECT_TRUE(main->process.finer.empty());
+    for (const int n : {3, -1}) {
+        const auto none = with_finer_process(both, n);
+        ASSERT_FALSE(none.has_value()) << n;
+        EXPECT_NE(none.error().message.find("has 2"), std::string::npos) << none.error().message;
+    }
+
+    // Refused, naming the table: not narrower, a bad key inside, finer inside finer, not
+    // tables, and (with the machine) a power the machine does not have.
+    const auto refused = [](const std::string& text, const std::vector<std::string>& parts) {
+        const auto bad = parse_profile(text, "t.toml");
+        ASSERT_FALSE(bad.has_value()) << parts.front();
+        EXPECT_EQ(bad.error().code, core::ErrorCode::kInvalidInput);
+        for (const std::string& f : parts) {
+            EXPECT_NE(bad.error().describe().find(f), std::string::npos)
+                << "`" << f << "` not in: " << bad.error().describe();
+        }
+    };
+    refused(base() + finer("2.5", "0.5"), {"number 1", "track_width_mm = 2.5", "narrower"});
+    refused(base() + finer("1.0", "0.25") + finer("1.2", "0.25"),
+            {"number 2", "track_width_mm = 1.2", "narrower than the 1 mm"});
+    refused(base() + finer("1.0", "0.25") + "tracks = 3\n", {"number 1", "unknown key", "tracks"});
+    refused(base() + finer("1.0", "0.25") + "[[process.finer.finer]]\n", {"number 1", "finer"});
+    refused(base() + "finer = 3\n", {"process.finer", "[[process.finer]]"});
+    refused(base() + with(finer("1.0", "0.25"), "laser_power_w", "laser_power_w = -5.0"),
+            {"number 1", "laser_power_w = -5"});
+    std::string hot = finer("1.0", "0.25");
+    hot = with(hot, "laser_power_w", "laser_power_w = 900.0");
+    const auto parsed = parse_profile(base() + hot, "t.toml");
+    ASSERT_TRUE(parsed.has_value()) << parsed.error().describe();
+    MachineProfile weak = *parsed->machine;
+    weak.laser_power_max_w = 800.0;
+    const auto ok = check_compatible(weak, *parsed->process);
+    ASSERT_FALSE(ok.has_value());
+    EXPECT_NE(ok.error().describe().find("[[process.finer]] number 1"), std::string::npos)
+        << ok.error().describe();
+    EXPECT_NE(ok.error().describe().find("laser_power_w = 900"), std::string::npos)
+        << ok.error().describe();
+}
+
+// The reference A/C cell's finer process is the fine-spot profile's process, value for value,
+// so that the fallback and the separate profile cannot drift apart.
+TEST(Profile, TheReferenceCellsFinerProcessIsTheFineProfiles) {
+    const fs::path reference = kProfilesDir / "reference_5axis_ac.toml";
+    const fs::path fine = kProfilesDir / "fine_5axis_ac.toml";
+    const auto r = load_profiles(std::span(&reference, 1));
+    const auto f = load_profiles(std::span(&fine, 1));
+    ASSERT_TRUE(r.has_value()) << r.error().describe();
+    ASSERT_TRUE(f.has_value()) << f.error().describe();
+    ASSERT_EQ(r->process.finer.size(), 1u);
+    const ProcessProfile& a = r->process.finer[0];
+    const ProcessProfile& b = f->process;
+    EXPECT_LT(a.track_width_mm, r->process.track_width_mm);
+    EXPECT_EQ(a.track_width_mm, b.track_width_mm);
+    EXPECT_EQ(a.layer_height_mm, b.layer_height_mm);
+    EXPECT_EQ(a.h_min_mm, b.h_min_mm);
+    EXPECT_EQ(a.h_max_mm, b.h_max_mm);
+    EXPECT_EQ(a.overlap, b.overlap);
+    EXPECT_EQ(a.contour_passes, b.contour_passes);
+    EXPECT_EQ(a.laser_power_w, b.laser_power_w);
+    EXPECT_EQ(a.laser_power_off_w, b.laser_power_off_w);
+    EXPECT_EQ(a.powder_feed_g_min, b.powder_feed_g_min);
+    EXPECT_EQ(a.deposition_feed_mm_min, b.deposition_feed_mm_min);
+    EXPECT_EQ(a.travel_feed_mm_min, b.travel_feed_mm_min);
+    EXPECT_EQ(a.dwell_after_laser_on_ms, b.dwell_after_laser_on_ms);
+    EXPECT_EQ(a.self_supporting_angle_deg, b.self_supporting_angle_deg);
+    EXPECT_EQ(a.footing_mm, b.footing_mm);
+    EXPECT_EQ(a.powder_catch_efficiency, b.powder_catch_efficiency);
+    EXPECT_EQ(a.speed_height.size(), b.speed_height.size());
+    EXPECT_TRUE(b.finer.empty());
+}
+
 }  // namespace
 }  // namespace maxslice::machine
