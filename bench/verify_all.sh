@@ -5,7 +5,9 @@
 # cone; with -s also every STEP file under step/), and prints a Markdown table of the
 # verifier's figures and the job's wall time.
 # Parts are read with --repair (the shared set has open scans); those MANIFEST.md says are
-# in other units run a second time with --units.
+# in other units run a second time with --units. The process column says which of the
+# profile's processes the program uses: main, or finer N where the main track missed 97 %
+# coverage with under 5 % excess (decision 0019).
 #
 #   bench/verify_all.sh [-b MAXSLICE] [-p PROFILE] [-d TESTDATA_DIR] [-s]
 set -euo pipefail
@@ -21,7 +23,7 @@ while [ $# -gt 0 ]; do
         -p) profile=${2:?}; shift 2 ;;
         -d) data=${2:?}; shift 2 ;;
         -s) step=1; shift ;;
-        -h|--help) sed -n '2,10p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+        -h|--help) sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
         *) echo "verify_all.sh: unknown option '$1'" >&2; exit 2 ;;
     esac
 done
@@ -36,8 +38,8 @@ echo "# maxslice 5-axis job with the verifier  ($(date -u '+%Y-%m-%d %H:%M UTC')
 echo
 echo "machine: $(nproc) cores, load $(cut -d' ' -f1-3 /proc/loadavg); profile: ${profile#"$repo/"}; parts read with --repair"
 echo
-echo "| part | exit | regions | layers (tilted) | collisions | unsupported | limit violations | head below plate mm | coverage % | excess % | build time min | verify s | job wall s | note |"
-echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"
+echo "| part | exit | process | regions | layers (tilted) | collisions | unsupported | limit violations | head below plate mm | coverage % | excess % | build time min | verify s | job wall s | note |"
+echo "|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"
 # The units MANIFEST.md states for parts not in millimetres.
 stated_units() {
     case ${1##*/} in
@@ -78,13 +80,14 @@ stated_units() {
     below=$(sed -n "s/.*the head reaches up to \([0-9.]*\) mm below the plate's level.*/\1/p" "$work/err" | head -1)
     # The verifier's own report when it refused the program (printed on stderr).
     awk -v rel="$rel" -v rc="$rc" -v wall="$wall" -v note="$note" -v vs="${vs:--}" -v below="${below:-0}" '
+        /^process/ { proc = $2 " " $3; sub(/:/, "", proc) }
         /^regions/ { regions = $2; layers = $5; tilted = $7; sub(/\(/, "", tilted) }
         /^verified/ { col = $2; uns = $4; lim = $7; sub(/,/, "", col); sub(/,/, "", uns) }
         /^coverage/ { cov = $2; exc = $NF; sub(/%/, "", cov); sub(/%/, "", exc) }
         /^build time/ { bt = $3 }
         END {
-            printf "| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", rel, rc,
-                regions ? regions : "-", layers ? layers " (" tilted ")" : "-", col != "" ? col : "-",
+            printf "| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", rel, rc,
+                proc ? proc : (rc == 0 ? "main" : "-"), regions ? regions : "-", layers ? layers " (" tilted ")" : "-", col != "" ? col : "-",
                 uns != "" ? uns : "-", lim != "" ? lim : "-", col != "" ? below : "-",
                 cov != "" ? cov : "-", exc != "" ? exc : "-",
                 bt ? bt : "-", vs, wall, note }' "$work/out"

@@ -624,6 +624,12 @@ core::Result<JobOutcome> with_finer_processes(
                 "unknown value '" + so.finer + "' (use auto, off or a number 1, 2, ...)",
                 "--finer");
         }
+        if (so.layer_given) {
+            return core::fail(core::ErrorCode::kInvalidInput,
+                              "--layer sets the main process's layer height; a finer process has "
+                              "its own ([[process.finer]] layer_height_mm)",
+                              "--finer " + so.finer);
+        }
         auto p = machine::with_finer_process(profiles, n);
         if (!p) return std::unexpected(core::with_context(p.error(), "--finer"));
         return attempt(*p, n);

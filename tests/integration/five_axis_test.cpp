@@ -328,6 +328,10 @@ TEST(FiveAxis, TheReferenceCellFallsBackToItsFinerTrackWhereItsTrackMissesTheFig
                                 direct.string(), "--finer", "fine"});
     EXPECT_EQ(bad.exit_code, 2);
     EXPECT_NE(bad.err.find("--finer"), std::string::npos) << bad.err;
+    const CliRun layered = run_cli({"slice", gear.string(), "--profile", kReference5.string(), "-o",
+                                    direct.string(), "--finer", "1", "--layer", "0.5"});
+    EXPECT_EQ(layered.exit_code, 2);
+    EXPECT_NE(layered.err.find("--layer sets the main process"), std::string::npos) << layered.err;
 
     // A part the 2.5 mm track builds to the figures keeps it.
     const fs::path seat = export_fixture(maxslice::test::bearing_seat(), dir);
