@@ -318,16 +318,18 @@ bool pairs_clear(const std::vector<Edge>& edges, const Grid& grid,
     return true;
 }
 
-// Steps 2 and 3 for a loop alone when it is y-monotone (its two chains from the lowest to
-// the highest point never go down), as most cuts of struts and shafts are: edges of one chain
-// share no sweep line except at their shared vertex, or at both ends of a horizontal edge
-// between them where both are exact and distinct (no two consecutive edges are collinear),
-// so only pairs from opposite chains with overlapping heights need a check, found by
-// merging the chains in O(n). Returns nullopt when the loop is not y-monotone.
-std::optional<bool> monotone_loop_clear(const Path2& p, Heights& heights) {
+// A y-monotone loop's two chains from its lowest point s to its highest t (lowest: the
+// smallest y, then x), each edge stored from its lower end up: chain a runs forward from s,
+// chain b backward. Along a chain both ends of the edges' height ranges never decrease.
+// nullopt when the loop is not y-monotone (a chain goes down somewhere).
+struct Chains {
+    std::vector<Edge> a, b;
+};
+
+std::optional<Chains> monotone_chains(const Path2& p) {
     const std::size_t n = p.size();
-    const auto low = [](const Point2& a, const Point2& b) {
-        return a.y != b.y ? a.y < b.y : a.x < b.x;
+    const auto low = [](const Point2& u, const Point2& v) {
+        return u.y != v.y ? u.y < v.y : u.x < v.x;
     };
     std::size_t s = 0, t = 0;
     for (std::size_t i = 1; i < n; ++i) {
@@ -336,28 +338,86 @@ std::optional<bool> monotone_loop_clear(const Path2& p, Heights& heights) {
     }
     const auto next = [n](std::size_t i) { return i + 1 == n ? 0 : i + 1; };
     const auto prev = [n](std::size_t i) { return i == 0 ? n - 1 : i - 1; };
+    // x0 and x1 hold the edge's x range grown by one unit each way, as the grid's boxes.
+    const auto edge = [](const Point2& u, const Point2& v) {
+        return Edge{u, v, std::min(u.x, v.x) - 1, 0, std::max(u.x, v.x) + 1, 0, 0, 0, 0};
+    };
+    Chains c;
+    c.a.reserve(n);
+    c.b.reserve(n);
     for (std::size_t i = s; i != t; i = next(i)) {
         if (p[next(i)].y < p[i].y) return std::nullopt;
+        c.a.push_back(edge(p[i], p[next(i)]));
     }
     for (std::size_t i = s; i != t; i = prev(i)) {
         if (p[prev(i)].y < p[i].y) return std::nullopt;
+        c.b.push_back(edge(p[i], p[prev(i)]));
     }
-    // Chain A: edges (i, i + 1) from s forward; chain B: edges (i, i - 1) from s backward.
-    // Along each, both ends of the edges' height ranges never decrease, so the B edges that
-    // overlap an A edge in height are a run that only moves forward. (Touching ranges count:
-    // a horizontal edge overlaps every edge that reaches its height.)
-    std::vector<Edge> chain_b;
-    for (std::size_t i = s; i != t; i = prev(i)) {
-        chain_b.push_back({p[i], p[prev(i)], 0, 0, 0, 0, 0, 0, 0});
-    }
+    return c;
+}
+
+// Steps 2 and 3 for the pairs of an edge of chain c and an edge of chain d whose height
+// ranges overlap (touching ranges count: a horizontal edge overlaps every edge that reaches
+// its height); no other pair of them shares a sweep line, so none can meet. The d edges that
+// overlap a c edge are a run that only moves forward: O(|c| + |d|) plus the pairs. With
+// `one_loop` (the two chains of one loop) their first edges and their last edges are
+// consecutive, at s and at t: extrema_clear checks those.
+bool chains_clear(const std::vector<Edge>& c, const std::vector<Edge>& d, bool one_loop,
+                  Heights& heights) {
     std::size_t j0 = 0;
-    for (std::size_t i = s; i != t; i = next(i)) {
-        const Edge ea{p[i], p[next(i)], 0, 0, 0, 0, 0, 0, 0};
-        while (j0 < chain_b.size() && chain_b[j0].b.y < ea.a.y) ++j0;
-        for (std::size_t j = j0; j < chain_b.size() && chain_b[j].a.y <= ea.b.y; ++j) {
-            const bool first = i == s && j == 0;  // consecutive at s: see extrema_clear
-            const bool last = next(i) == t && j + 1 == chain_b.size();  // consecutive at t
-            if (!first && !last && !pair_clear(ea, chain_b[j], heights)) return false;
+    for (std::size_t i = 0; i < c.size(); ++i) {
+        const Edge& e = c[i];
+        while (j0 < d.size() && d[j0].b.y < e.a.y) ++j0;
+        for (std::size_t j = j0; j < d.size() && d[j].a.y <= e.b.y; ++j) {
+            // More than two units apart across: pair_clear's first answer, without the call.
+            if (e.x1 < d[j].x0 || d[j].x1 < e.x0) continue;
+            if (one_loop && ((i == 0 && j == 0) || (i + 1 == c.size() && j + 1 == d.size()))) {
+                continue;
+            }
+            if (!pair_clear(e, d[j], heights)) return false;
+        }
+    }
+    return true;
+}
+
+// Steps 2 and 3 for a loop alone when it is y-monotone, as most cuts of struts and shafts
+// are: edges of one chain share no sweep line except at their shared vertex, or at both ends
+// of a horizontal edge between them where both are exact and distinct (no two consecutive
+// edges are collinear), so only pairs from opposite chains need a check, found by merging
+// the chains in O(n). Returns nullopt when the loop is not y-monotone.
+std::optional<bool> monotone_loop_clear(const Path2& p, Heights& heights) {
+    const std::optional<Chains> c = monotone_chains(p);
+    if (!c) return std::nullopt;
+    return chains_clear(c->a, c->b, true, heights);
+}
+
+// Groups of at most this many loops, all y-monotone, are checked chain against chain: the
+// cost is about (2 g - 1) times their edges, below the grid's for a ring (a tube's or a
+// torus's cut: two loops) and a few bosses in a plate.
+constexpr std::size_t kMaxMergedGroup = 4;
+
+// Steps 2 and 3 for a group of a few loops that are all y-monotone, without a grid: each
+// loop's two chains as a lone loop's, and every chain against every chain of the other
+// loops. nullopt when a loop is not y-monotone or the group is too large.
+std::optional<bool> monotone_group_clear(const std::vector<Path2>& loops,
+                                         const std::vector<std::uint32_t>& group,
+                                         Heights& heights) {
+    if (group.size() > kMaxMergedGroup) return std::nullopt;
+    std::vector<Chains> chains;
+    chains.reserve(group.size());
+    for (const std::uint32_t l : group) {
+        std::optional<Chains> c = monotone_chains(loops[l]);
+        if (!c) return std::nullopt;
+        chains.push_back(std::move(*c));
+    }
+    for (std::size_t k = 0; k < chains.size(); ++k) {
+        if (!chains_clear(chains[k].a, chains[k].b, true, heights)) return false;
+        for (std::size_t m = k + 1; m < chains.size(); ++m) {
+            for (const std::vector<Edge>* c : {&chains[k].a, &chains[k].b}) {
+                for (const std::vector<Edge>* d : {&chains[m].a, &chains[m].b}) {
+                    if (!chains_clear(*c, *d, false, heights)) return false;
+                }
+            }
         }
     }
     return true;
@@ -457,6 +517,31 @@ std::optional<WireTree> wire_tree_of_simple_loops(const Paths2& loops) {
     std::vector<std::uint32_t> touched;
     std::vector<Edge> edges;
     Grid grid;
+    // Step 4 for loop l: the loops whose edges a ray from l's smallest point towards -x
+    // crosses an odd number of times enclose it (the point is on no other loop, so the
+    // half-open crossing rule counts exactly); its parent is the smallest of them.
+    // `touched` lists the loops crossed, with their parity.
+    const auto enclosing = [&](std::uint32_t l) {
+        Int128 smallest = 0;
+        for (const std::uint32_t k : touched) {
+            if (parity[k] != 0) {
+                ++depth[l];
+                const Int128 a = area[k] < 0 ? -area[k] : area[k];
+                if (parent[l] < 0 || a < smallest) {
+                    smallest = a;
+                    parent[l] = static_cast<int>(k);
+                }
+            }
+            parity[k] = 0;
+        }
+    };
+    // Whether edge (a, b) of a loop crosses the ray from p towards -x (half-open in y).
+    const auto crosses_ray = [](const Point2& a, const Point2& b, const Point2& p) {
+        if ((a.y > p.y) == (b.y > p.y)) return false;
+        const std::int64_t o = cross(a, b, p);
+        // The crossing is left of p when p is right of the edge as it runs.
+        return b.y > a.y ? o < 0 : o > 0;
+    };
     for (const std::vector<std::uint32_t>& g : members) {
         if (g.empty()) continue;
         if (g.size() == 1) {  // a lone loop is a root, and often needs no grid
@@ -464,6 +549,27 @@ std::optional<WireTree> wire_tree_of_simple_loops(const Paths2& loops) {
                 if (!*clear) return std::nullopt;
                 continue;
             }
+        } else if (const auto clear = monotone_group_clear(clean, g, heights)) {
+            if (!*clear) return std::nullopt;
+            // A few loops: each ray against every edge of the others.
+            for (const std::uint32_t l : g) {
+                const Point2 p = *std::min_element(clean[l].begin(), clean[l].end());
+                touched.clear();
+                for (const std::uint32_t k : g) {
+                    if (k == l) continue;
+                    const Path2& q = clean[k];
+                    std::uint8_t odd = 0;
+                    for (std::size_t i = 0; i < q.size(); ++i) {
+                        odd ^= crosses_ray(q[i], q[i + 1 == q.size() ? 0 : i + 1], p) ? 1 : 0;
+                    }
+                    if (odd != 0) {
+                        touched.push_back(k);
+                        parity[k] = 1;
+                    }
+                }
+                enclosing(l);
+            }
+            continue;
         }
         edges.clear();
         Box gb = box[g[0]];
@@ -498,28 +604,14 @@ std::optional<WireTree> wire_tree_of_simple_loops(const Paths2& loops) {
                 for (const std::uint32_t* i = grid.begin(c); i != grid.end(c); ++i) {
                     const Edge& e = edges[*i];
                     if (e.cx0 != cx || e.loop == l) continue;
-                    if ((e.a.y > p.y) == (e.b.y > p.y)) continue;
-                    const std::int64_t o = cross(e.a, e.b, p);
-                    // The crossing is left of p when p is right of the edge as it runs.
-                    if (e.b.y > e.a.y ? o < 0 : o > 0) {
+                    if (crosses_ray(e.a, e.b, p)) {
                         if (parity[e.loop] == 0) touched.push_back(e.loop);
                         parity[e.loop] ^= 1;
                     }
                 }
             }
             if (work > 32 * edges.size() + 4096) return std::nullopt;
-            Int128 smallest = 0;
-            for (const std::uint32_t k : touched) {
-                if (parity[k] != 0) {
-                    ++depth[l];
-                    const Int128 a = area[k] < 0 ? -area[k] : area[k];
-                    if (parent[l] < 0 || a < smallest) {
-                        smallest = a;
-                        parent[l] = static_cast<int>(k);
-                    }
-                }
-                parity[k] = 0;
-            }
+            enclosing(l);
         }
     }
     // Step 5: the fill is 0 or 1 everywhere only when orientations alternate.

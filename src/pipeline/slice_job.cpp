@@ -128,8 +128,9 @@ core::Result<SliceStack> slice_part(const mesh::TriangleMesh& mesh, const SliceS
     if (auto ok = validate(settings); !ok) return std::unexpected(ok.error());
     const auto t0 = Clock::now();
     SliceStack stack;
-    stack.base = slice::base_frame(mesh, settings.direction);
-    const auto [lo, hi] = slice::extent_along(mesh, stack.base);
+    const slice::FrameExtent fe = slice::base_frame_and_extent(mesh, settings.direction);
+    stack.base = fe.frame;
+    const double lo = fe.lo, hi = fe.hi;
     const std::vector<slice::LayerSpan> layers =
         settings.layers.adaptive ? slice::adaptive_layers(mesh, stack.base, lo, hi, settings.layers)
                                  : slice::uniform_layers(lo, hi, settings.layers.layer_mm);

@@ -28,6 +28,7 @@
 #include <memory>
 #include <numeric>
 #include <string>
+#include <tuple>
 
 #include "maxslice/core/tolerances.hpp"
 #include "maxslice/core/units.hpp"
@@ -472,23 +473,41 @@ core::Result<std::vector<Slice>> slice_mesh(const mesh::TriangleMesh& mesh, cons
 
 namespace {
 
-// The smallest and largest of f(vertex) over the vertices of the triangles, in parallel:
-// min and max are exact, so the result does not depend on the split. NaN values are skipped
-// (std::min/max keep the running value), as in a serial loop.
+// Which vertices the triangles use: a mesh may carry vertices no triangle uses (repair drops
+// faces), and they must not count in its extent. Marked in parallel over blocks of triangles
+// (every store writes 1, relaxed: no order is needed, only the final values).
+std::vector<std::uint8_t> used_vertices(const mesh::TriangleMesh& mesh) {
+    std::vector<std::uint8_t> used(mesh.vertices.size(), 0);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, mesh.triangles.size(), 1 << 15),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                          for (std::size_t t = r.begin(); t != r.end(); ++t) {
+                              for (const std::uint32_t i : mesh.triangles[t]) {
+                                  std::atomic_ref<std::uint8_t>(used[i]).store(
+                                      1, std::memory_order_relaxed);
+                              }
+                          }
+                      });
+    return used;
+}
+
+// The smallest and largest of f(vertex) over the used vertices, in parallel: min and max are
+// exact, so the result does not depend on the split. NaN values are skipped (std::min/max keep
+// the running value), as in a serial loop. A vertex used by several triangles is looked at
+// once (before: once per corner, six times on a closed mesh).
 template <class F>
-std::pair<double, double> triangle_vertex_range(const mesh::TriangleMesh& mesh, F f) {
+std::pair<double, double> used_vertex_range(const mesh::TriangleMesh& mesh,
+                                            const std::vector<std::uint8_t>& used, F f) {
     using Range = std::pair<double, double>;
     const Range empty{std::numeric_limits<double>::infinity(),
                       -std::numeric_limits<double>::infinity()};
     return tbb::parallel_reduce(
-        tbb::blocked_range<std::size_t>(0, mesh.triangles.size(), 1 << 14), empty,
+        tbb::blocked_range<std::size_t>(0, mesh.vertices.size(), 1 << 15), empty,
         [&](const tbb::blocked_range<std::size_t>& r, Range acc) {
-            for (std::size_t t = r.begin(); t != r.end(); ++t) {
-                for (const std::uint32_t i : mesh.triangles[t]) {
-                    const double h = f(mesh.vertices[i]);
-                    acc.first = std::min(acc.first, h);
-                    acc.second = std::max(acc.second, h);
-                }
+            for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                if (used[i] == 0) continue;
+                const double h = f(mesh.vertices[i]);
+                acc.first = std::min(acc.first, h);
+                acc.second = std::max(acc.second, h);
             }
             return acc;
         },
@@ -497,21 +516,40 @@ std::pair<double, double> triangle_vertex_range(const mesh::TriangleMesh& mesh, 
         });
 }
 
-}  // namespace
-
-PlaneFrame base_frame(const mesh::TriangleMesh& mesh, const core::Vec3d& direction) {
+PlaneFrame frame_of(const mesh::TriangleMesh& mesh, const std::vector<std::uint8_t>& used,
+                    const core::Vec3d& direction) {
     const core::Vec3d d = core::normalized(direction);
     double lo =
-        triangle_vertex_range(mesh, [&](const core::Vec3d& v) { return core::dot(v, d); }).first;
+        used_vertex_range(mesh, used, [&](const core::Vec3d& v) { return core::dot(v, d); }).first;
     if (!std::isfinite(lo)) lo = 0.0;
     return PlaneFrame::from_normal(d * lo, d);
 }
 
-std::pair<double, double> extent_along(const mesh::TriangleMesh& mesh, const PlaneFrame& frame) {
+std::pair<double, double> extent_of(const mesh::TriangleMesh& mesh,
+                                    const std::vector<std::uint8_t>& used,
+                                    const PlaneFrame& frame) {
     const auto [lo, hi] =
-        triangle_vertex_range(mesh, [&](const core::Vec3d& v) { return frame.height(v); });
+        used_vertex_range(mesh, used, [&](const core::Vec3d& v) { return frame.height(v); });
     if (!(lo <= hi)) return {0.0, 0.0};
     return {lo, hi};
+}
+
+}  // namespace
+
+PlaneFrame base_frame(const mesh::TriangleMesh& mesh, const core::Vec3d& direction) {
+    return frame_of(mesh, used_vertices(mesh), direction);
+}
+
+std::pair<double, double> extent_along(const mesh::TriangleMesh& mesh, const PlaneFrame& frame) {
+    return extent_of(mesh, used_vertices(mesh), frame);
+}
+
+FrameExtent base_frame_and_extent(const mesh::TriangleMesh& mesh, const core::Vec3d& direction) {
+    const std::vector<std::uint8_t> used = used_vertices(mesh);
+    FrameExtent out;
+    out.frame = frame_of(mesh, used, direction);
+    std::tie(out.lo, out.hi) = extent_of(mesh, used, out.frame);
+    return out;
 }
 
 }  // namespace maxslice::slice

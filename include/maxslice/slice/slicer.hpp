@@ -61,4 +61,13 @@ struct PlaneCut {
 [[nodiscard]] std::pair<double, double> extent_along(const mesh::TriangleMesh& mesh,
                                                      const PlaneFrame& frame);
 
+/// base_frame(mesh, direction) and extent_along(mesh, that frame), the same values, with one
+/// look at which vertices the triangles use.
+struct FrameExtent {
+    PlaneFrame frame;
+    double lo = 0.0, hi = 0.0;
+};
+[[nodiscard]] FrameExtent base_frame_and_extent(const mesh::TriangleMesh& mesh,
+                                                const core::Vec3d& direction);
+
 }  // namespace maxslice::slice
