@@ -112,20 +112,6 @@ core::Result<CutContext> prepare(const mesh::TriangleMesh& mesh, const PlaneFram
     CutContext ctx;
     ctx.mesh = &mesh;
     ctx.base = base;
-    const std::size_t nv = mesh.vertices.size();
-    ctx.height = std::make_unique_for_overwrite<double[]>(nv);
-    std::atomic<bool> finite{true};
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nv, 1 << 14), [&](const auto& r) {
-        for (std::size_t i = r.begin(); i != r.end(); ++i) {
-            const core::Vec3d d = mesh.vertices[i] - base.origin;
-            ctx.height[i] = core::dot(d, base.normal);
-            if (!core::is_finite(mesh.vertices[i])) finite.store(false);
-        }
-    });
-    if (!finite.load()) {
-        return core::fail(core::ErrorCode::kInvalidInput,
-                          "the mesh has NaN or infinite vertex coordinates", "slicing");
-    }
     for (const double h : heights) {
         if (!std::isfinite(h)) {
             return core::fail(core::ErrorCode::kInvalidInput, "a plane height is not finite",
@@ -138,9 +124,9 @@ core::Result<CutContext> prepare(const mesh::TriangleMesh& mesh, const PlaneFram
     const std::size_t nt = mesh.triangles.size();
     const std::size_t np = hs.size();
 
-    // Plane range [k0, k1) crossed by each triangle: planes with min <= h < max. A table of
-    // lower bounds at 4 bins per plane gives a start index close to the answer; a short
-    // forward scan makes it exact (the same result as std::lower_bound).
+    // lower_bound(x) over the planes: the first plane with h >= x. A table of lower bounds at
+    // 4 bins per plane gives a start index close to the answer; a short forward scan makes it
+    // exact (the same result as std::lower_bound).
     const double h0 = np > 0 ? hs.front() : 0.0;
     const std::size_t bins = 4 * np + 1;
     const double width = np >= 2 ? (hs.back() - h0) / static_cast<double>(bins - 1) : 0.0;
@@ -165,20 +151,36 @@ core::Result<CutContext> prepare(const mesh::TriangleMesh& mesh, const PlaneFram
         while (k < np && hs[k] < x) ++k;
         return static_cast<std::uint32_t>(k);
     };
+
+    // Every vertex's height and the first plane at or above it. lower_bound is monotone, so a
+    // triangle's plane range [lower_bound(min), lower_bound(max)), the planes with
+    // min <= h < max, is [the least of its vertices' bounds, the greatest): no search per
+    // triangle.
+    const std::size_t nv = mesh.vertices.size();
+    ctx.height = std::make_unique_for_overwrite<double[]>(nv);
+    const auto vertex_plane = std::make_unique_for_overwrite<std::uint32_t[]>(nv);
+    std::atomic<bool> finite{true};
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nv, 1 << 14), [&](const auto& r) {
+        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+            const core::Vec3d d = mesh.vertices[i] - base.origin;
+            ctx.height[i] = core::dot(d, base.normal);
+            vertex_plane[i] = lower_bound(ctx.height[i]);
+            if (!core::is_finite(mesh.vertices[i])) finite.store(false);
+        }
+    });
+    if (!finite.load()) {
+        return core::fail(core::ErrorCode::kInvalidInput,
+                          "the mesh has NaN or infinite vertex coordinates", "slicing");
+    }
     // Plane range [k0, k1) of triangle t; empty for a triangle with a repeated vertex (its
-    // crossing edges are one edge: no segment). k1 = lower_bound(max) >= k0 is found by a
-    // scan from k0: most triangles cross no plane, and one that crosses several has as many
-    // segments to make. Computed in both passes below rather than stored (two arrays the size
-    // of the mesh, written once and read once).
+    // crossing edges are one edge: no segment). Computed in both passes below rather than
+    // stored (two arrays the size of the mesh, written once and read once).
     const auto planes_of = [&](std::size_t t) -> std::pair<std::uint32_t, std::uint32_t> {
         const auto& tri = mesh.triangles[t];
         if (tri[0] == tri[1] || tri[1] == tri[2] || tri[2] == tri[0]) return {0, 0};
-        const double a = ctx.height[tri[0]], b = ctx.height[tri[1]], e = ctx.height[tri[2]];
-        const double hi = std::max({a, b, e});
-        const std::uint32_t k0 = lower_bound(std::min({a, b, e}));
-        std::uint32_t k = k0;
-        while (k < np && hs[k] < hi) ++k;
-        return {k0, k};
+        const std::uint32_t a = vertex_plane[tri[0]], b = vertex_plane[tri[1]],
+                            c = vertex_plane[tri[2]];
+        return {std::min({a, b, c}), std::max({a, b, c})};
     };
     // Counting sort of (plane, triangle) pairs, in parallel over fixed chunks of triangles:
     // each chunk counts its triangles per plane, and a chunk's segments of a plane go after
