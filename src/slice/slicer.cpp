@@ -2,7 +2,7 @@
 //
 // The algorithm follows Minetto et al. (2017), "An optimal algorithm for 3D triangle mesh
 // slicing": triangles are bucketed by the range of planes they cross (O(n log k) with a
-// binary search per triangle, then a counting sort that writes each triangle's segments
+// binary search per vertex, then a counting sort that writes each triangle's segments
 // straight into its planes' buckets, while the triangle is in cache), each plane is cut
 // independently (in parallel), and its segments are chained into loops through a hash table
 // keyed on the mesh edge (the pair of vertex ids) each segment starts on: O(n log k + m) in
