@@ -717,7 +717,6 @@ TEST_F(ProfileFiles, ErrorsNameTheFile) {
     EXPECT_EQ(r.error().context, "profile " + file.string());
 }
 
-
 // [[process.finer]]: whole processes with narrower tracks, read and checked like [process]
 // (decision 0019).
 TEST(Profile, FinerProcessesAreReadAndChecked) {
