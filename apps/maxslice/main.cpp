@@ -908,6 +908,9 @@ int run_slice(const PartOptions& opt, const SliceOptions& so) {
                      "part leans, METHOD.md section 4)\n");
     }
     // One job with the main process or one of the finer ones (decision 0019).
+    // The planar job takes the part; it gets a copy only when a finer run may follow.
+    const bool may_retry =
+        !profiles->process.finer.empty() && so.finer == "auto" && !so.layer_given;
     const auto attempt = [&](const machine::Profiles& p, int finer) {
         if (table_tilt) {
             return run_multiaxis_slice(opt, so, part->imported.mesh, p, times, given, *policy,
@@ -915,7 +918,8 @@ int run_slice(const PartOptions& opt, const SliceOptions& so) {
         }
         pipeline::SliceSettings pss = ss;
         layers_of_process(pss, p.process, so);
-        return run_planar_slice(opt, so, *part, pss, p, times, given, *policy, finer);
+        return run_planar_slice(opt, so, may_retry ? *part : std::move(*part), pss, p, times, given,
+                                *policy, finer);
     };
     auto job = with_finer_processes(*profiles, so, attempt);
     if (!job) return report_error(job.error());

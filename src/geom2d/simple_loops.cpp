@@ -380,25 +380,17 @@ bool chains_clear(const std::vector<Edge>& c, const std::vector<Edge>& d, bool o
     return true;
 }
 
-// Steps 2 and 3 for a loop alone when it is y-monotone, as most cuts of struts and shafts
-// are: edges of one chain share no sweep line except at their shared vertex, or at both ends
-// of a horizontal edge between them where both are exact and distinct (no two consecutive
-// edges are collinear), so only pairs from opposite chains need a check, found by merging
-// the chains in O(n). Returns nullopt when the loop is not y-monotone.
-std::optional<bool> monotone_loop_clear(const Path2& p, Heights& heights) {
-    const std::optional<Chains> c = monotone_chains(p);
-    if (!c) return std::nullopt;
-    return chains_clear(c->a, c->b, true, heights);
-}
-
 // Groups of at most this many loops, all y-monotone, are checked chain against chain: the
-// cost is about (2 g - 1) times their edges, below the grid's for a ring (a tube's or a
-// torus's cut: two loops) and a few bosses in a plate.
+// cost is about (2 g - 1) times their edges, below the grid's for a lone loop (most cuts of
+// struts and shafts), a ring (a tube's or a torus's cut: two loops) and a few bosses.
 constexpr std::size_t kMaxMergedGroup = 4;
 
-// Steps 2 and 3 for a group of a few loops that are all y-monotone, without a grid: each
-// loop's two chains as a lone loop's, and every chain against every chain of the other
-// loops. nullopt when a loop is not y-monotone or the group is too large.
+// Steps 2 and 3 for a group of a few loops that are all y-monotone, without a grid. Edges of
+// one chain share no sweep line except at their shared vertex, or at both ends of a
+// horizontal edge between them where both are exact and distinct (no two consecutive edges
+// are collinear), so only pairs from different chains need a check: each loop's two chains
+// against each other, and every chain against every chain of the other loops, each pair
+// merged in O(n). nullopt when a loop is not y-monotone or the group is too large.
 std::optional<bool> monotone_group_clear(const std::vector<Path2>& loops,
                                          const std::vector<std::uint32_t>& group,
                                          Heights& heights) {
@@ -544,13 +536,9 @@ std::optional<WireTree> wire_tree_of_simple_loops(const Paths2& loops) {
     };
     for (const std::vector<std::uint32_t>& g : members) {
         if (g.empty()) continue;
-        if (g.size() == 1) {  // a lone loop is a root, and often needs no grid
-            if (const auto clear = monotone_loop_clear(clean[g[0]], heights)) {
-                if (!*clear) return std::nullopt;
-                continue;
-            }
-        } else if (const auto clear = monotone_group_clear(clean, g, heights)) {
+        if (const auto clear = monotone_group_clear(clean, g, heights)) {
             if (!*clear) return std::nullopt;
+            if (g.size() == 1) continue;  // a lone loop is a root
             // A few loops: each ray against every edge of the others.
             for (const std::uint32_t l : g) {
                 const Point2 p = *std::min_element(clean[l].begin(), clean[l].end());
