@@ -13,7 +13,7 @@
 //      on the line through its neighbours and between them (a straight run) dropped; a loop
 //      that doubles back on itself (a spike) or keeps fewer than 3 points is refused;
 //   2. no two edges meet, except consecutive edges of one loop at their shared vertex (exact
-//      integer tests; candidate pairs from a uniform grid over the edges' boxes);
+//      integer tests; candidate pairs from a sweep over the loops' y-monotone chains, below);
 //   3. at every vertex height where two edges are both cut by the sweep line and at least
 //      one of them has its position rounded there (the height is inside its range, not at
 //      an end), their true positions are more than kGap apart. Clipper's rounded positions
@@ -21,20 +21,21 @@
 //      true order with no ties: it sees no false crossing or contact, and no new vertex or
 //      join is made. Positions are linear in height, so a pair is checked at the lowest and
 //      highest such heights of its common range only; most pairs share no height at all;
-//   4. the loops are then disjoint Jordan curves: each loop's enclosing loops are those a ray
-//      from its smallest point crosses an odd number of times, its parent the smallest of
-//      them (enclosing loops nest, so their areas strictly decrease);
+//   4. the loops are then disjoint Jordan curves: each loop's enclosing loops follow from the
+//      chain just left of its lowest point in the same sweep, its parent the innermost;
 //   5. the fill must be exactly 0 or 1 everywhere: outermost loops counter-clockwise, and
 //      each loop oriented opposite to its parent. Then the positive-fill union is bounded by
 //      exactly these loops, outers counter-clockwise and holes clockwise as Clipper returns
 //      them, and nested as found in 4.
 // Any other input (crossings, touching or nearly touching loops, sliver notches, overlapping
-// bodies, loops of the wrong orientation, coordinates outside the documented range, or a grid
-// too crowded to be fast) is refused and goes to Clipper. tests/unit/geom2d compares the two.
+// bodies, loops of the wrong orientation, coordinates outside the documented range, or so many
+// chains across one sweep line that the sweep would be slow) is refused and goes to Clipper.
+// tests/unit/geom2d compares the two.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <optional>
+#include <tuple>
 
 #include "maxslice/geom2d/wire_tree.hpp"
 
@@ -106,12 +107,12 @@ Int128 twice_area(const Path2& p) {
     return sum;
 }
 
+// An edge of a loop: in a chain from its lower end a up to b, a horizontal one as the loop
+// runs.
 struct Edge {
     Point2 a, b;
-    std::int64_t x0, y0, x1, y1;  // bounding box grown by one unit each way
     std::uint32_t loop;
-    std::uint32_t index;  // position of a in its loop
-    std::int32_t cx0;     // first grid column covered by the box
+    std::uint32_t index;  // the loop edge from point `index` to the next one
 };
 
 // Do two closed segments share a point? Exact.
@@ -210,211 +211,6 @@ bool pair_clear(const Edge& s, const Edge& t, Heights& heights) {
     return apart_at(s, t, y0) && (y1 == y0 || apart_at(s, t, y1));
 }
 
-// A uniform grid over the boxes of a group of edges, cells a power of two wide (no division),
-// about two cells per edge; a box is listed in every cell it covers.
-class Grid {
-public:
-    // Returns false when the edges are too crowded for the grid to beat Clipper.
-    bool build(std::vector<Edge>& edges, std::int64_t x0, std::int64_t y0, std::int64_t x1,
-               std::int64_t y1) {
-        x0_ = x0;
-        y0_ = y0;
-        const std::size_t n = edges.size();
-        const std::uint64_t max_cells = 2 * n + 16;
-        // Coordinates are within kMaxCoordinateUm, so spans are below 2^32 and the cell
-        // count below 2^64.
-        const std::uint64_t w = static_cast<std::uint64_t>(x1 - x0);
-        const std::uint64_t h = static_cast<std::uint64_t>(y1 - y0);
-        const double cell_area = static_cast<double>(w + 1) * static_cast<double>(h + 1) /
-                                 static_cast<double>(max_cells);
-        shift_ = 0;
-        while (static_cast<double>(std::uint64_t{1} << (2 * shift_)) < cell_area) ++shift_;
-        while (((w >> shift_) + 1) * ((h >> shift_) + 1) > max_cells) ++shift_;
-        nx_ = col(x1) + 1;
-        ny_ = row(y1) + 1;
-        start_.assign(static_cast<std::size_t>(nx_) * static_cast<std::size_t>(ny_) + 1, 0);
-        std::size_t total = 0;
-        for (Edge& e : edges) {
-            e.cx0 = col(e.x0);
-            const std::int32_t cx1 = col(e.x1), cy0 = row(e.y0), cy1 = row(e.y1);
-            total +=
-                static_cast<std::size_t>(cx1 - e.cx0 + 1) * static_cast<std::size_t>(cy1 - cy0 + 1);
-            if (total > 16 * n + 1024) return false;
-            for (std::int32_t cy = cy0; cy <= cy1; ++cy) {
-                for (std::int32_t cx = e.cx0; cx <= cx1; ++cx) ++start_[cell(cx, cy) + 1];
-            }
-        }
-        std::size_t pairs = 0;
-        for (std::size_t c = 1; c < start_.size(); ++c) {
-            pairs += static_cast<std::size_t>(start_[c]) * start_[c];
-            start_[c] += start_[c - 1];
-        }
-        if (pairs > 64 * n + 4096) return false;
-        items_.resize(total);
-        fill_.assign(start_.begin(), start_.end() - 1);
-        for (std::size_t i = 0; i < n; ++i) {
-            const Edge& e = edges[i];
-            const std::int32_t cx1 = col(e.x1), cy0 = row(e.y0), cy1 = row(e.y1);
-            for (std::int32_t cy = cy0; cy <= cy1; ++cy) {
-                for (std::int32_t cx = e.cx0; cx <= cx1; ++cx) {
-                    items_[fill_[cell(cx, cy)]++] = static_cast<std::uint32_t>(i);
-                }
-            }
-        }
-        return true;
-    }
-
-    std::int32_t col(std::int64_t x) const {
-        return static_cast<std::int32_t>(static_cast<std::uint64_t>(x - x0_) >> shift_);
-    }
-    std::int32_t row(std::int64_t y) const {
-        return static_cast<std::int32_t>(static_cast<std::uint64_t>(y - y0_) >> shift_);
-    }
-    std::int32_t columns() const { return nx_; }
-    std::int32_t rows() const { return ny_; }
-    std::size_t cell(std::int32_t cx, std::int32_t cy) const {
-        return static_cast<std::size_t>(cy) * static_cast<std::size_t>(nx_) +
-               static_cast<std::size_t>(cx);
-    }
-    const std::uint32_t* begin(std::size_t c) const { return items_.data() + start_[c]; }
-    const std::uint32_t* end(std::size_t c) const { return items_.data() + start_[c + 1]; }
-
-private:
-    std::int64_t x0_ = 0, y0_ = 0;
-    int shift_ = 0;
-    std::int32_t nx_ = 0, ny_ = 0;
-    std::vector<std::uint32_t> start_, fill_, items_;
-};
-
-// Steps 2 and 3 for every pair of edges that are not consecutive in one loop: false when a
-// pair meets or comes too close on a sweep line.
-bool pairs_clear(const std::vector<Edge>& edges, const Grid& grid,
-                 const std::vector<std::uint32_t>& loop_size, Heights& heights) {
-    for (std::int32_t cy = 0; cy < grid.rows(); ++cy) {
-        for (std::int32_t cx = 0; cx < grid.columns(); ++cx) {
-            const std::size_t c = grid.cell(cx, cy);
-            for (const std::uint32_t* i = grid.begin(c); i != grid.end(c); ++i) {
-                const Edge& s = edges[*i];
-                for (const std::uint32_t* j = i + 1; j != grid.end(c); ++j) {
-                    const Edge& t = edges[*j];
-                    if (s.x1 < t.x0 || t.x1 < s.x0 || s.y1 < t.y0 || t.y1 < s.y0) continue;
-                    // Test each pair once: in the cell holding the low corner of the overlap
-                    // of their boxes.
-                    if (grid.col(std::max(s.x0, t.x0)) != cx ||
-                        grid.row(std::max(s.y0, t.y0)) != cy) {
-                        continue;
-                    }
-                    if (s.loop == t.loop) {
-                        const std::uint32_t last = loop_size[s.loop] - 1;
-                        const std::uint32_t i1 = s.index == last ? 0 : s.index + 1;
-                        const std::uint32_t j1 = t.index == last ? 0 : t.index + 1;
-                        if (i1 == t.index || j1 == s.index) continue;  // see extrema_clear
-                    }
-                    if (!pair_clear(s, t, heights)) return false;
-                }
-            }
-        }
-    }
-    return true;
-}
-
-// A y-monotone loop's two chains from its lowest point s to its highest t (lowest: the
-// smallest y, then x), each edge stored from its lower end up: chain a runs forward from s,
-// chain b backward. Along a chain both ends of the edges' height ranges never decrease.
-// nullopt when the loop is not y-monotone (a chain goes down somewhere).
-struct Chains {
-    std::vector<Edge> a, b;
-};
-
-std::optional<Chains> monotone_chains(const Path2& p) {
-    const std::size_t n = p.size();
-    const auto low = [](const Point2& u, const Point2& v) {
-        return u.y != v.y ? u.y < v.y : u.x < v.x;
-    };
-    std::size_t s = 0, t = 0;
-    for (std::size_t i = 1; i < n; ++i) {
-        if (low(p[i], p[s])) s = i;
-        if (low(p[t], p[i])) t = i;
-    }
-    const auto next = [n](std::size_t i) { return i + 1 == n ? 0 : i + 1; };
-    const auto prev = [n](std::size_t i) { return i == 0 ? n - 1 : i - 1; };
-    // x0 and x1 hold the edge's x range grown by one unit each way, as the grid's boxes.
-    const auto edge = [](const Point2& u, const Point2& v) {
-        return Edge{u, v, std::min(u.x, v.x) - 1, 0, std::max(u.x, v.x) + 1, 0, 0, 0, 0};
-    };
-    Chains c;
-    c.a.reserve(n);
-    c.b.reserve(n);
-    for (std::size_t i = s; i != t; i = next(i)) {
-        if (p[next(i)].y < p[i].y) return std::nullopt;
-        c.a.push_back(edge(p[i], p[next(i)]));
-    }
-    for (std::size_t i = s; i != t; i = prev(i)) {
-        if (p[prev(i)].y < p[i].y) return std::nullopt;
-        c.b.push_back(edge(p[i], p[prev(i)]));
-    }
-    return c;
-}
-
-// Steps 2 and 3 for the pairs of an edge of chain c and an edge of chain d whose height
-// ranges overlap (touching ranges count: a horizontal edge overlaps every edge that reaches
-// its height); no other pair of them shares a sweep line, so none can meet. The d edges that
-// overlap a c edge are a run that only moves forward: O(|c| + |d|) plus the pairs. With
-// `one_loop` (the two chains of one loop) their first edges and their last edges are
-// consecutive, at s and at t: extrema_clear checks those.
-bool chains_clear(const std::vector<Edge>& c, const std::vector<Edge>& d, bool one_loop,
-                  Heights& heights) {
-    std::size_t j0 = 0;
-    for (std::size_t i = 0; i < c.size(); ++i) {
-        const Edge& e = c[i];
-        while (j0 < d.size() && d[j0].b.y < e.a.y) ++j0;
-        for (std::size_t j = j0; j < d.size() && d[j].a.y <= e.b.y; ++j) {
-            // More than two units apart across: pair_clear's first answer, without the call.
-            if (e.x1 < d[j].x0 || d[j].x1 < e.x0) continue;
-            if (one_loop && ((i == 0 && j == 0) || (i + 1 == c.size() && j + 1 == d.size()))) {
-                continue;
-            }
-            if (!pair_clear(e, d[j], heights)) return false;
-        }
-    }
-    return true;
-}
-
-// Groups of at most this many loops, all y-monotone, are checked chain against chain: the
-// cost is about (2 g - 1) times their edges, below the grid's for a lone loop (most cuts of
-// struts and shafts), a ring (a tube's or a torus's cut: two loops) and a few bosses.
-constexpr std::size_t kMaxMergedGroup = 4;
-
-// Steps 2 and 3 for a group of a few loops that are all y-monotone, without a grid. Edges of
-// one chain share no sweep line except at their shared vertex, or at both ends of a
-// horizontal edge between them where both are exact and distinct (no two consecutive edges
-// are collinear), so only pairs from different chains need a check: each loop's two chains
-// against each other, and every chain against every chain of the other loops, each pair
-// merged in O(n). nullopt when a loop is not y-monotone or the group is too large.
-std::optional<bool> monotone_group_clear(const std::vector<Path2>& loops,
-                                         const std::vector<std::uint32_t>& group,
-                                         Heights& heights) {
-    if (group.size() > kMaxMergedGroup) return std::nullopt;
-    std::vector<Chains> chains;
-    chains.reserve(group.size());
-    for (const std::uint32_t l : group) {
-        std::optional<Chains> c = monotone_chains(loops[l]);
-        if (!c) return std::nullopt;
-        chains.push_back(std::move(*c));
-    }
-    for (std::size_t k = 0; k < chains.size(); ++k) {
-        if (!chains_clear(chains[k].a, chains[k].b, true, heights)) return false;
-        for (std::size_t m = k + 1; m < chains.size(); ++m) {
-            for (const std::vector<Edge>* c : {&chains[k].a, &chains[k].b}) {
-                for (const std::vector<Edge>* d : {&chains[m].a, &chains[m].b}) {
-                    if (!chains_clear(*c, *d, false, heights)) return false;
-                }
-            }
-        }
-    }
-    return true;
-}
-
 // Step 3 for consecutive edges: they share a sweep line beyond their shared vertex only
 // when both leave it upwards or both downwards; their gap grows from there, so the nearest
 // sweep line on that side is the one to check (where both end, both are exact).
@@ -427,8 +223,8 @@ bool extrema_clear(const std::vector<Path2>& loops, Heights& heights) {
             const Point2& w = p[i + 1 == n ? 0 : i + 1];
             const bool up = u.y > v.y && w.y > v.y;
             if (!up && !(u.y < v.y && w.y < v.y)) continue;
-            const Edge s{v, u, 0, 0, 0, 0, 0, 0, 0};
-            const Edge t{v, w, 0, 0, 0, 0, 0, 0, 0};
+            const Edge s{v, u, 0, 0};
+            const Edge t{v, w, 0, 0};
             // The nearest sweep line is at least a unit away: try that first.
             if (apart_at(s, t, up ? v.y + 1 : v.y - 1)) continue;
             const std::int64_t y = heights.next(v.y, !up);
@@ -438,6 +234,277 @@ bool extrema_clear(const std::vector<Path2>& loops, Heights& heights) {
     }
     return true;
 }
+
+// A y-monotone chain: a maximal run of a loop's sloped edges that all rise or all fall as the
+// loop runs, stored bottom up (edges[begin, end), each edge's b the next one's a), so that it
+// meets every sweep line in its height range once. Horizontal edges are kept apart.
+struct Chain {
+    std::uint32_t begin, end;
+    std::uint32_t loop;
+    std::uint32_t cursor;  // the first edge whose top is at or above the sweep line
+    bool down;             // the loop runs down along it
+};
+
+// Steps 2 to 4 by a sweep upwards over the chains (Shamos and Hoey, 1976, on chains instead of
+// segments): the chains that cross the sweep line are kept in x order, and two chains are
+// merged (every pair of their edges whose height ranges touch is checked) when they become
+// neighbours. Why the neighbours suffice, with the sweep line at a vertex height y, after the
+// chains starting at y are placed and before those ending at y leave:
+//   - the lowest point where two edges meet is shared by neighbouring chains just below it, or
+//     is a chain end at y where every chain through it is a neighbour of another; two chains
+//     may share an end only as the two chains of one loop vertex, whose edges are consecutive;
+//   - at y, every chain of an edge Q that y crosses inside its range has a neighbour towards
+//     any other edge P at y (or is P's chain), and that neighbour's edge is nearer to Q than P;
+//   - a horizontal edge at y is checked against every chain within 2 units of it at y, and
+//     against the previous horizontal edge at y (sorted by their left ends, any two that meet
+//     imply two neighbours that meet).
+// Nesting (step 4): a loop's smallest point p is the bottom of one or two of its chains; just
+// above y, the loops around p other than its own are those around the point just right of
+// the chain left of p, whose loop L has its point at y left of p and is placed already: L and
+// L's enclosing loops when that chain is a left boundary of L (L lies to its right: it runs
+// down L when L is counter-clockwise, up when clockwise), else L's enclosing loops alone.
+// Returns false when an edge pair fails steps 2 or 3, or when the sweep does more than a few
+// times the work of a clear set of loops (many chains across one sweep line: Clipper instead).
+class Sweep {
+public:
+    Sweep(const std::vector<Path2>& loops, const std::vector<Int128>& area, Heights& heights)
+        : loops_(loops), area_(area), heights_(heights) {}
+
+    bool run(std::vector<int>& parent, std::vector<int>& depth) {
+        std::size_t n_edges = 0;
+        for (std::uint32_t l = 0; l < loops_.size(); ++l) {
+            split(l);
+            n_edges += loops_[l].size();
+        }
+        budget_ = 32 * n_edges + 4096;
+        std::vector<Event> events;
+        events.reserve(2 * chains_.size() + flat_.size() + loops_.size());
+        for (std::uint32_t c = 0; c < chains_.size(); ++c) {
+            const Point2 bottom = edges_[chains_[c].begin].a;
+            const Point2 top = edges_[chains_[c].end - 1].b;
+            events.push_back({bottom.y, kInsert, bottom.x, c});
+            events.push_back({top.y, kRemove, top.x, c});
+        }
+        for (std::uint32_t h = 0; h < flat_.size(); ++h) {
+            events.push_back({flat_[h].a.y, kFlat, std::min(flat_[h].a.x, flat_[h].b.x), h});
+        }
+        for (std::uint32_t l = 0; l < loops_.size(); ++l) {
+            const Point2 p = *std::min_element(loops_[l].begin(), loops_[l].end(),
+                                               [](const Point2& u, const Point2& v) {
+                                                   return u.y != v.y ? u.y < v.y : u.x < v.x;
+                                               });
+            events.push_back({p.y, kNest, p.x, l});
+        }
+        std::sort(events.begin(), events.end());
+        std::vector<std::uint8_t> placed(loops_.size(), 0);
+        const Edge* last_flat = nullptr;
+        for (const Event& ev : events) {
+            y_ = ev.y;
+            switch (ev.kind) {
+                case kInsert:
+                    if (!insert(ev.id)) return false;
+                    break;
+                case kFlat: {
+                    const Edge& h = flat_[ev.id];
+                    if (last_flat != nullptr && last_flat->a.y == h.a.y &&
+                        !pair_clear(*last_flat, h, heights_)) {
+                        return false;
+                    }
+                    if (!flat_clear(h)) return false;
+                    last_flat = &h;
+                    break;
+                }
+                case kRemove:
+                    if (!remove(ev.id)) return false;
+                    break;
+                case kNest: {
+                    const Point2 p{ev.x, ev.y};
+                    const std::size_t i = left_of(p);
+                    parent[ev.id] = -1;
+                    depth[ev.id] = 0;
+                    if (i > 0) {
+                        const Chain& c = chains_[status_[i - 1]];
+                        if (placed[c.loop] == 0) return false;  // only when loops meet
+                        const bool left_boundary = c.down == (area_[c.loop] > 0);
+                        parent[ev.id] = left_boundary ? static_cast<int>(c.loop) : parent[c.loop];
+                        depth[ev.id] = depth[c.loop] + (left_boundary ? 1 : 0);
+                    }
+                    placed[ev.id] = 1;
+                    break;
+                }
+            }
+        }
+        return true;
+    }
+
+private:
+    enum Kind : std::uint8_t { kInsert, kFlat, kRemove, kNest };
+    struct Event {
+        std::int64_t y;
+        Kind kind;
+        std::int64_t x;
+        std::uint32_t id;
+        bool operator<(const Event& o) const {
+            return std::tie(y, kind, x, id) < std::tie(o.y, o.kind, o.x, o.id);
+        }
+    };
+
+    // Loop l's chains (from an edge that starts one, so none wraps around) and horizontal
+    // edges. A loop of non-zero area rises and falls, so that edge exists.
+    void split(std::uint32_t l) {
+        const Path2& p = loops_[l];
+        const std::size_t n = p.size();
+        const auto rise = [&](std::size_t i) {
+            const std::int64_t d = p[i + 1 == n ? 0 : i + 1].y - p[i].y;
+            return (d > 0) - (d < 0);
+        };
+        std::size_t s = 0;
+        while (s < n && (rise(s) == 0 || rise(s == 0 ? n - 1 : s - 1) == rise(s))) ++s;
+        const std::size_t first = chains_.size();
+        int run = 0;  // the rise of the open chain; 0: none is open
+        for (std::size_t k = 0; k < n; ++k) {
+            const std::size_t i = (s + k) % n;
+            const Point2& u = p[i];
+            const Point2& v = p[i + 1 == n ? 0 : i + 1];
+            const int r = rise(i);
+            const auto index = static_cast<std::uint32_t>(i);
+            if (r == 0) {
+                flat_.push_back({u, v, l, index});
+                run = 0;
+                continue;
+            }
+            if (r != run) {
+                const auto at = static_cast<std::uint32_t>(edges_.size());
+                chains_.push_back({at, at, l, at, r < 0});
+                run = r;
+            }
+            edges_.push_back(r > 0 ? Edge{u, v, l, index} : Edge{v, u, l, index});
+            chains_.back().end = static_cast<std::uint32_t>(edges_.size());
+        }
+        for (std::size_t c = first; c < chains_.size(); ++c) {
+            if (chains_[c].down) {
+                std::reverse(edges_.begin() + chains_[c].begin, edges_.begin() + chains_[c].end);
+            }
+        }
+    }
+
+    bool consecutive(const Edge& s, const Edge& t) const {
+        if (s.loop != t.loop) return false;
+        const std::size_t n = loops_[s.loop].size();
+        return (s.index + 1) % n == t.index || (t.index + 1) % n == s.index;
+    }
+
+    // Chain c's edge at the sweep line (one that reaches it: the lower one at a vertex).
+    const Edge& at_sweep(Chain& c) {
+        while (c.cursor + 1 < c.end && edges_[c.cursor].b.y < y_) ++c.cursor;
+        return edges_[c.cursor];
+    }
+
+    // Which side of chain c point q on the sweep line is: > 0 left, < 0 right, 0 on it.
+    int side(Chain& c, const Point2& q) {
+        const Edge& e = at_sweep(c);
+        return sign(cross(e.a, e.b, q));
+    }
+
+    // The number of chains in the status left of q on the sweep line.
+    std::size_t left_of(const Point2& q) {
+        return static_cast<std::size_t>(
+            std::partition_point(status_.begin(), status_.end(),
+                                 [&](std::uint32_t d) { return side(chains_[d], q) < 0; }) -
+            status_.begin());
+    }
+
+    bool spend(std::size_t work) {
+        if (work > budget_) return false;
+        budget_ -= work;
+        return true;
+    }
+
+    // Every pair of edges of chains c and d whose height ranges touch, except consecutive
+    // ones (extrema_clear checks those).
+    bool merge(std::uint32_t ci, std::uint32_t di) {
+        const Chain& c = chains_[ci];
+        const Chain& d = chains_[di];
+        const std::int64_t lo = std::max(edges_[c.begin].a.y, edges_[d.begin].a.y);
+        const std::int64_t hi = std::min(edges_[c.end - 1].b.y, edges_[d.end - 1].b.y);
+        if (lo > hi) return true;
+        const auto from = [&](const Chain& k) {
+            return static_cast<std::size_t>(
+                std::partition_point(edges_.begin() + k.begin, edges_.begin() + k.end,
+                                     [&](const Edge& e) { return e.b.y < lo; }) -
+                edges_.begin());
+        };
+        std::size_t j0 = from(d);
+        std::size_t work = 1;
+        for (std::size_t i = from(c); i < c.end && edges_[i].a.y <= hi; ++i) {
+            const Edge& e = edges_[i];
+            while (j0 < d.end && edges_[j0].b.y < e.a.y) ++j0;
+            for (std::size_t j = j0; j < d.end && edges_[j].a.y <= e.b.y; ++j) {
+                ++work;
+                const Edge& f = edges_[j];
+                // More than two units apart across: pair_clear's first answer, without a call.
+                if (std::max(e.a.x, e.b.x) + 2 < std::min(f.a.x, f.b.x) ||
+                    std::max(f.a.x, f.b.x) + 2 < std::min(e.a.x, e.b.x)) {
+                    continue;
+                }
+                if (!consecutive(e, f) && !pair_clear(e, f, heights_)) return false;
+            }
+        }
+        return spend(work);
+    }
+
+    // Chain ci starts at the sweep line: placed by its bottom point, and after a chain that
+    // starts there too when that one's first edge is left of its own (the two chains of a
+    // loop's lowest vertex); a chain through the point otherwise meets it, and lands next to
+    // it or to another chain through the point (the merge then fails).
+    bool insert(std::uint32_t ci) {
+        const Edge& first = edges_[chains_[ci].begin];
+        const Point2 p = first.a;
+        const auto at = std::partition_point(status_.begin(), status_.end(), [&](std::uint32_t d) {
+            const int s = side(chains_[d], p);
+            if (s != 0) return s < 0;
+            const Edge& g = edges_[chains_[d].begin];
+            return g.a != p || cross(p, first.b, g.b) > 0;
+        });
+        const std::size_t i = static_cast<std::size_t>(at - status_.begin());
+        status_.insert(at, ci);
+        if (!spend(status_.size())) return false;
+        if (i > 0 && !merge(status_[i - 1], ci)) return false;
+        return i + 1 == status_.size() || merge(ci, status_[i + 1]);
+    }
+
+    bool remove(std::uint32_t ci) {
+        const auto at = std::find(status_.begin(), status_.end(), ci);
+        if (at == status_.end()) return false;  // cannot happen: every chain was inserted
+        const std::size_t i = static_cast<std::size_t>(at - status_.begin());
+        status_.erase(at);
+        if (!spend(status_.size())) return false;
+        return i == 0 || i == status_.size() || merge(status_[i - 1], status_[i]);
+    }
+
+    // A horizontal edge against the chains within two units of it on the sweep line.
+    bool flat_clear(const Edge& h) {
+        const std::int64_t x0 = std::min(h.a.x, h.b.x), x1 = std::max(h.a.x, h.b.x);
+        const Point2 right{x1 + 2, y_};
+        std::size_t work = 1;
+        for (std::size_t k = left_of({x0 - 2, y_}); k < status_.size(); ++k, ++work) {
+            Chain& c = chains_[status_[k]];
+            if (side(c, right) > 0) break;  // the chain is right of the edge's reach
+            const Edge& e = at_sweep(c);
+            if (!consecutive(h, e) && !pair_clear(h, e, heights_)) return false;
+        }
+        return spend(work);
+    }
+
+    const std::vector<Path2>& loops_;
+    const std::vector<Int128>& area_;
+    Heights& heights_;
+    std::vector<Edge> edges_, flat_;
+    std::vector<Chain> chains_;
+    std::vector<std::uint32_t> status_;  // chains across the sweep line, left to right
+    std::int64_t y_ = 0;
+    std::size_t budget_ = 0;
+};
 
 }  // namespace
 
@@ -453,155 +520,14 @@ std::optional<WireTree> wire_tree_of_simple_loops(const Paths2& loops) {
     if (n_loops == 0) return tree;
     Heights heights(clean);
     if (!extrema_clear(clean, heights)) return std::nullopt;
-
-    // Boxes of the loops, grown by a unit each way like the edges' (pairs closer than kGap
-    // have overlapping boxes), and groups of loops whose boxes overlap, transitively: edges
-    // of different groups are far apart, and a loop can only enclose loops of its group.
-    struct Box {
-        std::int64_t x0, y0, x1, y1;
-    };
-    constexpr std::int64_t kGrow = 1;
-    std::vector<Box> box(n_loops);
     std::vector<Int128> area(n_loops);
-    std::vector<std::uint32_t> loop_size(n_loops);
     for (std::size_t l = 0; l < n_loops; ++l) {
-        const Path2& p = clean[l];
-        area[l] = twice_area(p);
+        area[l] = twice_area(clean[l]);
         if (area[l] == 0) return std::nullopt;
-        loop_size[l] = static_cast<std::uint32_t>(p.size());
-        Box b{p[0].x, p[0].y, p[0].x, p[0].y};
-        for (const Point2& q : p) {
-            b.x0 = std::min(b.x0, q.x);
-            b.y0 = std::min(b.y0, q.y);
-            b.x1 = std::max(b.x1, q.x);
-            b.y1 = std::max(b.y1, q.y);
-        }
-        box[l] = {b.x0 - kGrow, b.y0 - kGrow, b.x1 + kGrow, b.y1 + kGrow};
     }
-    std::vector<std::uint32_t> group(n_loops);
-    for (std::size_t l = 0; l < n_loops; ++l) group[l] = static_cast<std::uint32_t>(l);
-    const auto find = [&](std::uint32_t l) {
-        while (group[l] != l) l = group[l] = group[group[l]];
-        return l;
-    };
-    {
-        std::vector<std::uint32_t> by_x(n_loops);
-        for (std::size_t l = 0; l < n_loops; ++l) by_x[l] = static_cast<std::uint32_t>(l);
-        std::sort(by_x.begin(), by_x.end(),
-                  [&](std::uint32_t a, std::uint32_t b) { return box[a].x0 < box[b].x0; });
-        std::vector<std::uint32_t> active;
-        for (const std::uint32_t l : by_x) {
-            std::erase_if(active, [&](std::uint32_t k) { return box[k].x1 < box[l].x0; });
-            for (const std::uint32_t k : active) {
-                if (box[k].y1 >= box[l].y0 && box[l].y1 >= box[k].y0) group[find(k)] = find(l);
-            }
-            active.push_back(l);
-        }
-    }
-    std::vector<std::vector<std::uint32_t>> members(n_loops);
-    for (std::size_t l = 0; l < n_loops; ++l) {
-        members[find(static_cast<std::uint32_t>(l))].push_back(static_cast<std::uint32_t>(l));
-    }
-
     std::vector<int> parent(n_loops, -1);
     std::vector<int> depth(n_loops, 0);
-    std::vector<std::uint8_t> parity(n_loops, 0);
-    std::vector<std::uint32_t> touched;
-    std::vector<Edge> edges;
-    Grid grid;
-    // Step 4 for loop l: the loops whose edges a ray from l's smallest point towards -x
-    // crosses an odd number of times enclose it (the point is on no other loop, so the
-    // half-open crossing rule counts exactly); its parent is the smallest of them.
-    // `touched` lists the loops crossed, with their parity.
-    const auto enclosing = [&](std::uint32_t l) {
-        Int128 smallest = 0;
-        for (const std::uint32_t k : touched) {
-            if (parity[k] != 0) {
-                ++depth[l];
-                const Int128 a = area[k] < 0 ? -area[k] : area[k];
-                if (parent[l] < 0 || a < smallest) {
-                    smallest = a;
-                    parent[l] = static_cast<int>(k);
-                }
-            }
-            parity[k] = 0;
-        }
-    };
-    // Whether edge (a, b) of a loop crosses the ray from p towards -x (half-open in y).
-    const auto crosses_ray = [](const Point2& a, const Point2& b, const Point2& p) {
-        if ((a.y > p.y) == (b.y > p.y)) return false;
-        const std::int64_t o = cross(a, b, p);
-        // The crossing is left of p when p is right of the edge as it runs.
-        return b.y > a.y ? o < 0 : o > 0;
-    };
-    for (const std::vector<std::uint32_t>& g : members) {
-        if (g.empty()) continue;
-        if (const auto clear = monotone_group_clear(clean, g, heights)) {
-            if (!*clear) return std::nullopt;
-            if (g.size() == 1) continue;  // a lone loop is a root
-            // A few loops: each ray against every edge of the others.
-            for (const std::uint32_t l : g) {
-                const Point2 p = *std::min_element(clean[l].begin(), clean[l].end());
-                touched.clear();
-                for (const std::uint32_t k : g) {
-                    if (k == l) continue;
-                    const Path2& q = clean[k];
-                    std::uint8_t odd = 0;
-                    for (std::size_t i = 0; i < q.size(); ++i) {
-                        odd ^= crosses_ray(q[i], q[i + 1 == q.size() ? 0 : i + 1], p) ? 1 : 0;
-                    }
-                    if (odd != 0) {
-                        touched.push_back(k);
-                        parity[k] = 1;
-                    }
-                }
-                enclosing(l);
-            }
-            continue;
-        }
-        edges.clear();
-        Box gb = box[g[0]];
-        for (const std::uint32_t l : g) {
-            const Path2& p = clean[l];
-            gb = {std::min(gb.x0, box[l].x0), std::min(gb.y0, box[l].y0),
-                  std::max(gb.x1, box[l].x1), std::max(gb.y1, box[l].y1)};
-            for (std::size_t i = 0; i < p.size(); ++i) {
-                const Point2& a = p[i];
-                const Point2& b = p[i + 1 == p.size() ? 0 : i + 1];
-                edges.push_back({a, b, std::min(a.x, b.x) - kGrow, std::min(a.y, b.y) - kGrow,
-                                 std::max(a.x, b.x) + kGrow, std::max(a.y, b.y) + kGrow, l,
-                                 static_cast<std::uint32_t>(i), 0});
-            }
-        }
-        if (!grid.build(edges, gb.x0, gb.y0, gb.x1, gb.y1)) return std::nullopt;
-        if (!pairs_clear(edges, grid, loop_size, heights)) return std::nullopt;
-        if (g.size() == 1) continue;  // a lone loop is a root
-
-        // Step 4: nesting by ray casting from each loop's smallest point towards -x. The
-        // point is on no other loop, so the half-open crossing rule counts exactly. Each
-        // edge is counted in the first column of the ray's row that its box covers.
-        std::size_t work = 0;
-        for (const std::uint32_t l : g) {
-            const Point2 p = *std::min_element(clean[l].begin(), clean[l].end());
-            const std::int32_t cy = grid.row(p.y);
-            const std::int32_t last = grid.col(p.x);
-            touched.clear();
-            for (std::int32_t cx = 0; cx <= last; ++cx) {
-                const std::size_t c = grid.cell(cx, cy);
-                work += static_cast<std::size_t>(grid.end(c) - grid.begin(c));
-                for (const std::uint32_t* i = grid.begin(c); i != grid.end(c); ++i) {
-                    const Edge& e = edges[*i];
-                    if (e.cx0 != cx || e.loop == l) continue;
-                    if (crosses_ray(e.a, e.b, p)) {
-                        if (parity[e.loop] == 0) touched.push_back(e.loop);
-                        parity[e.loop] ^= 1;
-                    }
-                }
-            }
-            if (work > 32 * edges.size() + 4096) return std::nullopt;
-            enclosing(l);
-        }
-    }
+    if (!Sweep(clean, area, heights).run(parent, depth)) return std::nullopt;
     // Step 5: the fill is 0 or 1 everywhere only when orientations alternate.
     for (std::size_t l = 0; l < n_loops; ++l) {
         if ((depth[l] % 2 == 0) != (area[l] > 0)) return std::nullopt;

@@ -29,6 +29,7 @@
 #include <numeric>
 #include <string>
 #include <tuple>
+#include <utility>
 
 #include "maxslice/core/tolerances.hpp"
 #include "maxslice/core/units.hpp"
@@ -58,13 +59,16 @@ std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
 
 // Per-mesh data shared by all planes: vertex heights along the normal (mm), and for each
 // plane (in sorted order) the segments of the triangles that cross it, in triangle order:
-// plane k's are segs[bucket_begin[k], bucket_begin[k + 1]). In-plane coordinates are
-// computed only for the vertices of crossed edges (most vertices of a large mesh lie on no
-// crossed edge; a table of them would be the largest array of the cut).
+// plane k's are segs[bucket_begin[k], bucket_begin[k + 1]). In-plane coordinates are kept
+// per vertex only when the planes cut more edges than the mesh has vertices (a coarse mesh
+// or thin layers: each vertex is then used many times); otherwise they are computed for the
+// vertices of each crossed edge (most vertices of a fine mesh lie on no crossed edge, and a
+// table of them would be the largest array of the cut). Both give the same bits.
 struct CutContext {
     const mesh::TriangleMesh* mesh = nullptr;
     PlaneFrame base;
     std::unique_ptr<double[]> height;  // uninitialised until written
+    std::unique_ptr<double[]> uv;      // u, v of every vertex (mm), or null
     std::vector<double> sorted_heights;
     std::vector<std::size_t> bucket_begin;  // size planes + 1
     std::unique_ptr<Segment[]> segs;        // uninitialised until written: no zeroing pass
@@ -72,13 +76,17 @@ struct CutContext {
 
 // The point where the plane at height h crosses edge (a, b), in micrometres. It is computed
 // from the lower vertex id to the higher one so both triangles of the edge get equal bits.
+std::pair<double, double> vertex_uv(const CutContext& ctx, std::uint32_t i) {
+    if (ctx.uv) return {ctx.uv[2 * i], ctx.uv[2 * i + 1]};
+    const core::Vec3d d = ctx.mesh->vertices[i] - ctx.base.origin;
+    return {core::dot(d, ctx.base.u), core::dot(d, ctx.base.v)};
+}
+
 Point2 crossing(const CutContext& ctx, std::uint32_t a, std::uint32_t b, double h) {
     if (a > b) std::swap(a, b);
-    const core::Vec3d da = ctx.mesh->vertices[a] - ctx.base.origin;
-    const core::Vec3d db = ctx.mesh->vertices[b] - ctx.base.origin;
     const double ha = ctx.height[a], hb = ctx.height[b];
-    const double ua = core::dot(da, ctx.base.u), va = core::dot(da, ctx.base.v);
-    const double ub = core::dot(db, ctx.base.u), vb = core::dot(db, ctx.base.v);
+    const auto [ua, va] = vertex_uv(ctx, a);
+    const auto [ub, vb] = vertex_uv(ctx, b);
     const double t = (h - ha) / (hb - ha);
     const double u = ua + (ub - ua) * t;
     const double v = va + (vb - va) * t;
@@ -211,6 +219,17 @@ core::Result<CutContext> prepare(const mesh::TriangleMesh& mesh, const PlaneFram
         }
     }
     ctx.bucket_begin[np] = total;
+    if (total > nv) {
+        auto uv = std::make_unique_for_overwrite<double[]>(2 * nv);
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nv, 1 << 14), [&](const auto& r) {
+            for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                const auto [u, v] = vertex_uv(ctx, static_cast<std::uint32_t>(i));
+                uv[2 * i] = u;
+                uv[2 * i + 1] = v;
+            }
+        });
+        ctx.uv = std::move(uv);
+    }
     ctx.segs = std::make_unique_for_overwrite<Segment[]>(total);
     tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
         std::size_t* fill = offsets.data() + c * (np + 1);
@@ -230,7 +249,8 @@ class EdgeTable {
 public:
     explicit EdgeTable(std::span<const Segment> segs) : segs_(segs) {
         std::size_t cap = 16;
-        while (cap < 2 * segs.size()) cap <<= 1;
+        shift_ = 60;
+        while (cap < 2 * segs.size()) cap <<= 1, --shift_;
         mask_ = cap - 1;
         slots_.assign(cap, kEmpty);
         next_.assign(segs.size(), kEmpty);
@@ -260,11 +280,13 @@ public:
     static constexpr std::uint32_t kEmpty = std::numeric_limits<std::uint32_t>::max();
 
 private:
+    // Fibonacci hashing: the top bits of the product, which depend on every bit of the key.
     std::size_t hash(std::uint64_t key) const {
-        return static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ULL) >> 17) & mask_;
+        return static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ULL) >> shift_);
     }
     std::span<const Segment> segs_;
     std::size_t mask_ = 0;
+    int shift_ = 60;
     std::vector<std::uint32_t> slots_;
     std::vector<std::uint32_t> next_;
 };

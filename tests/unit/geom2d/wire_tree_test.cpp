@@ -380,6 +380,41 @@ TEST(WireTreeFastPath, AgreesWithClipperOnFineNoisyCircles) {
     EXPECT_GT(answered, 10);
 }
 
+TEST(WireTreeFastPath, AgreesWithClipperOnNestedNoisyStars) {
+    // Star-shaped loops with random radii (many y-monotone chains each, as a scanned part's
+    // cut), nested up to three deep and side by side, jittered by up to three units; every
+    // fifth set has its heights rounded to 16 units, so many edges are horizontal.
+    std::mt19937_64 rng(3);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    int answered = 0;
+    const int trials = 600;
+    for (int trial = 0; trial < trials; ++trial) {
+        const int j = trial % 4;
+        std::uniform_int_distribution<int> jit(-j, j);
+        Paths2 loops;
+        for (int col = 0; col <= trial % 4; ++col) {
+            for (int level = 0; level <= trial % 3; ++level) {
+                const int k = 8 + static_cast<int>(unit(rng) * 60);
+                Path2 p;
+                for (int i = 0; i < k; ++i) {
+                    const double a = 2.0 * std::numbers::pi * i / k;
+                    const double r = (200.0 - 60.0 * level) * (0.75 + 0.25 * unit(rng));
+                    p.push_back({std::llround(450.0 * col + r * std::cos(a)) + jit(rng),
+                                 std::llround(r * std::sin(a)) + jit(rng)});
+                }
+                if (trial % 5 == 0) {
+                    for (Point2& q : p) q.y = q.y / 16 * 16;
+                }
+                loops.push_back(level % 2 == 0 ? p : reversed(p));
+            }
+        }
+        std::shuffle(loops.begin(), loops.end(), rng);
+        SCOPED_TRACE(trial);
+        answered += fast_path_agrees(loops) ? 1 : 0;
+    }
+    EXPECT_GT(answered, trials / 2);  // most sets are clear: the fast path must answer them
+}
+
 // ---- Booleans and offsets ----------------------------------------------------------------
 
 TEST(Booleans, OverlappingSquares) {
