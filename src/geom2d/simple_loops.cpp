@@ -72,31 +72,34 @@ bool in_range(const Point2& p) {
 // Step 1: the loop as Clipper leaves it, or false when it is degenerate (out of range,
 // doubling back, or fewer than 3 points left).
 bool clean_loop(const Path2& in, Path2& out) {
-    Path2 dedup;
-    dedup.reserve(in.size());
+    out.clear();
+    out.reserve(in.size());
     for (const Point2& p : in) {
         if (!in_range(p)) return false;
-        if (dedup.empty() || dedup.back() != p) dedup.push_back(p);
+        if (out.empty() || out.back() != p) out.push_back(p);
     }
-    while (dedup.size() > 1 && dedup.front() == dedup.back()) dedup.pop_back();
-    const std::size_t n = dedup.size();
+    while (out.size() > 1 && out.front() == out.back()) out.pop_back();
+    const std::size_t n = out.size();
     if (n < 3) return false;
     // A vertex strictly inside a straight run is dropped; since every dropped vertex lies
     // between its neighbours, a run keeps its direction and dropping them all at once
-    // leaves the same corners as Clipper's one-at-a-time removal.
-    out.clear();
-    out.reserve(n);
+    // leaves the same corners as Clipper's one-at-a-time removal. In place: the kept
+    // vertices are written at or before the one being read.
+    const Point2 first = out[0];
+    Point2 prev = out[n - 1];
+    std::size_t kept = 0;
     for (std::size_t i = 0; i < n; ++i) {
-        const Point2& prev = dedup[i == 0 ? n - 1 : i - 1];
-        const Point2& cur = dedup[i];
-        const Point2& next = dedup[i + 1 == n ? 0 : i + 1];
+        const Point2 cur = out[i];
+        const Point2& next = i + 1 == n ? first : out[i + 1];
         if (cross(prev, cur, next) != 0) {
-            out.push_back(cur);
+            out[kept++] = cur;
         } else if (dot(cur, prev, next) >= 0) {
             return false;  // a spike: the loop doubles back on itself
         }
+        prev = cur;
     }
-    return out.size() >= 3;
+    out.resize(kept);
+    return kept >= 3;
 }
 
 Int128 twice_area(const Path2& p) {
@@ -243,6 +246,7 @@ struct Chain {
     std::uint32_t loop;
     std::uint32_t cursor;  // the first edge whose top is at or above the sweep line
     bool down;             // the loop runs down along it
+    std::int64_t x0, x1;   // its x range
 };
 
 // Steps 2 to 4 by a sweep upwards over the chains (Shamos and Hoey, 1976, on chains instead of
@@ -272,10 +276,9 @@ public:
 
     bool run(std::vector<int>& parent, std::vector<int>& depth) {
         std::size_t n_edges = 0;
-        for (std::uint32_t l = 0; l < loops_.size(); ++l) {
-            split(l);
-            n_edges += loops_[l].size();
-        }
+        for (const Path2& p : loops_) n_edges += p.size();
+        edges_.reserve(n_edges);
+        for (std::uint32_t l = 0; l < loops_.size(); ++l) split(l);
         budget_ = 32 * n_edges + 4096;
         std::vector<Event> events;
         events.reserve(2 * chains_.size() + flat_.size() + loops_.size());
@@ -360,10 +363,10 @@ private:
         };
         std::size_t s = 0;
         while (s < n && (rise(s) == 0 || rise(s == 0 ? n - 1 : s - 1) == rise(s))) ++s;
+        if (s == n) s = 0;  // cannot happen (area is not 0); keeps the index in range
         const std::size_t first = chains_.size();
         int run = 0;  // the rise of the open chain; 0: none is open
-        for (std::size_t k = 0; k < n; ++k) {
-            const std::size_t i = (s + k) % n;
+        for (std::size_t k = 0, i = s; k < n; ++k, i = i + 1 == n ? 0 : i + 1) {
             const Point2& u = p[i];
             const Point2& v = p[i + 1 == n ? 0 : i + 1];
             const int r = rise(i);
@@ -375,11 +378,14 @@ private:
             }
             if (r != run) {
                 const auto at = static_cast<std::uint32_t>(edges_.size());
-                chains_.push_back({at, at, l, at, r < 0});
+                chains_.push_back({at, at, l, at, r < 0, u.x, u.x});
                 run = r;
             }
             edges_.push_back(r > 0 ? Edge{u, v, l, index} : Edge{v, u, l, index});
-            chains_.back().end = static_cast<std::uint32_t>(edges_.size());
+            Chain& c = chains_.back();
+            c.end = static_cast<std::uint32_t>(edges_.size());
+            c.x0 = std::min(c.x0, v.x);
+            c.x1 = std::max(c.x1, v.x);
         }
         for (std::size_t c = first; c < chains_.size(); ++c) {
             if (chains_[c].down) {
@@ -425,6 +431,7 @@ private:
     bool merge(std::uint32_t ci, std::uint32_t di) {
         const Chain& c = chains_[ci];
         const Chain& d = chains_[di];
+        if (c.x1 + 2 < d.x0 || d.x1 + 2 < c.x0) return true;  // no edge pair is close
         const std::int64_t lo = std::max(edges_[c.begin].a.y, edges_[d.begin].a.y);
         const std::int64_t hi = std::min(edges_[c.end - 1].b.y, edges_[d.end - 1].b.y);
         if (lo > hi) return true;

@@ -82,7 +82,8 @@ std::pair<double, double> vertex_uv(const CutContext& ctx, std::uint32_t i) {
     return {core::dot(d, ctx.base.u), core::dot(d, ctx.base.v)};
 }
 
-Point2 crossing(const CutContext& ctx, std::uint32_t a, std::uint32_t b, double h) {
+[[gnu::always_inline]] inline Point2 crossing(const CutContext& ctx, std::uint32_t a,
+                                              std::uint32_t b, double h) {
     if (a > b) std::swap(a, b);
     const double ha = ctx.height[a], hb = ctx.height[b];
     const auto [ua, va] = vertex_uv(ctx, a);
@@ -392,9 +393,11 @@ PlaneCut cut_plane(const CutContext& ctx, std::size_t k, double max_gap_mm) {
     const EdgeTable table(segs);
     std::vector<char> used(segs.size(), 0);
     std::vector<Path2> open;
+    Path2 chain;  // the chain being walked: one buffer, each loop then copied at its size
+    chain.reserve(segs.size() + 1);
     for (std::size_t s0 = 0; s0 < segs.size(); ++s0) {
         if (used[s0]) continue;
-        Path2 chain;
+        chain.clear();
         std::uint32_t cur = static_cast<std::uint32_t>(s0);
         bool closed = false;
         while (true) {
@@ -416,9 +419,9 @@ PlaneCut cut_plane(const CutContext& ctx, std::size_t k, double max_gap_mm) {
         }
         if (closed) {
             drop_repeated_points(chain);
-            if (chain.size() >= 3) cut.loops.push_back(std::move(chain));
+            if (chain.size() >= 3) cut.loops.emplace_back(chain.begin(), chain.end());
         } else {
-            open.push_back(std::move(chain));
+            open.emplace_back(chain.begin(), chain.end());
         }
     }
     if (!open.empty()) {
