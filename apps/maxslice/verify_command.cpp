@@ -88,6 +88,54 @@ core::Result<std::string> read_text(const std::string& file) {
     return s.str();
 }
 
+// The profiles with the process that made the program (decision 0019): the finer process
+// `finer` when given, else the one whose laser power the program deposits with (the main
+// process when none fits). Says which it took when that is a finer one, and warns when the
+// program's powers belong to another process than the one replayed, or to none.
+core::Result<machine::Profiles> process_of_program(const std::string& text, int finer,
+                                                   const verify::VerifySettings& settings,
+                                                   machine::Profiles profiles) {
+    int found = -1;
+    auto dialect = settings.dialect ? core::Result<verify::ProgramDialect>(*settings.dialect)
+                                    : verify::dialect_of(profiles.machine);
+    if (dialect) {
+        // A program the replay cannot read is reported by verify_program below.
+        if (const auto replay = verify::replay_program(text, profiles, *dialect)) {
+            found = verify::process_of(*replay, profiles);
+            if (found < 0 && !replay->laser_powers_w.empty()) {
+                std::fprintf(
+                    stderr,
+                    "maxslice: warning: the program deposits with %.1f W, the power of "
+                    "none of the profile's processes: its beads are replayed with the "
+                    "%s process's %.2f mm track\n",
+                    replay->laser_powers_w.front(), finer > 0 ? "given" : "main",
+                    finer > 0
+                        ? profiles.process.finer[static_cast<std::size_t>(finer - 1)].track_width_mm
+                        : profiles.process.track_width_mm);
+            }
+        }
+    }
+    const int use = finer > 0 ? finer : std::max(found, 0);
+    if (finer > 0 && found >= 0 && found != finer) {
+        std::fprintf(stderr,
+                     "maxslice: warning: the program deposits with the laser power of the "
+                     "profile's %s, not of finer process %d (--finer): its beads are replayed "
+                     "with the wrong track\n",
+                     found == 0 ? "main process" : fmt::format("finer process {}", found).c_str(),
+                     finer);
+    }
+    if (use == 0) return profiles;
+    auto chosen = machine::with_finer_process(profiles, use);
+    if (!chosen) return std::unexpected(core::with_context(chosen.error(), "--finer"));
+    if (finer == 0) {
+        std::printf(
+            "process         finer %d: %.2f mm track, by the program's laser power "
+            "(%.0f W)\n",
+            use, chosen->process.track_width_mm, chosen->process.laser_power_w);
+    }
+    return chosen;
+}
+
 }  // namespace
 
 CLI::App* add_verify_command(CLI::App& app, VerifyCommandOptions& opts) {
@@ -126,9 +174,9 @@ int run_verify(const VerifyCommandOptions& opts) {
     std::vector<std::filesystem::path> files(opts.profiles.begin(), opts.profiles.end());
     auto profiles = machine::load_profiles(files);
     if (!profiles) return report_error(profiles.error());
-    if (opts.finer > 0) {
-        profiles = machine::with_finer_process(*profiles, opts.finer);
-        if (!profiles) return report_error(core::with_context(profiles.error(), "--finer"));
+    if (opts.finer > 0 && opts.finer > static_cast<int>(profiles->process.finer.size())) {
+        return report_error(core::with_context(
+            machine::with_finer_process(*profiles, opts.finer).error(), "--finer"));
     }
 
     verify::VerifySettings settings;
@@ -162,6 +210,11 @@ int run_verify(const VerifyCommandOptions& opts) {
     }
     auto text = read_text(opts.program);
     if (!text) return report_error(text.error());
+    if (auto chosen = process_of_program(*text, opts.finer, settings, *profiles); !chosen) {
+        return report_error(chosen.error());
+    } else {
+        profiles = std::move(*chosen);
+    }
     core::Vec3d direction{0.0, 0.0, 1.0};
     if (!opts.direction.empty()) {
         direction = {opts.direction[0], opts.direction[1], opts.direction[2]};

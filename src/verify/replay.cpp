@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <array>
 #include <cctype>
 #include <charconv>
@@ -229,7 +230,9 @@ private:
                                                   "columns: '" +
                                                       std::string(raw) + "'"));
             }
-            set_laser(*power > profiles_.process.laser_power_off_w + kPowerOnMarginW, out);
+            const bool on = *power > profiles_.process.laser_power_off_w + kPowerOnMarginW;
+            set_laser(on, out);
+            if (on) note_power(*power, out);
             block = block.substr(p);
         }
         if (auto ok = strip_comments(block, line_no, stripped_); !ok) {
@@ -268,6 +271,16 @@ private:
         return {};
     }
 
+    // Keeps the first few distinct powers (a program has one per process).
+    static void note_power(double w, Replay& out) {
+        constexpr std::size_t kMaxPowers = 16;
+        if (out.laser_powers_w.size() >= kMaxPowers) return;
+        if (std::find(out.laser_powers_w.begin(), out.laser_powers_w.end(), w) ==
+            out.laser_powers_w.end()) {
+            out.laser_powers_w.push_back(w);
+        }
+    }
+
     void set_laser(bool on, Replay& out) {
         if (on && !laser_on_) ++out.laser_on_count;
         laser_on_ = on;
@@ -284,9 +297,10 @@ private:
                 matched = true;
                 if (dialect_ == ProgramDialect::kGm) continue;  // gm: the power column rules
                 if (t.role == Role::kLaserOn) {
-                    set_laser(
-                        !power || *power > profiles_.process.laser_power_off_w + kPowerOnMarginW,
-                        out);
+                    const bool on =
+                        !power || *power > profiles_.process.laser_power_off_w + kPowerOnMarginW;
+                    set_laser(on, out);
+                    if (on && power) note_power(*power, out);
                 } else if (t.role == Role::kLaserOff) {
                     set_laser(false, out);
                 }
@@ -589,6 +603,21 @@ core::Result<Replay> replay_program(std::string_view program_text,
     if (!kin) return std::unexpected(kin.error());
     Replayer r(profiles, *kin, dialect);
     return r.run(program_text);
+}
+
+int process_of(const Replay& replay, const machine::Profiles& profiles) {
+    if (replay.laser_powers_w.empty()) return -1;
+    const auto matches = [&](const machine::ProcessProfile& p) {
+        constexpr double kToleranceW = 0.5;
+        return std::all_of(replay.laser_powers_w.begin(), replay.laser_powers_w.end(),
+                           [&](double w) { return std::abs(w - p.laser_power_w) <= kToleranceW; });
+    };
+    if (matches(profiles.process)) return 0;
+    const auto& finer = profiles.process.finer;
+    for (std::size_t i = 0; i < finer.size(); ++i) {
+        if (matches(finer[i])) return static_cast<int>(i) + 1;
+    }
+    return -1;
 }
 
 }  // namespace maxslice::verify

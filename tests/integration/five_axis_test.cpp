@@ -310,10 +310,36 @@ TEST(FiveAxis, TheReferenceCellFallsBackToItsFinerTrackWhereItsTrackMissesTheFig
     EXPECT_EQ(v.exit_code, 0) << v.out << v.err;
     EXPECT_NE(v.out.find(fmt::format("coverage        {:.2f}%", f.coverage_pct)), std::string::npos)
         << v.out;
-    const CliRun wrong = verify({});
-    EXPECT_EQ(wrong.out.find(fmt::format("coverage        {:.2f}%", f.coverage_pct)),
+    // Without --finer the replay takes the process whose laser power the program has.
+    const CliRun found = verify({});
+    EXPECT_EQ(found.exit_code, 0) << found.out << found.err;
+    EXPECT_NE(found.out.find("process         finer 1: 0.80 mm track, by the program's laser "
+                             "power (300 W)"),
               std::string::npos)
-        << wrong.out;
+        << found.out;
+    EXPECT_NE(found.out.find(fmt::format("coverage        {:.2f}%", f.coverage_pct)),
+              std::string::npos)
+        << found.out;
+    EXPECT_EQ(found.err.find("warning"), std::string::npos) << found.err;
+    // A power of no process of the profile: replayed with the main track, and said so.
+    const fs::path odd = dir / "odd.gm";
+    {
+        std::string edited = text;
+        for (std::size_t at = 0; (at = edited.find("300.00 3.00", at)) != std::string::npos;) {
+            edited.replace(at, 3, "450");
+        }
+        std::ofstream(odd) << edited;
+    }
+    const CliRun unknown = run_cli(
+        {"verify", odd.string(), "--model", gear.string(), "--profile", kReference5.string()});
+    EXPECT_NE(unknown.err.find("warning: the program deposits with 450.0 W, the power of none of "
+                               "the profile's processes: its beads are replayed with the main "
+                               "process's 2.50 mm track"),
+              std::string::npos)
+        << unknown.err;
+    EXPECT_EQ(unknown.out.find(fmt::format("coverage        {:.2f}%", f.coverage_pct)),
+              std::string::npos)
+        << unknown.out;
     const CliRun none = verify({"--finer", "2"});
     EXPECT_EQ(none.exit_code, 2);
     EXPECT_NE(none.err.find("no finer process 2"), std::string::npos) << none.err;
@@ -341,6 +367,18 @@ TEST(FiveAxis, TheReferenceCellFallsBackToItsFinerTrackWhereItsTrackMissesTheFig
     EXPECT_EQ(kept.out.find("process         finer"), std::string::npos) << kept.out;
     EXPECT_EQ(kept.err.find("note:"), std::string::npos) << kept.err;
     EXPECT_EQ(slurp(dir / "s.gm").find("300.00 3.00"), std::string::npos);
+    // Its replay with the finer track is warned of: the program has the main process's power.
+    const CliRun forced = run_cli({"verify", (dir / "s.gm").string(), "--model", seat.string(),
+                                   "--profile", kReference5.string(), "--finer", "1"});
+    EXPECT_NE(forced.err.find("warning: the program deposits with the laser power of the "
+                              "profile's main process, not of finer process 1 (--finer)"),
+              std::string::npos)
+        << forced.err;
+    const CliRun plain = run_cli({"verify", (dir / "s.gm").string(), "--model", seat.string(),
+                                  "--profile", kReference5.string()});
+    EXPECT_EQ(plain.exit_code, 0) << plain.err;
+    EXPECT_EQ(plain.out.find("process         finer"), std::string::npos) << plain.out;
+    EXPECT_EQ(plain.err.find("warning"), std::string::npos) << plain.err;
 
     // Neither track builds the angle block read as mm (it is in inches): refused as with the
     // 2.5 mm track, with what the 0.8 mm one gave.

@@ -56,7 +56,18 @@ struct Replay {
     int line_count = 0;               ///< lines in the text
     int laser_on_count = 0;           ///< off -> on switches
     std::vector<ReplayBlock> blocks;  ///< moves and dwells only
+    /// The distinct laser powers (W) the program deposits with, in order of first appearance:
+    /// gm's power column where it is above the off power, else the value of a laser_on
+    /// template's {power} or {power_pct}. Empty when the program names none.
+    std::vector<double> laser_powers_w;
 };
+
+/// Which of the profile's processes made a program, by the laser powers it deposits with:
+/// 0 for the main process ([process]), N for its finer process N ([[process.finer]], decision
+/// 0019), -1 when the program names no power or a power no single process has. A process
+/// matches when every power is its laser_power_w within half a watt (programs round it); the
+/// first matching process counts (the main one before the finer ones).
+[[nodiscard]] int process_of(const Replay& replay, const machine::Profiles& profiles);
 
 /// The linear axes (machine X, Y, Z) that put the part-frame `tip` under the tool with the
 /// rotary values of `pose`, from the forward kinematics alone: forward is affine in X Y Z for

@@ -56,6 +56,26 @@ TEST(Replay, GmColumnsSwitchTheLaserAndDwellIsInMilliseconds) {
     EXPECT_FALSE(r->blocks[3].laser_on);
     EXPECT_EQ(r->laser_on_count, 1);
     EXPECT_EQ(r->line_count, 8);
+    EXPECT_EQ(r->laser_powers_w, std::vector<double>{700.0});
+}
+
+TEST(Replay, TheProcessOfAProgramIsTheOneWhoseLaserPowerItHas) {
+    const machine::Profiles p = load("reference_5axis_ac.toml");  // 700 W; finer 1: 300 W
+    ASSERT_EQ(p.process.finer.size(), 1U);
+    const auto process = [&](const std::string& powers) {
+        std::string text = "0.00 0.00 G21\n0.00 0.00 G90\n0.00 0.00 G1 X0 Y0 Z5 A0 C0 F2000\n";
+        std::istringstream in(powers);
+        for (std::string w; in >> w;) text += w + " 3.00 G1 X1 Y0 Z5 F300\n0.00 0.00 M9\n";
+        auto r = replay_program(text, p, ProgramDialect::kGm);
+        EXPECT_TRUE(r) << r.error().describe();
+        return r ? process_of(*r, p) : -2;
+    };
+    EXPECT_EQ(process("700.00"), 0);
+    EXPECT_EQ(process("300.00 300.00"), 1);
+    EXPECT_EQ(process("700.40"), 0);   // within half a watt
+    EXPECT_EQ(process("450.00"), -1);  // no process has it
+    EXPECT_EQ(process("700.00 300.00"), -1);
+    EXPECT_EQ(process(""), -1);  // the laser never on: no power to go by
 }
 
 TEST(Replay, TheBundledGmFileReplays) {
@@ -88,6 +108,7 @@ TEST(Replay, LinuxCncCodesFromTheProfileSwitchTheLaser) {
     EXPECT_NEAR(r->blocks[4].pose.x, 4.0, 1e-12);
     EXPECT_NEAR(r->blocks[4].pose.y, 1.0, 1e-12);  // modal
     EXPECT_EQ(r->laser_on_count, 1);
+    EXPECT_EQ(r->laser_powers_w, (std::vector<double>{700.0, 650.0}));
 }
 
 TEST(Replay, DwellWordsPerDialect) {
