@@ -300,26 +300,24 @@ TEST(FiveAxis, TheReferenceCellFallsBackToItsFinerTrackWhereItsTrackMissesTheFig
     EXPECT_NE(text.find("300.00 3.00 M8"), std::string::npos) << "the fine head's power/powder";
     EXPECT_EQ(text.find("700.00 8.00"), std::string::npos) << "no bead of the 2.5 mm head";
 
-    const auto verify = [&](std::vector<std::string> extra) {
-        std::vector<std::string> args = {"verify",      program.string(), "--model",
-                                         gear.string(), "--profile",      kReference5.string()};
+    const auto verify = [&](std::vector<std::string> extra, const fs::path& prog) {
+        std::vector<std::string> args = {"verify",      prog.string(), "--model",
+                                         gear.string(), "--profile",   kReference5.string()};
         args.insert(args.end(), extra.begin(), extra.end());
         return run_cli(args);
     };
-    const CliRun v = verify({"--finer", "1"});
+    const std::string coverage = fmt::format("coverage        {:.2f}%", f.coverage_pct);
+    const CliRun v = verify({"--finer", "1"}, program);
     EXPECT_EQ(v.exit_code, 0) << v.out << v.err;
-    EXPECT_NE(v.out.find(fmt::format("coverage        {:.2f}%", f.coverage_pct)), std::string::npos)
-        << v.out;
+    EXPECT_NE(v.out.find(coverage), std::string::npos) << v.out;
     // Without --finer the replay takes the process whose laser power the program has.
-    const CliRun found = verify({});
+    const CliRun found = verify({}, program);
     EXPECT_EQ(found.exit_code, 0) << found.out << found.err;
     EXPECT_NE(found.out.find("process         finer 1: 0.80 mm track, by the program's laser "
                              "power (300 W)"),
               std::string::npos)
         << found.out;
-    EXPECT_NE(found.out.find(fmt::format("coverage        {:.2f}%", f.coverage_pct)),
-              std::string::npos)
-        << found.out;
+    EXPECT_NE(found.out.find(coverage), std::string::npos) << found.out;
     EXPECT_EQ(found.err.find("warning"), std::string::npos) << found.err;
     // A power of no process of the profile: replayed with the main track, and said so.
     const fs::path odd = dir / "odd.gm";
@@ -330,17 +328,14 @@ TEST(FiveAxis, TheReferenceCellFallsBackToItsFinerTrackWhereItsTrackMissesTheFig
         }
         std::ofstream(odd) << edited;
     }
-    const CliRun unknown = run_cli(
-        {"verify", odd.string(), "--model", gear.string(), "--profile", kReference5.string()});
+    const CliRun unknown = verify({}, odd);
     EXPECT_NE(unknown.err.find("warning: the program deposits with 450.0 W, the power of none of "
                                "the profile's processes: its beads are replayed with the main "
                                "process's 2.50 mm track"),
               std::string::npos)
         << unknown.err;
-    EXPECT_EQ(unknown.out.find(fmt::format("coverage        {:.2f}%", f.coverage_pct)),
-              std::string::npos)
-        << unknown.out;
-    const CliRun none = verify({"--finer", "2"});
+    EXPECT_EQ(unknown.out.find(coverage), std::string::npos) << unknown.out;
+    const CliRun none = verify({"--finer", "2"}, program);
     EXPECT_EQ(none.exit_code, 2);
     EXPECT_NE(none.err.find("no finer process 2"), std::string::npos) << none.err;
 
