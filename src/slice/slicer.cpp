@@ -74,14 +74,17 @@ struct CutContext {
     std::unique_ptr<Segment[]> segs;        // uninitialised until written: no zeroing pass
 };
 
-// The point where the plane at height h crosses edge (a, b), in micrometres. It is computed
-// from the lower vertex id to the higher one so both triangles of the edge get equal bits.
+// Vertex i's in-plane coordinates (mm): from the table when there is one, else computed
+// (the table holds the same computation's results).
 std::pair<double, double> vertex_uv(const CutContext& ctx, std::uint32_t i) {
     if (ctx.uv) return {ctx.uv[2 * i], ctx.uv[2 * i + 1]};
     const core::Vec3d d = ctx.mesh->vertices[i] - ctx.base.origin;
     return {core::dot(d, ctx.base.u), core::dot(d, ctx.base.v)};
 }
 
+// The point where the plane at height h crosses edge (a, b), in micrometres. It is computed
+// from the lower vertex id to the higher one so both triangles of the edge get equal bits.
+// Inlined: it is the inner step of the segment fill.
 [[gnu::always_inline]] inline Point2 crossing(const CutContext& ctx, std::uint32_t a,
                                               std::uint32_t b, double h) {
     if (a > b) std::swap(a, b);
