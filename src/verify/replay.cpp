@@ -7,6 +7,7 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <string>
 #include <utility>
@@ -271,13 +272,16 @@ private:
         return {};
     }
 
-    // Keeps the first few distinct powers (a program has one per process).
+    // Keeps the distinct powers (a program has one per process), at most kMaxPowers of them
+    // and then a NaN, which matches no process.
     static void note_power(double w, Replay& out) {
         constexpr std::size_t kMaxPowers = 16;
-        if (out.laser_powers_w.size() >= kMaxPowers) return;
-        if (std::find(out.laser_powers_w.begin(), out.laser_powers_w.end(), w) ==
-            out.laser_powers_w.end()) {
-            out.laser_powers_w.push_back(w);
+        auto& powers = out.laser_powers_w;
+        if (std::find(powers.begin(), powers.end(), w) != powers.end()) return;
+        if (powers.size() < kMaxPowers) {
+            powers.push_back(w);
+        } else if (powers.size() == kMaxPowers) {
+            powers.push_back(std::numeric_limits<double>::quiet_NaN());
         }
     }
 

@@ -58,7 +58,8 @@ struct Replay {
     std::vector<ReplayBlock> blocks;  ///< moves and dwells only
     /// The distinct laser powers (W) the program deposits with, in order of first appearance:
     /// gm's power column where it is above the off power, else the value of a laser_on
-    /// template's {power} or {power_pct}. Empty when the program names none.
+    /// template's {power} or {power_pct}. Empty when the program names none; after 16
+    /// distinct ones, a NaN stands for the rest.
     std::vector<double> laser_powers_w;
 };
 

@@ -1,5 +1,6 @@
 #include "maxslice/verify/replay.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <array>
@@ -76,6 +77,9 @@ TEST(Replay, TheProcessOfAProgramIsTheOneWhoseLaserPowerItHas) {
     EXPECT_EQ(process("450.00"), -1);  // no process has it
     EXPECT_EQ(process("700.00 300.00"), -1);
     EXPECT_EQ(process(""), -1);  // the laser never on: no power to go by
+    std::string many;            // 17 distinct powers, each within half a watt of 700 W
+    for (int i = 0; i <= 16; ++i) many += fmt::format("{:.2f} ", 700.0 + 0.01 * i);
+    EXPECT_EQ(process(many), -1);  // more than are kept: no process is claimed
 }
 
 TEST(Replay, TheBundledGmFileReplays) {
