@@ -102,12 +102,40 @@ bool clean_loop(const Path2& in, Path2& out) {
     return kept >= 3;
 }
 
-Int128 twice_area(const Path2& p) {
-    Int128 sum = 0;
-    for (std::size_t i = 0, j = p.size() - 1; i < p.size(); j = i++) {
-        sum += static_cast<Int128>(p[j].x) * p[i].y - static_cast<Int128>(p[j].y) * p[i].x;
+// Whether clean_loop would keep the loop as it is: at least 3 points, all in range, and no
+// vertex on the line through its neighbours (which also rules out repeated points). Read only.
+bool already_clean(const Path2& p) {
+    const std::size_t n = p.size();
+    if (n < 3) return false;
+    Point2 prev = p[n - 1];
+    for (std::size_t i = 0; i < n; ++i) {
+        const Point2& cur = p[i];
+        if (!in_range(cur) || cross(prev, cur, p[i + 1 == n ? 0 : i + 1]) == 0) return false;
+        prev = cur;
     }
-    return sum;
+    return true;
+}
+
+// What the later steps need of a cleaned loop, in one pass over it: twice its signed area, its
+// smallest point (x, then y: where the tree's copy starts, as Clipper starts it) and its lowest
+// point (y, then x: where the sweep finds its parent).
+struct LoopFacts {
+    Int128 twice_area = 0;
+    std::size_t first = 0;
+    Point2 lowest;
+};
+
+LoopFacts facts_of(const Path2& p) {
+    LoopFacts f;
+    f.lowest = p[0];
+    for (std::size_t i = 0, j = p.size() - 1; i < p.size(); j = i++) {
+        const Point2& a = p[j];
+        const Point2& b = p[i];
+        f.twice_area += static_cast<Int128>(a.x) * b.y - static_cast<Int128>(a.y) * b.x;
+        if (b < p[f.first]) f.first = i;
+        if (b.y < f.lowest.y || (b.y == f.lowest.y && b.x < f.lowest.x)) f.lowest = b;
+    }
+    return f;
 }
 
 // An edge of a loop: in a chain from its lower end a up to b, a horizontal one as the loop
@@ -271,8 +299,8 @@ struct Chain {
 // times the work of a clear set of loops (many chains across one sweep line: Clipper instead).
 class Sweep {
 public:
-    Sweep(const std::vector<Path2>& loops, const std::vector<Int128>& area, Heights& heights)
-        : loops_(loops), area_(area), heights_(heights) {}
+    Sweep(const std::vector<Path2>& loops, const std::vector<LoopFacts>& facts, Heights& heights)
+        : loops_(loops), facts_(facts), heights_(heights) {}
 
     bool run(std::vector<int>& parent, std::vector<int>& depth) {
         std::size_t n_edges = 0;
@@ -292,10 +320,7 @@ public:
             events.push_back({flat_[h].a.y, kFlat, std::min(flat_[h].a.x, flat_[h].b.x), h});
         }
         for (std::uint32_t l = 0; l < loops_.size(); ++l) {
-            const Point2 p = *std::min_element(loops_[l].begin(), loops_[l].end(),
-                                               [](const Point2& u, const Point2& v) {
-                                                   return u.y != v.y ? u.y < v.y : u.x < v.x;
-                                               });
+            const Point2 p = facts_[l].lowest;
             events.push_back({p.y, kNest, p.x, l});
         }
         std::sort(events.begin(), events.end());
@@ -328,7 +353,7 @@ public:
                     if (i > 0) {
                         const Chain& c = chains_[status_[i - 1]];
                         if (placed[c.loop] == 0) return false;  // only when loops meet
-                        const bool left_boundary = c.down == (area_[c.loop] > 0);
+                        const bool left_boundary = c.down == (facts_[c.loop].twice_area > 0);
                         parent[ev.id] = left_boundary ? static_cast<int>(c.loop) : parent[c.loop];
                         depth[ev.id] = depth[c.loop] + (left_boundary ? 1 : 0);
                     }
@@ -504,7 +529,7 @@ private:
     }
 
     const std::vector<Path2>& loops_;
-    const std::vector<Int128>& area_;
+    const std::vector<LoopFacts>& facts_;
     Heights& heights_;
     std::vector<Edge> edges_, flat_;
     std::vector<Chain> chains_;
@@ -515,35 +540,53 @@ private:
 
 }  // namespace
 
-std::optional<WireTree> wire_tree_of_simple_loops(const Paths2& loops) {
+namespace {
+
+// The fast path. With `movable` (the loops themselves, not const), a loop that cleaning would
+// leave as it is moves into the tree rather than being copied; such loops are moved back
+// before an answer of nullopt, so the loops are then as they were.
+std::optional<WireTree> simple_loops_tree(const Paths2& loops, Paths2* movable) {
     std::vector<Path2> clean;
     clean.reserve(loops.size());
-    for (const Path2& loop : loops) {
-        if (loop.size() < 3) continue;  // as build_wire_tree: such loops contribute nothing
-        if (!clean_loop(loop, clean.emplace_back())) return std::nullopt;
+    std::vector<std::pair<std::size_t, std::size_t>> moved;  // (index in loops, in clean)
+    const auto refuse = [&]() -> std::optional<WireTree> {
+        for (const auto& [from, to] : moved) (*movable)[from] = std::move(clean[to]);
+        return std::nullopt;
+    };
+    for (std::size_t i = 0; i < loops.size(); ++i) {
+        if (loops[i].size() < 3) continue;  // as build_wire_tree: such loops contribute nothing
+        if (movable != nullptr && already_clean(loops[i])) {
+            moved.emplace_back(i, clean.size());
+            clean.push_back(std::move((*movable)[i]));
+        } else if (!clean_loop(loops[i], clean.emplace_back())) {
+            return refuse();
+        }
     }
     const std::size_t n_loops = clean.size();
     WireTree tree;
     if (n_loops == 0) return tree;
     Heights heights(clean);
-    if (!extrema_clear(clean, heights)) return std::nullopt;
-    std::vector<Int128> area(n_loops);
+    if (!extrema_clear(clean, heights)) return refuse();
+    std::vector<LoopFacts> facts(n_loops);
     for (std::size_t l = 0; l < n_loops; ++l) {
-        area[l] = twice_area(clean[l]);
-        if (area[l] == 0) return std::nullopt;
+        facts[l] = facts_of(clean[l]);
+        if (facts[l].twice_area == 0) return refuse();
     }
     std::vector<int> parent(n_loops, -1);
     std::vector<int> depth(n_loops, 0);
-    if (!Sweep(clean, area, heights).run(parent, depth)) return std::nullopt;
-    // Step 5: the fill is 0 or 1 everywhere only when orientations alternate.
+    if (!Sweep(clean, facts, heights).run(parent, depth)) return refuse();
+    // Step 5.
     for (std::size_t l = 0; l < n_loops; ++l) {
-        if ((depth[l] % 2 == 0) != (area[l] > 0)) return std::nullopt;
+        if ((depth[l] % 2 == 0) != (facts[l].twice_area > 0)) return refuse();
     }
 
     // The tree in build_wire_tree's canonical order: each loop starts at its smallest point,
     // siblings sorted by it (they are distinct: the loops share no point), all children of a
     // node created before any grandchild, subtrees in sibling order.
-    for (Path2& p : clean) std::rotate(p.begin(), std::min_element(p.begin(), p.end()), p.end());
+    for (std::size_t l = 0; l < n_loops; ++l) {
+        Path2& p = clean[l];
+        std::rotate(p.begin(), p.begin() + static_cast<std::ptrdiff_t>(facts[l].first), p.end());
+    }
     std::vector<std::vector<int>> kids(n_loops);
     std::vector<int> top;
     for (std::size_t l = 0; l < n_loops; ++l) {
@@ -567,6 +610,16 @@ std::optional<WireTree> wire_tree_of_simple_loops(const Paths2& loops) {
     };
     emit(emit, top, -1, 0);
     return tree;
+}
+
+}  // namespace
+
+std::optional<WireTree> wire_tree_of_simple_loops(const Paths2& loops) {
+    return simple_loops_tree(loops, nullptr);
+}
+
+std::optional<WireTree> take_wire_tree_of_simple_loops(Paths2& loops) {
+    return simple_loops_tree(loops, &loops);
 }
 
 }  // namespace maxslice::geom2d::detail

@@ -139,6 +139,13 @@ WireTree build_wire_tree(const Paths2& loops, FillRule rule) {
     return detail::clipper_wire_tree(loops, rule);
 }
 
+WireTree build_wire_tree(Paths2&& loops, FillRule rule) {
+    if (rule == FillRule::kPositive) {
+        if (auto tree = detail::take_wire_tree_of_simple_loops(loops)) return std::move(*tree);
+    }
+    return detail::clipper_wire_tree(loops, rule);
+}
+
 WireTree detail::clipper_wire_tree(const Paths2& loops, FillRule rule) {
     ClipperLib::Clipper clipper;
     clipper.AddPaths(to_clipper(loops), ClipperLib::ptSubject, true);

@@ -43,6 +43,9 @@ struct WireTree {
 /// With the positive rule, loops that already bound a region (simple, disjoint, alternately
 /// oriented: a cut through a closed mesh) take a fast path with the same result.
 [[nodiscard]] WireTree build_wire_tree(const Paths2& loops, FillRule rule);
+/// The same tree, made from the loops' own storage where it can (the fast path then copies
+/// no points of a loop it keeps as it is).
+[[nodiscard]] WireTree build_wire_tree(Paths2&& loops, FillRule rule);
 
 namespace detail {
 /// build_wire_tree's two ways, for tests that compare them. The fast path: the positive-rule
@@ -50,6 +53,9 @@ namespace detail {
 /// counter-clockwise and each oriented opposite to its parent; nullopt for any other input
 /// (or when checking would be slow). Equal to the Clipper union's tree whenever it answers.
 [[nodiscard]] std::optional<WireTree> wire_tree_of_simple_loops(const Paths2& loops);
+/// The same answer, moving the points of loops that need no cleaning into the tree: after an
+/// answer, loops holds moved-from paths; after nullopt it is unchanged.
+[[nodiscard]] std::optional<WireTree> take_wire_tree_of_simple_loops(Paths2& loops);
 /// The Clipper union alone.
 [[nodiscard]] WireTree clipper_wire_tree(const Paths2& loops, FillRule rule);
 }  // namespace detail

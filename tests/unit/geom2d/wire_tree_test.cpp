@@ -242,12 +242,22 @@ Path2 um_path(std::initializer_list<Point2> pts) {
 }
 
 // The fast path, when it answers, must give Clipper's tree; build_wire_tree must give it
-// always. Returns whether the fast path answered.
+// always, from a copy of the loops or from the loops themselves. The fast path that takes the
+// loops' points answers when the other does, and leaves the loops as they were when it does
+// not. Returns whether the fast path answered.
 bool fast_path_agrees(const Paths2& loops) {
     const WireTree clipper = detail::clipper_wire_tree(loops, FillRule::kPositive);
     expect_same_tree(build_wire_tree(loops, FillRule::kPositive), clipper);
+    expect_same_tree(build_wire_tree(Paths2(loops), FillRule::kPositive), clipper);
     const auto fast = detail::wire_tree_of_simple_loops(loops);
     if (fast) expect_same_tree(*fast, clipper);
+    Paths2 taken = loops;
+    const auto took = detail::take_wire_tree_of_simple_loops(taken);
+    EXPECT_EQ(took.has_value(), fast.has_value());
+    if (took) expect_same_tree(*took, clipper);
+    if (!took) {
+        EXPECT_EQ(taken, loops);
+    }
     return fast.has_value();
 }
 
