@@ -728,7 +728,8 @@ JobOutcome run_planar_slice(const PartOptions& opt, const SliceOptions& so,
         tries = std::move(oriented->tries);
         chosen = oriented->chosen;
     } else {
-        auto sliced = pipeline::slice_part(part.imported.mesh, ss, progress.get(), &times);
+        auto sliced = pipeline::slice_part(part.imported.mesh, ss, progress.get(), &times,
+                                           slice::VertexUse::kAllUsed);  // read_part's mesh
         if (!sliced) return done(o.error(sliced.error()));
         stack = std::move(*sliced);
     }

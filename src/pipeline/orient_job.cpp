@@ -290,7 +290,8 @@ core::Result<OrientedStack> orient_planar(const mesh::TriangleMesh& part, const 
         OrientedStack s;
         s.direction = d;
         s.placed = place_on_plate(part, d, machine::plate_center(profiles.machine));
-        auto stack = slice_part(s.placed, along_z, progress, t);
+        // The part's mesh moved onto the plate: welded or repaired, every vertex is used.
+        auto stack = slice_part(s.placed, along_z, progress, t, slice::VertexUse::kAllUsed);
         if (!stack) return std::unexpected(stack.error());
         s.stack = std::move(*stack);
         auto check = plan::check_planar_on_footing(s.stack.slices, ps);

@@ -124,11 +124,12 @@ core::Result<void> validate(const SliceSettings& s) {
 }
 
 core::Result<SliceStack> slice_part(const mesh::TriangleMesh& mesh, const SliceSettings& settings,
-                                    const core::Progress* progress, StageTimes* times) {
+                                    const core::Progress* progress, StageTimes* times,
+                                    slice::VertexUse use) {
     if (auto ok = validate(settings); !ok) return std::unexpected(ok.error());
     const auto t0 = Clock::now();
     SliceStack stack;
-    const slice::FrameExtent fe = slice::base_frame_and_extent(mesh, settings.direction);
+    const slice::FrameExtent fe = slice::base_frame_and_extent(mesh, settings.direction, use);
     stack.base = fe.frame;
     const double lo = fe.lo, hi = fe.hi;
     const std::vector<slice::LayerSpan> layers =
@@ -140,7 +141,7 @@ core::Result<SliceStack> slice_part(const mesh::TriangleMesh& mesh, const SliceS
                                       "({:.6g} mm)",
                                       hi - lo));
     }
-    auto slices = slice::slice_mesh(mesh, stack.base, layers, progress, settings.max_gap_mm);
+    auto slices = slice::slice_mesh(mesh, fe, layers, progress, settings.max_gap_mm);
     if (!slices) return std::unexpected(slices.error());
     stack.slices = std::move(*slices);
     const slice::Slice* first_open = nullptr;

@@ -31,6 +31,7 @@
 #include <tuple>
 #include <utility>
 
+#include "maxslice/core/assert.hpp"
 #include "maxslice/core/tolerances.hpp"
 #include "maxslice/core/units.hpp"
 
@@ -43,21 +44,28 @@ using geom2d::Point2;
 
 // A segment of the cut in one triangle: it enters the triangle across edge `from` and
 // leaves it across edge `to` (both undirected edge keys), solid on its left. Plain integers
-// (no default member initialisers), so an array of them is allocated without clearing.
+// (no default member initialisers), so an array of them is allocated without clearing. The
+// crossing point is kept in 32 bits (24 bytes a segment, not 32: the segments are the largest
+// array of the cut, written once and read once); prepare() refuses a part whose points do
+// not fit, over 2 km from the frame's origin.
 struct Segment {
     std::uint64_t from;
     std::uint64_t to;
-    std::int64_t x, y;  // the crossing point on edge `from` (um)
+    std::int32_t x, y;  // the crossing point on edge `from` (um)
 
     Point2 start() const { return {x, y}; }
 };
+
+// The largest coordinate a segment holds (um): 2^31 - 1, about 2.1 km.
+constexpr std::int64_t kMaxSegmentUm = std::numeric_limits<std::int32_t>::max();
 
 std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
     const std::uint32_t lo = std::min(a, b), hi = std::max(a, b);
     return (static_cast<std::uint64_t>(lo) << 32) | hi;
 }
 
-// Per-mesh data shared by all planes: vertex heights along the normal (mm), and for each
+// Per-mesh data shared by all planes: vertex heights along the normal (mm; computed here, or
+// those base_frame_and_extent computed for the same frame), and for each
 // plane (in sorted order) the segments of the triangles that cross it, in triangle order:
 // plane k's are segs[bucket_begin[k], bucket_begin[k + 1]). In-plane coordinates are kept
 // per vertex only when the planes cut more edges than the mesh has vertices (a coarse mesh
@@ -67,8 +75,8 @@ std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
 struct CutContext {
     const mesh::TriangleMesh* mesh = nullptr;
     PlaneFrame base;
-    std::unique_ptr<double[]> height;  // uninitialised until written
-    std::unique_ptr<double[]> uv;      // u, v of every vertex (mm), or null
+    std::shared_ptr<const double[]> height;
+    std::unique_ptr<double[]> uv;  // u, v of every vertex (mm), or null
     std::vector<double> sorted_heights;
     std::vector<std::size_t> bucket_begin;  // size planes + 1
     std::unique_ptr<Segment[]> segs;        // uninitialised until written: no zeroing pass
@@ -82,11 +90,12 @@ std::pair<double, double> vertex_uv(const CutContext& ctx, std::uint32_t i) {
     return {core::dot(d, ctx.base.u), core::dot(d, ctx.base.v)};
 }
 
-// The point where the plane at height h crosses edge (a, b), in micrometres. It is computed
+// The point where the plane at height h crosses edge (a, b), in millimetres. It is computed
 // from the lower vertex id to the higher one so both triangles of the edge get equal bits.
 // Inlined: it is the inner step of the segment fill.
-[[gnu::always_inline]] inline Point2 crossing(const CutContext& ctx, std::uint32_t a,
-                                              std::uint32_t b, double h) {
+[[gnu::always_inline]] inline std::pair<double, double> crossing_mm(const CutContext& ctx,
+                                                                    std::uint32_t a,
+                                                                    std::uint32_t b, double h) {
     if (a > b) std::swap(a, b);
     const double ha = ctx.height[a], hb = ctx.height[b];
     const auto [ua, va] = vertex_uv(ctx, a);
@@ -94,12 +103,20 @@ std::pair<double, double> vertex_uv(const CutContext& ctx, std::uint32_t i) {
     const double t = (h - ha) / (hb - ha);
     const double u = ua + (ub - ua) * t;
     const double v = va + (vb - va) * t;
+    return {u, v};
+}
+
+// The same point in micrometres.
+Point2 crossing(const CutContext& ctx, std::uint32_t a, std::uint32_t b, double h) {
+    const auto [u, v] = crossing_mm(ctx, a, b, h);
     return {core::mm_to_um(u), core::mm_to_um(v)};
 }
 
 // The segment of triangle tri in the plane at height h, which the triangle crosses
-// (min height <= h < max height, three distinct vertices).
-Segment segment_of(const CutContext& ctx, const std::array<std::uint32_t, 3>& tri, double h) {
+// (min height <= h < max height, three distinct vertices). `fits` is cleared when its point
+// is too far out for a Segment (and left alone otherwise).
+Segment segment_of(const CutContext& ctx, const std::array<std::uint32_t, 3>& tri, double h,
+                   bool& fits) {
     // Walking the triangle's edges in winding order, the cut enters where an edge goes from
     // above the plane to below it and leaves where an edge goes back up; with the outward
     // normal from the winding, the solid is then on the left (seen from +normal). With the
@@ -115,12 +132,20 @@ Segment segment_of(const CutContext& ctx, const std::array<std::uint32_t, 3>& tr
             ta = a, tb = b;
         }
     }
-    const Point2 p = crossing(ctx, fa, fb, h);
-    return {edge_key(fa, fb), edge_key(ta, tb), p.x, p.y};
+    const auto [u, v] = crossing_mm(ctx, fa, fb, h);
+    // Within kMaxSegmentUm once rounded (false for NaN); not converted otherwise.
+    constexpr double kMaxMm = static_cast<double>(kMaxSegmentUm - 1) / core::kMicronsPerMm;
+    const bool in = std::fabs(u) <= kMaxMm && std::fabs(v) <= kMaxMm;
+    fits &= in;
+    return {edge_key(fa, fb), edge_key(ta, tb),
+            in ? static_cast<std::int32_t>(core::mm_to_um(u)) : 0,
+            in ? static_cast<std::int32_t>(core::mm_to_um(v)) : 0};
 }
 
+// vertex_heights: every vertex's base.height, or null to compute them here.
 core::Result<CutContext> prepare(const mesh::TriangleMesh& mesh, const PlaneFrame& base,
-                                 std::span<const double> heights) {
+                                 std::span<const double> heights,
+                                 std::shared_ptr<const double[]> vertex_heights) {
     CutContext ctx;
     ctx.mesh = &mesh;
     ctx.base = base;
@@ -137,11 +162,13 @@ core::Result<CutContext> prepare(const mesh::TriangleMesh& mesh, const PlaneFram
     const std::size_t np = hs.size();
 
     // lower_bound(x) over the planes: the first plane with h >= x. A table of lower bounds at
-    // 4 bins per plane gives a start index close to the answer; a short forward scan makes it
-    // exact (the same result as std::lower_bound).
+    // 4 bins per plane gives a start index close to the answer; short scans make it exact (the
+    // same result as std::lower_bound). With evenly spaced planes a bin holds at most one
+    // plane, so one step (without a branch: `padded` ends with +infinity) is all it takes.
     const double h0 = np > 0 ? hs.front() : 0.0;
     const std::size_t bins = 4 * np + 1;
     const double width = np >= 2 ? (hs.back() - h0) / static_cast<double>(bins - 1) : 0.0;
+    const double per_width = width > 0.0 ? 1.0 / width : 0.0;
     std::vector<std::uint32_t> bin_start(bins, 0);
     if (width > 0.0) {
         for (std::size_t b = 0; b < bins; ++b) {
@@ -150,35 +177,47 @@ core::Result<CutContext> prepare(const mesh::TriangleMesh& mesh, const PlaneFram
                 static_cast<std::uint32_t>(std::lower_bound(hs.begin(), hs.end(), x) - hs.begin());
         }
     }
+    std::vector<double> padded(hs);
+    padded.push_back(std::numeric_limits<double>::infinity());
     const auto lower_bound = [&](double x) -> std::uint32_t {
         if (!(width > 0.0)) {
             return static_cast<std::uint32_t>(std::lower_bound(hs.begin(), hs.end(), x) -
                                               hs.begin());
         }
-        const double q = (x - h0) / width;  // truncation below is floor: q >= 0 there
-        if (!(q >= 0.0)) return 0;
-        if (q >= static_cast<double>(bins)) return static_cast<std::uint32_t>(np);
+        // The bin, clamped to the table (NaN to bin 0, whose start is plane 0: the answer).
+        double q = (x - h0) * per_width;
+        q = q >= 0.0 ? q : 0.0;
+        q = q < static_cast<double>(bins - 1) ? q : static_cast<double>(bins - 1);
         std::size_t k = bin_start[static_cast<std::size_t>(q)];
+        k += padded[k] < x ? 1 : 0;
+        while (padded[k] < x) ++k;
         while (k > 0 && hs[k - 1] >= x) --k;  // guards rounding in the bin computation
-        while (k < np && hs[k] < x) ++k;
         return static_cast<std::uint32_t>(k);
     };
 
     // Every vertex's height and the first plane at or above it. lower_bound is monotone, so a
     // triangle's plane range [lower_bound(min), lower_bound(max)), the planes with
     // min <= h < max, is [the least of its vertices' bounds, the greatest): no search per
-    // triangle.
+    // triangle. A non-finite coordinate gives a height that is not finite (NaN or infinite).
     const std::size_t nv = mesh.vertices.size();
-    ctx.height = std::make_unique_for_overwrite<double[]>(nv);
     const auto vertex_plane = std::make_unique_for_overwrite<std::uint32_t[]>(nv);
     std::atomic<bool> finite{true};
+    if (vertex_heights) {
+        ctx.height = std::move(vertex_heights);
+    } else {
+        auto h = std::make_shared_for_overwrite<double[]>(nv);
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nv, 1 << 14), [&](const auto& r) {
+            for (std::size_t i = r.begin(); i != r.end(); ++i) h[i] = base.height(mesh.vertices[i]);
+        });
+        ctx.height = std::move(h);
+    }
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nv, 1 << 14), [&](const auto& r) {
+        bool ok = true;
         for (std::size_t i = r.begin(); i != r.end(); ++i) {
-            const core::Vec3d d = mesh.vertices[i] - base.origin;
-            ctx.height[i] = core::dot(d, base.normal);
             vertex_plane[i] = lower_bound(ctx.height[i]);
-            if (!core::is_finite(mesh.vertices[i])) finite.store(false);
+            ok &= std::isfinite(ctx.height[i]);
         }
+        if (!ok) finite.store(false);
     });
     if (!finite.load()) {
         return core::fail(core::ErrorCode::kInvalidInput,
@@ -235,15 +274,24 @@ core::Result<CutContext> prepare(const mesh::TriangleMesh& mesh, const PlaneFram
         ctx.uv = std::move(uv);
     }
     ctx.segs = std::make_unique_for_overwrite<Segment[]>(total);
+    std::atomic<bool> fits{true};
     tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
         std::size_t* fill = offsets.data() + c * (np + 1);
+        bool ok = true;
         for (std::size_t t = c * chunk, end = std::min(nt, t + chunk); t < end; ++t) {
             const auto [k0, k1] = planes_of(t);
             for (std::uint32_t k = k0; k < k1; ++k) {
-                ctx.segs[fill[k]++] = segment_of(ctx, mesh.triangles[t], hs[k]);
+                ctx.segs[fill[k]++] = segment_of(ctx, mesh.triangles[t], hs[k], ok);
             }
         }
+        if (!ok) fits.store(false);
     });
+    if (!fits.load()) {
+        return core::fail(core::ErrorCode::kInvalidInput,
+                          "the part reaches more than 2 km from the slicing frame's origin "
+                          "(check the file's units: --units)",
+                          "slicing");
+    }
     return ctx;
 }
 
@@ -281,7 +329,19 @@ public:
         }
         return kEmpty;
     }
+    // The one segment starting on edge key, kEmpty when none does, kMany when several do
+    // (find_unused then picks).
+    std::uint32_t find_only(std::uint64_t key) const {
+        std::size_t s = hash(key);
+        while (slots_[s] != kEmpty) {
+            const std::uint32_t i = slots_[s];
+            if (segs_[i].from == key) return next_[i] == kEmpty ? i : kMany;
+            s = (s + 1) & mask_;
+        }
+        return kEmpty;
+    }
     static constexpr std::uint32_t kEmpty = std::numeric_limits<std::uint32_t>::max();
+    static constexpr std::uint32_t kMany = kEmpty - 1;
 
 private:
     // Fibonacci hashing: the top bits of the product, which depend on every bit of the key.
@@ -394,6 +454,11 @@ PlaneCut cut_plane(const CutContext& ctx, std::size_t k, double max_gap_mm) {
 
     PlaneCut cut;
     const EdgeTable table(segs);
+    // Each segment's successor, looked up for all segments first: the lookups do not depend
+    // on each other, so they overlap in the processor, where the walk below would wait for
+    // each in turn.
+    std::vector<std::uint32_t> succ(segs.size());
+    for (std::size_t i = 0; i < segs.size(); ++i) succ[i] = table.find_only(segs[i].to);
     std::vector<char> used(segs.size(), 0);
     std::vector<Path2> open;
     Path2 chain;  // the chain being walked: one buffer, each loop then copied at its size
@@ -411,7 +476,12 @@ PlaneCut cut_plane(const CutContext& ctx, std::size_t k, double max_gap_mm) {
                 closed = true;
                 break;
             }
-            const std::uint32_t nxt = table.find_unused(next_edge, used);
+            std::uint32_t nxt = succ[cur];
+            if (nxt == EdgeTable::kMany) {
+                nxt = table.find_unused(next_edge, used);
+            } else if (nxt != EdgeTable::kEmpty && used[nxt]) {
+                nxt = EdgeTable::kEmpty;
+            }
             if (nxt == EdgeTable::kEmpty) {
                 // The cut leaves the surface through an open edge: end the chain there.
                 chain.push_back(crossing(ctx, static_cast<std::uint32_t>(next_edge >> 32),
@@ -450,9 +520,10 @@ namespace {
 // plane writes only its own slot, so the result does not depend on the thread count.
 template <class Emit>
 core::Result<void> cut_all(const mesh::TriangleMesh& mesh, const PlaneFrame& base,
+                           std::shared_ptr<const double[]> vertex_heights,
                            std::span<const double> heights, const core::Progress* progress,
                            double max_gap_mm, Emit&& emit) {
-    auto ctx = prepare(mesh, base, heights);
+    auto ctx = prepare(mesh, base, heights, std::move(vertex_heights));
     if (!ctx) return std::unexpected(ctx.error());
     auto order = plane_order(heights);
     std::atomic<std::size_t> done{0};
@@ -476,29 +547,49 @@ core::Result<std::vector<PlaneCut>> cut_mesh(const mesh::TriangleMesh& mesh, con
                                              std::span<const double> heights,
                                              const core::Progress* progress, double max_gap_mm) {
     std::vector<PlaneCut> out(heights.size());
-    auto ok = cut_all(mesh, base, heights, progress, max_gap_mm,
+    auto ok = cut_all(mesh, base, nullptr, heights, progress, max_gap_mm,
                       [&](std::size_t i, PlaneCut cut) { out[i] = std::move(cut); });
     if (!ok) return std::unexpected(ok.error());
     return out;
 }
 
-core::Result<std::vector<Slice>> slice_mesh(const mesh::TriangleMesh& mesh, const PlaneFrame& base,
+namespace {
+
+core::Result<std::vector<Slice>> slice_with(const mesh::TriangleMesh& mesh, const PlaneFrame& base,
+                                            std::shared_ptr<const double[]> vertex_heights,
                                             std::span<const LayerSpan> layers,
                                             const core::Progress* progress, double max_gap_mm) {
     std::vector<double> heights(layers.size());
     for (std::size_t i = 0; i < layers.size(); ++i) heights[i] = layers[i].cut;
     std::vector<Slice> out(layers.size());
-    auto ok = cut_all(mesh, base, heights, progress, max_gap_mm, [&](std::size_t i, PlaneCut cut) {
-        Slice& s = out[i];
-        s.index = static_cast<int>(i);
-        s.span = layers[i];
-        s.plane = base.shifted(layers[i].cut);
-        s.gaps_closed = cut.gaps_closed;
-        s.open_chains = cut.open_chains;
-        s.wires = geom2d::build_wire_tree(cut.loops, geom2d::FillRule::kPositive);
-    });
+    auto ok = cut_all(mesh, base, std::move(vertex_heights), heights, progress, max_gap_mm,
+                      [&](std::size_t i, PlaneCut cut) {
+                          Slice& s = out[i];
+                          s.index = static_cast<int>(i);
+                          s.span = layers[i];
+                          s.plane = base.shifted(layers[i].cut);
+                          s.gaps_closed = cut.gaps_closed;
+                          s.open_chains = cut.open_chains;
+                          s.wires = geom2d::build_wire_tree(std::move(cut.loops),
+                                                            geom2d::FillRule::kPositive);
+                      });
     if (!ok) return std::unexpected(ok.error());
     return out;
+}
+
+}  // namespace
+
+core::Result<std::vector<Slice>> slice_mesh(const mesh::TriangleMesh& mesh, const PlaneFrame& base,
+                                            std::span<const LayerSpan> layers,
+                                            const core::Progress* progress, double max_gap_mm) {
+    return slice_with(mesh, base, nullptr, layers, progress, max_gap_mm);
+}
+
+core::Result<std::vector<Slice>> slice_mesh(const mesh::TriangleMesh& mesh, const FrameExtent& base,
+                                            std::span<const LayerSpan> layers,
+                                            const core::Progress* progress, double max_gap_mm) {
+    MAXSLICE_ASSERT(base.heights != nullptr && base.vertices == mesh.vertices.size());
+    return slice_with(mesh, base.frame, base.heights, layers, progress, max_gap_mm);
 }
 
 namespace {
@@ -520,10 +611,16 @@ std::vector<std::uint8_t> used_vertices(const mesh::TriangleMesh& mesh) {
     return used;
 }
 
-// The smallest and largest of f(vertex) over the used vertices, in parallel: min and max are
-// exact, so the result does not depend on the split. NaN values are skipped (std::min/max keep
-// the running value), as in a serial loop. A vertex used by several triangles is looked at
-// once (before: once per corner, six times on a closed mesh).
+// The range of frame heights from used_vertex_range, or [0, 0] when no vertex is used.
+std::pair<double, double> extent_from(std::pair<double, double> range) {
+    if (!(range.first <= range.second)) return {0.0, 0.0};
+    return range;
+}
+
+// The smallest and largest of f(i) over the used vertices i (every vertex when `used` is
+// empty), in parallel: min and max are exact, so the result does not depend on the split. NaN
+// values are skipped (std::min/max keep the running value), as in a serial loop. f is called
+// once for every vertex, used or not (it may store its values).
 template <class F>
 std::pair<double, double> used_vertex_range(const mesh::TriangleMesh& mesh,
                                             const std::vector<std::uint8_t>& used, F f) {
@@ -533,9 +630,10 @@ std::pair<double, double> used_vertex_range(const mesh::TriangleMesh& mesh,
     return tbb::parallel_reduce(
         tbb::blocked_range<std::size_t>(0, mesh.vertices.size(), 1 << 15), empty,
         [&](const tbb::blocked_range<std::size_t>& r, Range acc) {
+            const bool all = used.empty();
             for (std::size_t i = r.begin(); i != r.end(); ++i) {
-                if (used[i] == 0) continue;
-                const double h = f(mesh.vertices[i]);
+                const double h = f(i);
+                if (!all && used[i] == 0) continue;
                 acc.first = std::min(acc.first, h);
                 acc.second = std::max(acc.second, h);
             }
@@ -549,19 +647,11 @@ std::pair<double, double> used_vertex_range(const mesh::TriangleMesh& mesh,
 PlaneFrame frame_of(const mesh::TriangleMesh& mesh, const std::vector<std::uint8_t>& used,
                     const core::Vec3d& direction) {
     const core::Vec3d d = core::normalized(direction);
-    double lo =
-        used_vertex_range(mesh, used, [&](const core::Vec3d& v) { return core::dot(v, d); }).first;
+    double lo = used_vertex_range(mesh, used, [&](std::size_t i) {
+                    return core::dot(mesh.vertices[i], d);
+                }).first;
     if (!std::isfinite(lo)) lo = 0.0;
     return PlaneFrame::from_normal(d * lo, d);
-}
-
-std::pair<double, double> extent_of(const mesh::TriangleMesh& mesh,
-                                    const std::vector<std::uint8_t>& used,
-                                    const PlaneFrame& frame) {
-    const auto [lo, hi] =
-        used_vertex_range(mesh, used, [&](const core::Vec3d& v) { return frame.height(v); });
-    if (!(lo <= hi)) return {0.0, 0.0};
-    return {lo, hi};
 }
 
 }  // namespace
@@ -571,14 +661,28 @@ PlaneFrame base_frame(const mesh::TriangleMesh& mesh, const core::Vec3d& directi
 }
 
 std::pair<double, double> extent_along(const mesh::TriangleMesh& mesh, const PlaneFrame& frame) {
-    return extent_of(mesh, used_vertices(mesh), frame);
+    return extent_from(used_vertex_range(
+        mesh, used_vertices(mesh), [&](std::size_t i) { return frame.height(mesh.vertices[i]); }));
 }
 
-FrameExtent base_frame_and_extent(const mesh::TriangleMesh& mesh, const core::Vec3d& direction) {
-    const std::vector<std::uint8_t> used = used_vertices(mesh);
+FrameExtent base_frame_and_extent(const mesh::TriangleMesh& mesh, const core::Vec3d& direction,
+                                  VertexUse use) {
+    // Empty: every vertex is used (a promise the assertion checks in checked builds).
+    const std::vector<std::uint8_t> used =
+        use == VertexUse::kAllUsed ? std::vector<std::uint8_t>{} : used_vertices(mesh);
+    MAXSLICE_ASSERT(
+        use == VertexUse::kCheck ||
+        std::ranges::all_of(used_vertices(mesh), [](std::uint8_t u) { return u != 0; }));
     FrameExtent out;
     out.frame = frame_of(mesh, used, direction);
-    std::tie(out.lo, out.hi) = extent_of(mesh, used, out.frame);
+    // Every vertex's height, kept for slice_mesh, in the same look at the vertices.
+    const std::size_t nv = mesh.vertices.size();
+    auto heights = std::make_shared_for_overwrite<double[]>(nv);
+    std::tie(out.lo, out.hi) = extent_from(used_vertex_range(mesh, used, [&](std::size_t i) {
+        return heights[i] = out.frame.height(mesh.vertices[i]);
+    }));
+    out.heights = std::move(heights);
+    out.vertices = nv;
     return out;
 }
 

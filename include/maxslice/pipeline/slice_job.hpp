@@ -80,9 +80,12 @@ struct SliceStack {
 
 /// Slices the part. Layers whose open chains could not be closed make the job fail with the
 /// first such layer named (an open mesh with holes wider than the closing tolerance).
+/// `use`: kAllUsed for a mesh from read_part or prepare_part (welded or repaired: every
+/// vertex is used), which spares the slicer a look at every triangle.
 [[nodiscard]] core::Result<SliceStack> slice_part(const mesh::TriangleMesh& mesh,
                                                   const SliceSettings& settings,
                                                   const core::Progress* progress = nullptr,
-                                                  StageTimes* times = nullptr);
+                                                  StageTimes* times = nullptr,
+                                                  slice::VertexUse use = slice::VertexUse::kCheck);
 
 }  // namespace maxslice::pipeline

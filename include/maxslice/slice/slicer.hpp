@@ -1,6 +1,8 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -62,12 +64,25 @@ struct PlaneCut {
                                                      const PlaneFrame& frame);
 
 /// base_frame(mesh, direction) and extent_along(mesh, that frame), the same values, with one
-/// look at which vertices the triangles use.
+/// look at which vertices the triangles use; with every vertex's height above the frame
+/// (frame.height(v), unused vertices too), which slice_mesh then need not compute again.
 struct FrameExtent {
     PlaneFrame frame;
     double lo = 0.0, hi = 0.0;
+    std::shared_ptr<const double[]> heights;  ///< one per vertex of the mesh it was made for
+    std::size_t vertices = 0;                 ///< that mesh's vertex count
 };
+/// Whether every vertex of a mesh is known to be used by a triangle, as in a mesh welded from
+/// its triangles (every mesh io::read_mesh returns) or returned by mesh::repair, or must be
+/// checked (unused vertices do not count in the frame or the extent).
+enum class VertexUse : std::uint8_t { kCheck, kAllUsed };
 [[nodiscard]] FrameExtent base_frame_and_extent(const mesh::TriangleMesh& mesh,
-                                                const core::Vec3d& direction);
+                                                const core::Vec3d& direction,
+                                                VertexUse use = VertexUse::kCheck);
+/// slice_mesh(mesh, base.frame, layers, ...) for the mesh base was made for (the same
+/// result), using its vertex heights.
+[[nodiscard]] core::Result<std::vector<Slice>> slice_mesh(
+    const mesh::TriangleMesh& mesh, const FrameExtent& base, std::span<const LayerSpan> layers,
+    const core::Progress* progress = nullptr, double max_gap_mm = core::kSliceGapCloseMm);
 
 }  // namespace maxslice::slice

@@ -563,6 +563,26 @@ TEST(SliceMesh, PartFarFromTheOrigin) {
                 kAreaRelative * test::plate_volume(spec));
 }
 
+TEST(SliceMesh, PartBeyondTwoKilometresIsRefusedWithTheUnitsHint) {
+    // The slicer keeps its crossing points in 32 bits of micrometres: about 2.1 km.
+    for (const double x : {3e6, -2.2e6}) {
+        const auto m = test::translated(test::unit_cube(), {x, 0, 0});
+        const FrameExtent fe = base_frame_and_extent(m, {0, 0, 1});
+        const auto layers = uniform_layers(fe.lo, fe.hi, 0.25);
+        const auto slices = slice_mesh(m, fe, layers);
+        ASSERT_FALSE(slices.has_value()) << x;
+        EXPECT_EQ(slices.error().code, core::ErrorCode::kInvalidInput);
+        EXPECT_NE(slices.error().message.find("2 km"), std::string::npos);
+        EXPECT_NE(slices.error().message.find("--units"), std::string::npos);
+    }
+    // Just inside the limit it slices (Clipper then builds the trees: the fast path stops at
+    // geom2d's 1 km).
+    const auto near = test::translated(test::unit_cube(), {2.1e6, 0, 0});
+    const auto slices = slice_along(near, {0, 0, 1}, 0.25);
+    ASSERT_EQ(slices.size(), 4u);
+    for (const Slice& s : slices) EXPECT_NEAR(s.area_mm2(), 1.0, 1e-6);
+}
+
 TEST(SliceMesh, OverlappingBodiesMerge) {
     // Two boxes overlapping in [1, 2] x [0, 1]: one outer of area 3 x 1 - 0 overlap counted
     // once.
@@ -616,6 +636,46 @@ TEST(BaseFrame, StartsAtTheLowestPointAlongTheDirection) {
     EXPECT_NEAR(dlo, 0.0, 1e-12);
     EXPECT_NEAR(dhi, std::sqrt(3.0), 1e-12);
     EXPECT_NEAR(f.height({2, 3, 4}), 0.0, 1e-12);
+}
+
+TEST(BaseFrameAndExtent, KeepsTheFrameHeightsAndSlicingWithThemChangesNothing) {
+    const auto m = test::translated(test::plate_with_holes(), {12.5, -3.25, 7.0});
+    for (const Vec3d& dir : {Vec3d{0, 0, 1}, core::normalized({1.0, 0.3, 0.8})}) {
+        const FrameExtent fe = base_frame_and_extent(m, dir);
+        const PlaneFrame base = base_frame(m, dir);
+        EXPECT_EQ(fe.frame.origin, base.origin);
+        EXPECT_EQ(fe.frame.normal, base.normal);
+        EXPECT_EQ(std::make_pair(fe.lo, fe.hi), extent_along(m, base));
+        ASSERT_EQ(fe.vertices, m.vertices.size());
+        for (std::size_t i = 0; i < m.vertices.size(); ++i) {
+            ASSERT_EQ(fe.heights[i], fe.frame.height(m.vertices[i])) << i;
+        }
+        const auto layers = uniform_layers(fe.lo, fe.hi, 0.3);
+        const auto with = slice_mesh(m, fe, layers);
+        const auto without = slice_mesh(m, fe.frame, layers);
+        ASSERT_TRUE(with.has_value() && without.has_value());
+        ASSERT_EQ(with->size(), without->size());
+        for (std::size_t k = 0; k < with->size(); ++k) {
+            EXPECT_EQ((*with)[k].wires.paths(), (*without)[k].wires.paths()) << k;
+        }
+    }
+}
+
+TEST(BaseFrameAndExtent, UnusedVerticesDoNotCountUnlessAllArePromisedUsed) {
+    auto m = test::translated(test::unit_cube(), {2, 3, 4});
+    const FrameExtent promised = base_frame_and_extent(m, {0, 0, 1}, VertexUse::kAllUsed);
+    const FrameExtent checked = base_frame_and_extent(m, {0, 0, 1}, VertexUse::kCheck);
+    EXPECT_EQ(promised.frame.origin, checked.frame.origin);
+    EXPECT_EQ(std::make_pair(promised.lo, promised.hi), std::make_pair(checked.lo, checked.hi));
+    // A vertex no triangle uses, far below and far above: not part of the solid.
+    m.vertices.push_back({2, 3, -100});
+    m.vertices.push_back({2, 3, 100});
+    const FrameExtent fe = base_frame_and_extent(m, {0, 0, 1});
+    EXPECT_NEAR(fe.frame.origin.z, 4.0, 1e-12);
+    EXPECT_NEAR(fe.lo, 0.0, 1e-12);
+    EXPECT_NEAR(fe.hi, 1.0, 1e-12);
+    ASSERT_EQ(fe.vertices, m.vertices.size());
+    EXPECT_NEAR(fe.heights[m.vertices.size() - 2], -104.0, 1e-12);
 }
 
 }  // namespace
