@@ -296,30 +296,33 @@ core::Result<CutContext> prepare(const mesh::TriangleMesh& mesh, const PlaneFram
 }
 
 // Open addressing table from an edge key to the segments that start on that edge (more than
-// one only at non-manifold edges; they are linked through `next`).
+// one only at non-manifold edges; they are linked through `next`). Each used slot keeps its
+// key beside it, so a probe reads the table only.
 class EdgeTable {
 public:
-    explicit EdgeTable(std::span<const Segment> segs) : segs_(segs) {
+    explicit EdgeTable(std::span<const Segment> segs) {
         std::size_t cap = 16;
         shift_ = 60;
         while (cap < 2 * segs.size()) cap <<= 1, --shift_;
         mask_ = cap - 1;
         slots_.assign(cap, kEmpty);
+        keys_ = std::make_unique_for_overwrite<std::uint64_t[]>(cap);  // read where used only
         next_.assign(segs.size(), kEmpty);
         // Insert in reverse so each chain of equal keys lists segments in index order.
         for (std::size_t i = segs.size(); i-- > 0;) {
-            std::size_t s = hash(segs[i].from);
-            while (slots_[s] != kEmpty && segs_[slots_[s]].from != segs[i].from)
-                s = (s + 1) & mask_;
+            const std::uint64_t key = segs[i].from;
+            std::size_t s = hash(key);
+            while (slots_[s] != kEmpty && keys_[s] != key) s = (s + 1) & mask_;
             next_[i] = slots_[s];
             slots_[s] = static_cast<std::uint32_t>(i);
+            keys_[s] = key;
         }
     }
     // The first segment starting on edge key that is not used yet, or kEmpty.
     std::uint32_t find_unused(std::uint64_t key, const std::vector<char>& used) const {
         std::size_t s = hash(key);
         while (slots_[s] != kEmpty) {
-            if (segs_[slots_[s]].from == key) {
+            if (keys_[s] == key) {
                 for (std::uint32_t i = slots_[s]; i != kEmpty; i = next_[i]) {
                     if (!used[i]) return i;
                 }
@@ -334,8 +337,7 @@ public:
     std::uint32_t find_only(std::uint64_t key) const {
         std::size_t s = hash(key);
         while (slots_[s] != kEmpty) {
-            const std::uint32_t i = slots_[s];
-            if (segs_[i].from == key) return next_[i] == kEmpty ? i : kMany;
+            if (keys_[s] == key) return next_[slots_[s]] == kEmpty ? slots_[s] : kMany;
             s = (s + 1) & mask_;
         }
         return kEmpty;
@@ -348,10 +350,10 @@ private:
     std::size_t hash(std::uint64_t key) const {
         return static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ULL) >> shift_);
     }
-    std::span<const Segment> segs_;
     std::size_t mask_ = 0;
     int shift_ = 60;
     std::vector<std::uint32_t> slots_;
+    std::unique_ptr<std::uint64_t[]> keys_;
     std::vector<std::uint32_t> next_;
 };
 
@@ -471,12 +473,14 @@ PlaneCut cut_plane(const CutContext& ctx, std::size_t k, double max_gap_mm) {
         while (true) {
             used[cur] = 1;
             chain.push_back(segs[cur].start());
-            const std::uint64_t next_edge = segs[cur].to;
-            if (next_edge == segs[s0].from) {
+            // The chain closes when its next edge is the one it started on: when s0 is the
+            // next edge's only segment (no other segment can start on it otherwise).
+            std::uint32_t nxt = succ[cur];
+            if (nxt == s0 || (nxt == EdgeTable::kMany && segs[cur].to == segs[s0].from)) {
                 closed = true;
                 break;
             }
-            std::uint32_t nxt = succ[cur];
+            const std::uint64_t next_edge = segs[cur].to;
             if (nxt == EdgeTable::kMany) {
                 nxt = table.find_unused(next_edge, used);
             } else if (nxt != EdgeTable::kEmpty && used[nxt]) {
