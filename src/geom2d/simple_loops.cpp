@@ -102,41 +102,14 @@ bool clean_loop(const Path2& in, Path2& out) {
     return kept >= 3;
 }
 
-// Whether clean_loop would keep the loop as it is: at least 3 points, all in range, and no
-// vertex on the line through its neighbours (which also rules out repeated points). Read only.
-bool already_clean(const Path2& p) {
-    const std::size_t n = p.size();
-    if (n < 3) return false;
-    Point2 prev = p[n - 1];
-    for (std::size_t i = 0; i < n; ++i) {
-        const Point2& cur = p[i];
-        if (!in_range(cur) || cross(prev, cur, p[i + 1 == n ? 0 : i + 1]) == 0) return false;
-        prev = cur;
-    }
-    return true;
-}
-
-// What the later steps need of a cleaned loop, in one pass over it: twice its signed area, its
-// smallest point (x, then y: where the tree's copy starts, as Clipper starts it) and its lowest
-// point (y, then x: where the sweep finds its parent).
+// What the later steps need of a cleaned loop: twice its signed area, its smallest point (x,
+// then y: where the tree's copy starts, as Clipper starts it) and its lowest point (y, then x:
+// where the sweep finds its parent).
 struct LoopFacts {
     Int128 twice_area = 0;
     std::size_t first = 0;
     Point2 lowest;
 };
-
-LoopFacts facts_of(const Path2& p) {
-    LoopFacts f;
-    f.lowest = p[0];
-    for (std::size_t i = 0, j = p.size() - 1; i < p.size(); j = i++) {
-        const Point2& a = p[j];
-        const Point2& b = p[i];
-        f.twice_area += static_cast<Int128>(a.x) * b.y - static_cast<Int128>(a.y) * b.x;
-        if (b < p[f.first]) f.first = i;
-        if (b.y < f.lowest.y || (b.y == f.lowest.y && b.x < f.lowest.x)) f.lowest = b;
-    }
-    return f;
-}
 
 // An edge of a loop: in a chain from its lower end a up to b, a horizontal one as the loop
 // runs.
@@ -242,26 +215,59 @@ bool pair_clear(const Edge& s, const Edge& t, Heights& heights) {
     return apart_at(s, t, y0) && (y1 == y0 || apart_at(s, t, y1));
 }
 
-// Step 3 for consecutive edges: they share a sweep line beyond their shared vertex only
-// when both leave it upwards or both downwards; their gap grows from there, so the nearest
-// sweep line on that side is the one to check (where both end, both are exact).
-bool extrema_clear(const std::vector<Path2>& loops, Heights& heights) {
-    for (const Path2& p : loops) {
-        const std::size_t n = p.size();
-        for (std::size_t i = 0; i < n; ++i) {
-            const Point2& u = p[i == 0 ? n - 1 : i - 1];
-            const Point2& v = p[i];
-            const Point2& w = p[i + 1 == n ? 0 : i + 1];
-            const bool up = u.y > v.y && w.y > v.y;
-            if (!up && !(u.y < v.y && w.y < v.y)) continue;
-            const Edge s{v, u, 0, 0};
-            const Edge t{v, w, 0, 0};
-            // The nearest sweep line is at least a unit away: try that first.
-            if (apart_at(s, t, up ? v.y + 1 : v.y - 1)) continue;
-            const std::int64_t y = heights.next(v.y, !up);
-            if (y == u.y && y == w.y) continue;
-            if (!apart_at(s, t, y)) return false;
+// A loop vertex whose two edges need step 3 at the nearest sweep line beyond it.
+struct Extremum {
+    std::uint32_t loop, index;
+};
+
+// Step 1 as a check, the loop's facts, and step 3 for consecutive edges as far as it goes
+// without the other loops, in one pass: false unless p is clean as it stands (at least 3
+// points, all in range, no vertex on the line through its neighbours, which rules out
+// repeated points too). Two consecutive edges share a sweep line beyond their shared vertex
+// only when both leave it upwards or both downwards, and their gap grows from there; the
+// nearest sweep line is at least a unit away, and when they are apart there, they are apart
+// on every line. Vertices where they are not go to `pending` for extrema_clear (only when
+// true is returned). `loop`: p's index in the loops the pending entries refer to.
+bool survey(const Path2& p, std::uint32_t loop, LoopFacts& f, std::vector<Extremum>& pending) {
+    const std::size_t n = p.size();
+    if (n < 3 || !in_range(p[n - 1])) return false;
+    const std::size_t pending_before = pending.size();
+    f = LoopFacts{};
+    f.lowest = p[0];
+    Point2 prev = p[n - 1];
+    for (std::size_t i = 0; i < n; ++i) {
+        const Point2& cur = p[i];
+        const Point2& next = p[i + 1 == n ? 0 : i + 1];
+        if (!in_range(next) || cross(prev, cur, next) == 0) {
+            pending.resize(pending_before);
+            return false;
         }
+        f.twice_area += static_cast<Int128>(prev.x) * cur.y - static_cast<Int128>(prev.y) * cur.x;
+        if (cur < p[f.first]) f.first = i;
+        if (cur.y < f.lowest.y || (cur.y == f.lowest.y && cur.x < f.lowest.x)) f.lowest = cur;
+        const bool up = prev.y > cur.y && next.y > cur.y;
+        if ((up || (prev.y < cur.y && next.y < cur.y)) &&
+            !apart_at(Edge{cur, prev, 0, 0}, Edge{cur, next, 0, 0}, up ? cur.y + 1 : cur.y - 1)) {
+            pending.push_back({loop, static_cast<std::uint32_t>(i)});
+        }
+        prev = cur;
+    }
+    return true;
+}
+
+// Step 3 for the pending vertices, at the nearest sweep line on their edges' side (where both
+// edges end, both are exact).
+bool extrema_clear(const std::vector<Path2>& loops, const std::vector<Extremum>& pending,
+                   Heights& heights) {
+    for (const Extremum& e : pending) {
+        const Path2& p = loops[e.loop];
+        const std::size_t n = p.size(), i = e.index;
+        const Point2& u = p[i == 0 ? n - 1 : i - 1];
+        const Point2& v = p[i];
+        const Point2& w = p[i + 1 == n ? 0 : i + 1];
+        const std::int64_t y = heights.next(v.y, u.y < v.y);
+        if (y == u.y && y == w.y) continue;
+        if (!apart_at(Edge{v, u, 0, 0}, Edge{v, w, 0, 0}, y)) return false;
     }
     return true;
 }
@@ -553,25 +559,28 @@ std::optional<WireTree> simple_loops_tree(const Paths2& loops, Paths2* movable) 
         for (const auto& [from, to] : moved) (*movable)[from] = std::move(clean[to]);
         return std::nullopt;
     };
+    std::vector<LoopFacts> facts;
+    facts.reserve(loops.size());
+    std::vector<Extremum> pending;
     for (std::size_t i = 0; i < loops.size(); ++i) {
         if (loops[i].size() < 3) continue;  // as build_wire_tree: such loops contribute nothing
-        if (movable != nullptr && already_clean(loops[i])) {
-            moved.emplace_back(i, clean.size());
+        const auto l = static_cast<std::uint32_t>(clean.size());
+        LoopFacts f;
+        if (movable != nullptr && survey(loops[i], l, f, pending)) {
+            moved.emplace_back(i, l);
             clean.push_back(std::move((*movable)[i]));
-        } else if (!clean_loop(loops[i], clean.emplace_back())) {
+        } else if (!clean_loop(loops[i], clean.emplace_back()) ||
+                   !survey(clean.back(), l, f, pending)) {
             return refuse();
         }
+        if (f.twice_area == 0) return refuse();
+        facts.push_back(f);
     }
     const std::size_t n_loops = clean.size();
     WireTree tree;
     if (n_loops == 0) return tree;
     Heights heights(clean);
-    if (!extrema_clear(clean, heights)) return refuse();
-    std::vector<LoopFacts> facts(n_loops);
-    for (std::size_t l = 0; l < n_loops; ++l) {
-        facts[l] = facts_of(clean[l]);
-        if (facts[l].twice_area == 0) return refuse();
-    }
+    if (!extrema_clear(clean, pending, heights)) return refuse();
     std::vector<int> parent(n_loops, -1);
     std::vector<int> depth(n_loops, 0);
     if (!Sweep(clean, facts, heights).run(parent, depth)) return refuse();
