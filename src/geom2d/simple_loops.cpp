@@ -544,10 +544,6 @@ private:
     std::size_t budget_ = 0;
 };
 
-}  // namespace
-
-namespace {
-
 // The fast path. With `movable` (the loops themselves, not const), a loop that cleaning would
 // leave as it is moves into the tree rather than being copied; such loops are moved back
 // before an answer of nullopt, so the loops are then as they were.
@@ -584,7 +580,7 @@ std::optional<WireTree> simple_loops_tree(const Paths2& loops, Paths2* movable) 
     std::vector<int> parent(n_loops, -1);
     std::vector<int> depth(n_loops, 0);
     if (!Sweep(clean, facts, heights).run(parent, depth)) return refuse();
-    // Step 5.
+    // Step 5: the fill is 0 or 1 everywhere only when orientations alternate.
     for (std::size_t l = 0; l < n_loops; ++l) {
         if ((depth[l] % 2 == 0) != (facts[l].twice_area > 0)) return refuse();
     }

@@ -311,8 +311,7 @@ public:
         // Insert in reverse so each chain of equal keys lists segments in index order.
         for (std::size_t i = segs.size(); i-- > 0;) {
             const std::uint64_t key = segs[i].from;
-            std::size_t s = hash(key);
-            while (slots_[s] != kEmpty && keys_[s] != key) s = (s + 1) & mask_;
+            const std::size_t s = slot_of(key);
             next_[i] = slots_[s];
             slots_[s] = static_cast<std::uint32_t>(i);
             keys_[s] = key;
@@ -320,27 +319,16 @@ public:
     }
     // The first segment starting on edge key that is not used yet, or kEmpty.
     std::uint32_t find_unused(std::uint64_t key, const std::vector<char>& used) const {
-        std::size_t s = hash(key);
-        while (slots_[s] != kEmpty) {
-            if (keys_[s] == key) {
-                for (std::uint32_t i = slots_[s]; i != kEmpty; i = next_[i]) {
-                    if (!used[i]) return i;
-                }
-                return kEmpty;
-            }
-            s = (s + 1) & mask_;
+        for (std::uint32_t i = slots_[slot_of(key)]; i != kEmpty; i = next_[i]) {
+            if (!used[i]) return i;
         }
         return kEmpty;
     }
     // The one segment starting on edge key, kEmpty when none does, kMany when several do
     // (find_unused then picks).
     std::uint32_t find_only(std::uint64_t key) const {
-        std::size_t s = hash(key);
-        while (slots_[s] != kEmpty) {
-            if (keys_[s] == key) return next_[slots_[s]] == kEmpty ? slots_[s] : kMany;
-            s = (s + 1) & mask_;
-        }
-        return kEmpty;
+        const std::uint32_t i = slots_[slot_of(key)];
+        return i == kEmpty || next_[i] == kEmpty ? i : kMany;
     }
     static constexpr std::uint32_t kEmpty = std::numeric_limits<std::uint32_t>::max();
     static constexpr std::uint32_t kMany = kEmpty - 1;
@@ -349,6 +337,12 @@ private:
     // Fibonacci hashing: the top bits of the product, which depend on every bit of the key.
     std::size_t hash(std::uint64_t key) const {
         return static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ULL) >> shift_);
+    }
+    // The slot holding key, or the empty slot where it would go (linear probing).
+    std::size_t slot_of(std::uint64_t key) const {
+        std::size_t s = hash(key);
+        while (slots_[s] != kEmpty && keys_[s] != key) s = (s + 1) & mask_;
+        return s;
     }
     std::size_t mask_ = 0;
     int shift_ = 60;
