@@ -127,7 +127,8 @@ struct Printed {
     std::string refusal;  // the last error's message up to its first detail
     // report_error's line and exit code, kept.
     int error(const core::Error& e) {
-        err += fmt::format("maxslice: error: {}\n", e.describe());
+        err += fmt::format("maxslice: error: {}\n",
+                           core::printable(e.describe(), app::kMaxMessageChars));
         refusal = e.message.substr(
             0, std::min({e.message.find(": "), e.message.find(" ("), e.message.find("; ")}));
         return e.code == core::ErrorCode::kInternal ? kExitInternal : kExitBadInput;
