@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "cli_common.hpp"
+#include "maxslice/core/files.hpp"
 #include "maxslice/core/units.hpp"
 #include "maxslice/machine/machine_moves.hpp"
 #include "maxslice/machine/profile.hpp"
@@ -139,6 +140,13 @@ struct Printed {
     }
 };
 
+// Prints a command's report on stdout; a failed write (a full disk, a closed pipe) is an error,
+// not a silent success.
+int print_out(std::string_view text) {
+    if (auto ok = core::write_stdout(text); !ok) return report_error(ok.error());
+    return kExitOk;
+}
+
 // A one-line progress bar on stderr, only when stderr is a terminal.
 std::unique_ptr<core::Progress> make_progress() {
     if (isatty(STDERR_FILENO) == 0) return nullptr;
@@ -160,9 +168,8 @@ int run_info(const PartOptions& opt, bool json) {
     auto part = pipeline::read_part(opt.path, *settings, &times);
     if (!part) return report_error(part.error());
     const std::string text = json ? pipeline::info_json(*part) : pipeline::info_text(*part);
-    std::fputs(text.c_str(), stdout);
     if (opt.timings) print_timings(times);
-    return kExitOk;
+    return print_out(text);
 }
 
 struct SliceOptions {
@@ -216,14 +223,30 @@ core::Result<machine::Profiles> load_profiles(const SliceOptions& so) {
     return profiles;
 }
 
-int write_text_file(const std::string& file, const std::string& text) {
-    std::FILE* f = std::fopen(file.c_str(), "wb");
-    if (f == nullptr) {
-        return report_error({core::ErrorCode::kIo, "cannot open for writing", file});
+// Refuses, before any work, an output flag given an empty path or the path of an input (the
+// part or a profile): nothing a user had is overwritten.
+int check_outputs(const CLI::App& cmd, std::initializer_list<const char*> flags,
+                  const std::string& part, const std::vector<std::string>& profiles) {
+    std::vector<std::filesystem::path> inputs{part};
+    inputs.insert(inputs.end(), profiles.begin(), profiles.end());
+    for (const char* flag : flags) {
+        const CLI::Option* o = cmd.get_option(flag);
+        if (o->count() == 0) continue;
+        const auto path = o->as<std::string>();
+        if (path.empty()) {
+            return report_error(
+                {core::ErrorCode::kInvalidInput, "the output path is empty: name a file", flag});
+        }
+        if (auto ok = core::check_output_not_input(path, flag, inputs); !ok) {
+            return report_error(ok.error());
+        }
     }
-    const bool ok = std::fwrite(text.data(), 1, text.size(), f) == text.size();
-    if (std::fclose(f) != 0 || !ok)
-        return report_error({core::ErrorCode::kIo, "write failed", file});
+    return kExitOk;
+}
+
+// Writes an output file whole or not at all: a failure leaves the previous file as it was.
+int write_text_file(const std::string& file, const std::string& text) {
+    if (auto ok = core::write_file_atomic(file, text); !ok) return report_error(ok.error());
     return kExitOk;
 }
 
@@ -677,8 +700,7 @@ int finish_job(JobOutcome job, const SliceOptions& so) {
     if (job.files) {
         if (auto ok = job.files(); !ok) return report_error(ok.error());
     }
-    std::fputs(job.printed.out.c_str(), stdout);
-    return kExitOk;
+    return print_out(job.printed.out);
 }
 
 // Slices the part along one direction: the slices' previews and summary, and with a 3-axis
@@ -1016,7 +1038,10 @@ int run_plan(const PartOptions& opt, const PlanOptions& po, bool layer_given) {
             return report_error(ok.error());
         }
     }
-    std::fputs(pipeline::plan_summary(*planned, part->final_report()).c_str(), stdout);
+    if (const int rc = print_out(pipeline::plan_summary(*planned, part->final_report()));
+        rc != kExitOk) {
+        return rc;
+    }
     if (opt.timings) print_timings(times);
     if (!planned->order->complete()) {
         const plan::Conflict& c = planned->order->conflicts.front();
@@ -1135,6 +1160,22 @@ int run(int argc, char** argv) {
     }
 
     if (verify_cmd->parsed()) return app::run_verify(verify_opt);
+    if (slice->parsed()) {
+        if (const int rc = check_outputs(*slice, {"--output", "--json", "--contact-sheet", "--svg"},
+                                         slice_opt.path, so.profiles);
+            rc != kExitOk) {
+            return rc;
+        }
+    }
+    if (plan_cmd->parsed()) {
+        if (const int rc = check_outputs(
+                *plan_cmd,
+                {"--plan", "--dot", "--svg", "--mesh-out", "--order-out", "--sections-out"},
+                plan_opt.path, po.profiles);
+            rc != kExitOk) {
+            return rc;
+        }
+    }
     so.layer_given = layer_opt->count() > 0;
     so.direction_given = direction_opt->count() > 0;
     const PartOptions& active =

@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -76,24 +77,63 @@ Result<void> check_input_file(const std::filesystem::path& path, std::string_vie
         fmt_what(what) + "is " + kind + ", not a regular file: give the path of a file", path));
 }
 
-Result<void> write_file_atomic(const std::filesystem::path& path, std::string_view bytes) {
-    if (path.empty()) {
+// Writes to what is not a file a user keeps (a pipe, a terminal, /dev/stdout, /dev/null):
+// straight into it, every error checked.
+Result<void> write_stream(const std::filesystem::path& path, std::string_view bytes,
+                          bool truncate) {
+    const int fd = ::open(path.c_str(), O_WRONLY | O_CLOEXEC | (truncate ? O_TRUNC : 0));
+    if (fd < 0) {
+        const int err = errno;
+        return std::unexpected(io_error("cannot open for writing: " + errno_text(err), path));
+    }
+    if (const int err = write_all(fd, bytes); err != 0) {
+        ::close(fd);
+        return std::unexpected(io_error("write failed: " + errno_text(err), path));
+    }
+    if (::close(fd) != 0) {
+        const int err = errno;
+        return std::unexpected(io_error("write failed (closing): " + errno_text(err), path));
+    }
+    return {};
+}
+
+Result<void> write_file_atomic(const std::filesystem::path& given, std::string_view bytes) {
+    if (given.empty()) {
         return fail(ErrorCode::kInvalidInput, "the output path is empty: name a file");
     }
-    if (!path.has_filename() || path.filename() == "." || path.filename() == "..") {
-        return std::unexpected(io_error("the output path names a folder, not a file", path));
-    }
+    if (given == "-") return write_stdout(bytes);
     struct stat st {};
-    if (::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) {
-        return std::unexpected(io_error(
-            S_ISDIR(st.st_mode) ? "the output is a directory, not a file"
-                                : "the output exists and is not a regular file (a FIFO or a "
-                                  "device): nothing written",
-            path));
+    const bool exists = ::stat(given.c_str(), &st) == 0;
+    if (exists && S_ISDIR(st.st_mode)) {
+        return std::unexpected(io_error("the output is a directory, not a file", given));
     }
-    // The temporary file lives beside the target, so the rename stays on one file system.
-    std::string tmp = path.string() + ".XXXXXX.tmp";
-    const int fd = ::mkstemps(tmp.data(), 4);
+    const std::string text = given.lexically_normal().string();
+    if (exists &&
+        (!S_ISREG(st.st_mode) || text.starts_with("/dev/") || text.starts_with("/proc/"))) {
+        return write_stream(given, bytes, S_ISREG(st.st_mode));
+    }
+    if (!given.has_filename() || given.filename() == "." || given.filename() == "..") {
+        return std::unexpected(io_error("the output path names a folder, not a file", given));
+    }
+    // A link is followed: the file it names is replaced, the link stays.
+    std::filesystem::path path = given;
+    if (exists) {
+        std::error_code ec;
+        auto real = std::filesystem::canonical(given, ec);
+        if (!ec) path = std::move(real);
+    }
+    // The temporary file lives beside the target, so the rename stays on one file system; it
+    // is created as an ordinary new file would be (mode 0666 less the umask), and a file
+    // replaced keeps its own mode.
+    static std::atomic<unsigned> counter{0};
+    std::string tmp;
+    int fd = -1;
+    for (int attempt = 0; attempt < 100 && fd < 0; ++attempt) {
+        tmp = path.string() + "." + std::to_string(::getpid()) + "." +
+              std::to_string(counter.fetch_add(1)) + ".tmp";
+        fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+        if (fd < 0 && errno != EEXIST) break;
+    }
     if (fd < 0) {
         const int err = errno;
         return std::unexpected(io_error(
@@ -110,17 +150,7 @@ Result<void> write_file_atomic(const std::filesystem::path& path, std::string_vi
         ::close(fd);
         return give_up("write failed", err);
     }
-    // A new file gets the permissions an ordinary create would give (mkstemps makes 0600);
-    // a file replaced keeps its own.
-    mode_t mode = 0;
-    if (::stat(path.c_str(), &st) == 0) {
-        mode = st.st_mode & 07777;
-    } else {
-        const mode_t mask = ::umask(0);
-        ::umask(mask);
-        mode = 0666 & ~mask;
-    }
-    if (::fchmod(fd, mode) != 0) {
+    if (exists && ::fchmod(fd, st.st_mode & 07777) != 0) {
         const int err = errno;
         ::close(fd);
         return give_up("cannot set the file's permissions", err);

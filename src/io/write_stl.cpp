@@ -1,13 +1,11 @@
 #include <fmt/format.h>
 
 #include <bit>
-#include <cerrno>
-#include <cstdio>
 #include <cstring>
 #include <limits>
-#include <memory>
 #include <vector>
 
+#include "maxslice/core/files.hpp"
 #include "maxslice/io/read_mesh.hpp"
 
 namespace maxslice::io {
@@ -21,10 +19,6 @@ void put_u32(char* p, std::uint32_t v) {
 void put_f32(char* p, double d) {
     put_u32(p, std::bit_cast<std::uint32_t>(static_cast<float>(d)));
 }
-
-struct FileCloser {
-    void operator()(std::FILE* f) const { std::fclose(f); }
-};
 
 }  // namespace
 
@@ -66,15 +60,8 @@ core::Result<void> write_stl_binary(const std::filesystem::path& path,
             put_f32(rec + 20 + 12 * k, p.z);
         }
     }
-    std::unique_ptr<std::FILE, FileCloser> file(std::fopen(path.c_str(), "wb"));
-    if (!file) {
-        return core::fail(core::ErrorCode::kIo,
-                          fmt::format("cannot create: {}", std::strerror(errno)), context);
-    }
-    if (std::fwrite(bytes.data(), 1, bytes.size(), file.get()) != bytes.size() ||
-        std::fclose(file.release()) != 0) {
-        return core::fail(core::ErrorCode::kIo,
-                          fmt::format("cannot write: {}", std::strerror(errno)), context);
+    if (auto ok = core::write_file_atomic(path, {bytes.data(), bytes.size()}); !ok) {
+        return std::unexpected(ok.error());
     }
     return {};
 }

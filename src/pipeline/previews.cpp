@@ -4,24 +4,18 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <tuple>
 
+#include "maxslice/core/files.hpp"
 #include "maxslice/core/units.hpp"
 #include "output.hpp"
 
 namespace maxslice::pipeline {
 
 core::Result<void> detail::write_text(const std::filesystem::path& file, std::string_view text) {
-    std::ofstream out(file, std::ios::binary);
-    if (!out) {
-        return core::fail(core::ErrorCode::kIo, "cannot open for writing", file.string());
-    }
-    out.write(text.data(), static_cast<std::streamsize>(text.size()));
-    if (!out) return core::fail(core::ErrorCode::kIo, "write failed", file.string());
-    return {};
+    return core::write_file_atomic(file, text);
 }
 
 namespace {

@@ -132,6 +132,13 @@ core::Result<SliceStack> slice_part(const mesh::TriangleMesh& mesh, const SliceS
     const slice::FrameExtent fe = slice::base_frame_and_extent(mesh, settings.direction, use);
     stack.base = fe.frame;
     const double lo = fe.lo, hi = fe.hi;
+    if (auto ok =
+            settings.layers.adaptive
+                ? slice::check_layer_count(hi - lo, settings.layers.min_layer_mm, "--min-layer")
+                : slice::check_layer_count(hi - lo, settings.layers.layer_mm, "--layer");
+        !ok) {
+        return std::unexpected(ok.error());
+    }
     const std::vector<slice::LayerSpan> layers =
         settings.layers.adaptive ? slice::adaptive_layers(mesh, stack.base, lo, hi, settings.layers)
                                  : slice::uniform_layers(lo, hi, settings.layers.layer_mm);

@@ -1215,6 +1215,13 @@ core::Result<Plan> plan_part(const mesh::TriangleMesh& mesh, const core::Vec3d& 
                              const PlanSettings& settings, const core::Progress* progress) {
     if (auto ok = validate(settings); !ok) return std::unexpected(ok.error());
     if (mesh.triangles.empty()) return invalid("the mesh has no triangles", "planning");
+    // Along any direction the part is at most its box's diagonal tall.
+    const core::Box3d box = mesh::bounding_box(mesh);
+    if (auto ok = slice::check_layer_count(core::norm(box.max - box.min), settings.h_min_mm,
+                                           "--layer (and process.h_min_mm)");
+        !ok) {
+        return std::unexpected(ok.error());
+    }
     if (!core::is_finite(base_direction) || core::norm(base_direction) <= 0.0) {
         return invalid("the base direction must be a non-zero finite vector", "planning");
     }

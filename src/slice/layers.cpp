@@ -1,5 +1,7 @@
 #include "maxslice/slice/layers.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -17,6 +19,20 @@ LayerSpan make_span(double bottom, double top) {
 }
 
 }  // namespace
+
+core::Result<void> check_layer_count(double height_mm, double thinnest_mm, std::string_view flag) {
+    const double count = height_mm / thinnest_mm;
+    if (!(thinnest_mm > 0.0) || !(count <= static_cast<double>(kMaxLayers))) {
+        return core::fail(
+            core::ErrorCode::kInvalidInput,
+            fmt::format("{:.4g} mm layers over the part's {:.4g} mm would make {:.3g} layers, more "
+                        "than the {} a job may cut: use {} {:.3g} or more",
+                        thinnest_mm, height_mm, count, kMaxLayers, flag,
+                        height_mm / static_cast<double>(kMaxLayers)),
+            std::string(flag));
+    }
+    return {};
+}
 
 core::Result<void> validate(const LayerSettings& s) {
     auto bad = [](std::string key, std::string why) {

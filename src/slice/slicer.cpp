@@ -15,6 +15,8 @@
 // agree on whether it is crossed, so loops close on any closed mesh.
 #include "maxslice/slice/slicer.hpp"
 
+#include <fmt/format.h>
+#include <sys/resource.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
@@ -30,6 +32,8 @@
 #include <string>
 #include <tuple>
 #include <utility>
+
+#include <unistd.h>
 
 #include "maxslice/core/assert.hpp"
 #include "maxslice/core/tolerances.hpp"
@@ -142,6 +146,33 @@ Segment segment_of(const CutContext& ctx, const std::array<std::uint32_t, 3>& tr
             in ? static_cast<std::int32_t>(core::mm_to_um(v)) : 0};
 }
 
+// Refuses, before the segments are made, a cut whose contours would not fit in memory: each
+// crossing of a triangle and a plane holds its segment, then a loop point, a tree point and
+// an edge-table slot until the plane's tree is built, about kBytesPerCrossing in all at the
+// peak. The budget is half the machine's memory (or of the process's address-space limit).
+constexpr double kBytesPerCrossing = 96.0;
+
+core::Result<void> check_cut_memory(std::size_t crossings, std::size_t planes) {
+    double budget = static_cast<double>(::sysconf(_SC_PHYS_PAGES)) *
+                    static_cast<double>(::sysconf(_SC_PAGESIZE));
+    struct rlimit lim {};
+    if (::getrlimit(RLIMIT_AS, &lim) == 0 && lim.rlim_cur != RLIM_INFINITY) {
+        budget = std::min(budget, static_cast<double>(lim.rlim_cur));
+    }
+    budget *= 0.5;
+    const double need = kBytesPerCrossing * static_cast<double>(crossings);
+    if (budget > 0.0 && need > budget) {
+        return core::fail(
+            core::ErrorCode::kInvalidInput,
+            fmt::format("the {} layers cross the mesh's triangles {} times, about {:.1f} GB of "
+                        "contours, more than the {:.1f} GB this job may use (half the memory): "
+                        "use thicker layers (--layer) or a coarser mesh",
+                        planes, crossings, need * 1e-9, budget * 1e-9),
+            "slicing");
+    }
+    return {};
+}
+
 // vertex_heights: every vertex's base.height, or null to compute them here.
 core::Result<CutContext> prepare(const mesh::TriangleMesh& mesh, const PlaneFrame& base,
                                  std::span<const double> heights,
@@ -154,6 +185,13 @@ core::Result<CutContext> prepare(const mesh::TriangleMesh& mesh, const PlaneFram
             return core::fail(core::ErrorCode::kInvalidInput, "a plane height is not finite",
                               "slicing");
         }
+    }
+    if (heights.size() > kMaxLayers) {
+        return core::fail(core::ErrorCode::kInvalidInput,
+                          fmt::format("{} planes are more than the {} a job may cut: use thicker "
+                                      "layers",
+                                      heights.size(), kMaxLayers),
+                          "slicing");
     }
     ctx.sorted_heights.assign(heights.begin(), heights.end());
     std::sort(ctx.sorted_heights.begin(), ctx.sorted_heights.end());
@@ -262,6 +300,7 @@ core::Result<CutContext> prepare(const mesh::TriangleMesh& mesh, const PlaneFram
         }
     }
     ctx.bucket_begin[np] = total;
+    if (auto ok = check_cut_memory(total, np); !ok) return std::unexpected(ok.error());
     if (total > nv) {
         auto uv = std::make_unique_for_overwrite<double[]>(2 * nv);
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nv, 1 << 14), [&](const auto& r) {

@@ -1,5 +1,7 @@
 #pragma once
 
+#include <cstddef>
+#include <string_view>
 #include <vector>
 
 #include "maxslice/core/result.hpp"
@@ -26,6 +28,19 @@ struct LayerSettings {
     double min_layer_mm = 0.2;  ///< h_min when adaptive
     double max_layer_mm = 0.5;  ///< h_max when adaptive
 };
+
+/// The most layers one job may cut. Every stage after the cut (trees, tracks, program,
+/// verifier) grows with the layer count: a bound set before any work starts keeps a mistyped
+/// layer height (1e-6 mm) from running for minutes and exhausting the memory. 100000 layers
+/// is 10 m of 0.1 mm layers, far beyond any DED cell.
+inline constexpr std::size_t kMaxLayers = 100000;
+
+/// Refuses, before any layer is made, a job whose layers no thinner than `thinnest_mm` over
+/// `height_mm` would number more than kMaxLayers; the message gives the count, the height and
+/// the thinnest layer that keeps within the bound, and names `flag`, the option that sets
+/// the layer height ("--layer", "--min-layer").
+[[nodiscard]] core::Result<void> check_layer_count(double height_mm, double thinnest_mm,
+                                                   std::string_view flag);
 
 /// Checks ranges (positive, h_min <= layer <= h_max when adaptive ...).
 [[nodiscard]] core::Result<void> validate(const LayerSettings& settings);
