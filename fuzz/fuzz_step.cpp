@@ -1,5 +1,9 @@
-// libFuzzer harness: STEP and IGES (Open CASCADE). The first byte picks the extension (the
-// content decides the format anyway when it carries a STEP or IGES signature).
+// libFuzzer harness: STEP and IGES, through read_mesh. Open CASCADE runs in a child process
+// there (it dereferences null handles on some damaged files), so this harness checks what
+// the program sees: the child's crash or time-out becomes a refusal, the result that comes
+// back through the pipe is well formed. The fuzzer sees the coverage of this process only.
+// The first byte picks the extension (the content decides the format anyway when it
+// carries a STEP or IGES signature).
 #include "fuzz_read.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
