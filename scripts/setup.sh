@@ -10,6 +10,8 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libmimalloc-dev   # the allocator of the maxslice program (docs/decisions/0018-allocator.md)
   linuxcnc-uspace   # its standalone interpreter rs274 checks our linuxcnc programs in the tests
+  clang-16 libclang-rt-16-dev  # the sanitizer + libFuzzer build (docs/fuzzing.md)
+  ccache            # carries builds between runs (docs/decisions/0020-sanitizer-fuzz-build.md)
 )
 missing=()
 for p in "${packages[@]}"; do
