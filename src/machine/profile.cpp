@@ -10,7 +10,9 @@
 #include <array>
 #include <cctype>
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 namespace maxslice::machine {
@@ -832,6 +834,13 @@ core::Result<void> check_block(std::string_view key, std::size_t index, std::str
         }
         i = close;
     }
+    if (const auto word = motion_word(block)) {
+        return core::fail(ErrorCode::kInvalidInput,
+                          fmt::format("{} moves the machine ({}): a code block may switch the "
+                                      "laser and powder, not move (write moves in the program; "
+                                      "the verifier replays only the program's moves)",
+                                      where, *word));
+    }
     return {};
 }
 
@@ -1254,6 +1263,87 @@ std::string_view kinematics_name(Kinematics kinematics) {
 
 bool is_table_tilt(Kinematics kinematics) {
     return kinematics == Kinematics::kTableAc || kinematics == Kinematics::kTableBc;
+}
+
+std::optional<std::string> motion_word(std::string_view block) {
+    // The block as the controller reads its words: upper case, comments out, a placeholder as
+    // the number it stands for.
+    std::string s;
+    for (std::size_t i = 0; i < block.size(); ++i) {
+        const char c = block[i];
+        if (c == ';') break;
+        if (c == '(' || c == '{') {
+            const std::size_t close = block.find(c == '(' ? ')' : '}', i);
+            if (close == std::string_view::npos) break;
+            if (c == '{') s += '0';
+            i = close;
+            continue;
+        }
+        s += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    }
+    const auto alpha = [](char c) { return std::isalpha(static_cast<unsigned char>(c)) != 0; };
+    const auto ident = [&](char c) {
+        return alpha(c) || c == '_' || std::isdigit(static_cast<unsigned char>(c)) != 0;
+    };
+    std::optional<std::string> motion, axis;
+    bool macro_call = false;
+    for (std::size_t i = 0; i < s.size();) {
+        const char c = s[i];
+        if (c == '$') {  // a Sinumerik system variable: $A_OUTA[1]
+            ++i;
+            while (i < s.size() && ident(s[i])) ++i;
+            continue;
+        }
+        if (c == '<') {  // a LinuxCNC named parameter or subroutine: #<name>, o<name>
+            const std::size_t close = s.find('>', i);
+            i = close == std::string::npos ? s.size() : close + 1;
+            continue;
+        }
+        if (!alpha(c)) {
+            ++i;
+            continue;
+        }
+        std::size_t j = i;
+        while (j < s.size() && alpha(s[j])) ++j;
+        if (j - i > 1) {  // a keyword (TRAORI, CALL, GOTO) or a name
+            while (j < s.size() && ident(s[j])) ++j;
+            i = j;
+            continue;
+        }
+        while (j < s.size() && s[j] == ' ') ++j;
+        const bool value = j < s.size() && (std::isdigit(static_cast<unsigned char>(s[j])) != 0 ||
+                                            s[j] == '+' || s[j] == '-' || s[j] == '.' ||
+                                            s[j] == '=' || s[j] == '[' || s[j] == '#');
+        if (!value) {
+            i = j;
+            continue;
+        }
+        if (c == 'G') {
+            std::size_t k = j;
+            while (k < s.size() &&
+                   (std::isdigit(static_cast<unsigned char>(s[k])) != 0 || s[k] == '.')) {
+                ++k;
+            }
+            const std::string number = s.substr(j, k - j);
+            const double g = std::atof(number.c_str());
+            const int whole = static_cast<int>(std::floor(g));
+            const bool moves = k == j || whole == 0 || whole == 1 || whole == 2 || whole == 3 ||
+                               whole == 5 || whole == 28 || whole == 30 || whole == 33 ||
+                               whole == 38 || whole == 73 || whole == 74 || whole == 76 ||
+                               (whole >= 81 && whole <= 89);
+            if (moves && !motion) motion = "G" + (k == j ? s.substr(j, 1) : number);
+            if (whole == 65 || whole == 66) macro_call = true;
+            i = k;
+            continue;
+        }
+        if (std::string_view("XYZABCUVWIJK").find(c) != std::string_view::npos && !axis) {
+            axis = std::string(1, c) + " word";
+        }
+        i = j;
+    }
+    if (motion) return motion;
+    if (axis && !macro_call) return axis;
+    return std::nullopt;
 }
 
 std::string expand_block(std::string_view block, double power_w, double powder_g_min,

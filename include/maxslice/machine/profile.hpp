@@ -182,9 +182,9 @@ struct Profiles {
 [[nodiscard]] core::Result<void> validate(const ProcessProfile& process);
 
 /// Checks a machine profile: the kinematics' axes present in order with min < max, ranges,
-/// templates (known placeholders only, one line per block), the nozzle when given (ranges,
-/// standoff_mm <= cone_length_mm, body radius and length both 0 or both > 0), the table
-/// present exactly for the table-tilt kinematics, with its ranges. Errors name the key
+/// templates (known placeholders only, one line per block, no motion: motion_word), the nozzle when
+/// given (ranges, standoff_mm <= cone_length_mm, body radius and length both 0 or both > 0), the
+/// table present exactly for the table-tilt kinematics, with its ranges. Errors name the key
 /// ("machine.axes.X.min", "machine.nozzle.half_angle_deg", "machine.table.pivot").
 [[nodiscard]] core::Result<void> validate(const MachineProfile& machine);
 
@@ -224,6 +224,15 @@ struct Profiles {
 
 /// True for the tilting-rotary table kinematics (kTableAc, kTableBc).
 [[nodiscard]] bool is_table_tilt(Kinematics kinematics);
+
+/// The first word of a `[machine.codes]` block that would move the machine, or nullopt: a
+/// motion G code (G0-G3, G5.x, G28, G30, G33.x, G38.x, canned cycles G73-G89 but G80) or an
+/// axis word (X Y Z A B C U V W I J K), read as RS-274 and Sinumerik read a block: case
+/// folded, comments `( )` and `;` left out, placeholders standing for numbers, `$` system
+/// variables, `<named>` parameters and keywords (TRAORI, CALL) not words. The arguments of a
+/// macro call (`G65` / `G66 P...`) are not axis words. validate(MachineProfile) refuses a
+/// template with such a word (decision 0022): code blocks switch, the program moves.
+[[nodiscard]] std::optional<std::string> motion_word(std::string_view block);
 
 /// The text of a template block with its placeholders replaced (2 decimals each).
 /// `power_max_w` scales `{power_pct}`. Blocks were checked by validate(MachineProfile).

@@ -465,6 +465,52 @@ TEST(Profile, TemplatesAreChecked) {
     EXPECT_EQ(ok->machine->codes.laser_on.blocks.size(), 2u);
 }
 
+// Issue 23: a template that moves the machine was written verbatim and its move never
+// replayed (program_end = "G0 X0 Y0 Z0" drove the nozzle through the part, "verified").
+// Every key refuses motion, naming the key and the word; switches, dwells, macro calls and
+// controller variables stay accepted.
+TEST(Profile, TemplatesThatMoveTheMachineAreRefused) {
+    const auto codes_with = [&](const std::string& key, const std::string& value) {
+        std::string text = base();
+        const std::string line = key + " = \"" + value + "\"";
+        if (text.find("\n" + key + " = ") != std::string::npos) return with(text, key, line);
+        const std::size_t at = text.find("[machine.codes]\n") + 16;
+        return text.insert(at, line + "\n");
+    };
+    const std::vector<std::pair<std::string, std::string>> moving = {
+        {"program_end", "G0 X0 Y0 Z0"},  {"laser_on", "M8 G1 X0 Y0 Z0"},
+        {"laser_off", "M9 Z50"},         {"program_start", "G28"},
+        {"powder_on", "g01x1"},          {"powder_off", "M72 (off) G2 X1 Y1 I1"},
+        {"program_end", "G91 Z{power}"}, {"laser_on", "G65 P9011 A{power} G1"},
+        {"program_start", "TRANS X10"},  {"laser_off", "M9 (G0 X0 is a comment, C5 is not) C5"},
+    };
+    for (const auto& [key, block] : moving) {
+        SCOPED_TRACE(key + " = " + block);
+        const auto r = parse_profile(codes_with(key, block), "test.toml");
+        ASSERT_FALSE(r.has_value()) << "accepted";
+        EXPECT_NE(r.error().message.find("machine.codes." + key + "["), std::string::npos)
+            << r.error().message;
+        EXPECT_NE(r.error().message.find("moves the machine"), std::string::npos)
+            << r.error().message;
+        EXPECT_TRUE(motion_word(block).has_value());
+    }
+    EXPECT_EQ(motion_word("G0 X0 Y0 Z0").value_or(""), "G0");
+    EXPECT_EQ(motion_word("M9 Z50").value_or(""), "Z word");
+    for (const std::string block :
+         {"M8", "M68 E0 Q{power}", "M64 P0", "G4 P0.5", "G65 P9011 A{power}", "$A_OUTA[1]={power}",
+          "M201 (LASER ON {power_pct}, X Y Z)", "o<laser_on> call [{power}]", "TRAORI", "G90 G94",
+          "M3 S{power}", "#<_x> = 3", "M9 ; G0 X0"}) {
+        SCOPED_TRACE(block);
+        EXPECT_FALSE(motion_word(block).has_value()) << *motion_word(block);
+        EXPECT_TRUE(parse_profile(codes_with("program_start", block), "test.toml").has_value());
+    }
+    // The bundled profiles hold no motion in their templates.
+    for (const auto& entry : fs::directory_iterator(kProfilesDir)) {
+        SCOPED_TRACE(entry.path().string());
+        EXPECT_TRUE(read_profile(entry.path()).has_value());
+    }
+}
+
 TEST(Profile, LinuxCncNeedsLaserCodes) {
     std::string text = with(base(), "dialect", "dialect = \"linuxcnc\"");
     text = with(text, "laser_on", "laser_on = \"\"");
