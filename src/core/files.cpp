@@ -138,13 +138,13 @@ Result<void> write_file_atomic(const std::filesystem::path& given, std::string_v
         const int err = errno;
         return std::unexpected(io_error(
             "cannot create a file beside the output: " + errno_text(err) + "; nothing written",
-            path));
+            given));
     }
     const auto give_up = [&](const char* step, int err) {
         ::unlink(tmp.c_str());
         return std::unexpected(io_error(std::string(step) + ": " + errno_text(err) +
                                             "; the previous file (if any) is unchanged",
-                                        path));
+                                        given));
     };
     if (const int err = write_all(fd, bytes); err != 0) {
         ::close(fd);

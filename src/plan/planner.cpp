@@ -1218,7 +1218,7 @@ core::Result<Plan> plan_part(const mesh::TriangleMesh& mesh, const core::Vec3d& 
     // Along any direction the part is at most its box's diagonal tall.
     const core::Box3d box = mesh::bounding_box(mesh);
     if (auto ok = slice::check_layer_count(core::norm(box.max - box.min), settings.h_min_mm,
-                                           "--layer (and process.h_min_mm)");
+                                           "process.h_min_mm, --layer");
         !ok) {
         return std::unexpected(ok.error());
     }

@@ -26,9 +26,9 @@ core::Result<void> check_layer_count(double height_mm, double thinnest_mm, std::
         return core::fail(
             core::ErrorCode::kInvalidInput,
             fmt::format("{:.4g} mm layers over the part's {:.4g} mm would make {:.3g} layers, more "
-                        "than the {} a job may cut: use {} {:.3g} or more",
-                        thinnest_mm, height_mm, count, kMaxLayers, flag,
-                        height_mm / static_cast<double>(kMaxLayers)),
+                        "than the {} a job may cut: make them at least {:.3g} mm ({})",
+                        thinnest_mm, height_mm, count, kMaxLayers,
+                        height_mm / static_cast<double>(kMaxLayers), flag),
             std::string(flag));
     }
     return {};

@@ -51,15 +51,17 @@ inline const std::filesystem::path kTestData = MAXSLICE_TESTDATA_DIR;
 inline const std::filesystem::path kSource = MAXSLICE_SOURCE_DIR;
 inline const std::filesystem::path kExample = kSource / "examples/parts/flanged_bushing.stl";
 
-/// Runs `maxslice args...` with a time limit (a hang shows as exit code 124).
-inline CliRun run_cli(const std::vector<std::string>& args, int timeout_s = 300) {
+/// Runs `maxslice args...` with a time limit (a hang shows as exit code 124). `shell_prefix`
+/// runs in the same shell first (a limit such as "ulimit -f 64; trap '' XFSZ;").
+inline CliRun run_cli(const std::vector<std::string>& args, int timeout_s = 300,
+                      const std::string& shell_prefix = {}) {
     static int counter = 0;
     const auto dir = std::filesystem::temp_directory_path();
     const auto stem =
         "maxslice_cli_" + std::to_string(::getpid()) + "_" + std::to_string(counter++);
     const auto out_file = dir / (stem + ".out");
     const auto err_file = dir / (stem + ".err");
-    std::string cmd = "timeout " + std::to_string(timeout_s) + " " + shell_quote(MAXSLICE_CLI);
+    std::string cmd = shell_prefix + "timeout " + std::to_string(timeout_s) + " " + shell_quote(MAXSLICE_CLI);
     for (const auto& a : args) cmd += " " + shell_quote(a);
     cmd += " >" + shell_quote(out_file.string()) + " 2>" + shell_quote(err_file.string()) +
            " </dev/null";
