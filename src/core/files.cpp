@@ -97,7 +97,8 @@ Result<void> write_stream(const std::filesystem::path& path, std::string_view by
     return {};
 }
 
-Result<void> write_file_atomic(const std::filesystem::path& given, std::string_view bytes) {
+Result<void> write_file_atomic(const std::filesystem::path& given, std::string_view bytes,
+                               Durability durability) {
     if (given.empty()) {
         return fail(ErrorCode::kInvalidInput, "the output path is empty: name a file");
     }
@@ -155,7 +156,7 @@ Result<void> write_file_atomic(const std::filesystem::path& given, std::string_v
         ::close(fd);
         return give_up("cannot set the file's permissions", err);
     }
-    if (::fsync(fd) != 0) {
+    if (durability == Durability::kSynced && ::fsync(fd) != 0) {
         const int err = errno;
         ::close(fd);
         return give_up("write failed (flushing to disk)", err);

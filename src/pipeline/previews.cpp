@@ -15,7 +15,7 @@
 namespace maxslice::pipeline {
 
 core::Result<void> detail::write_text(const std::filesystem::path& file, std::string_view text) {
-    return core::write_file_atomic(file, text);
+    return core::write_file_atomic(file, text, core::Durability::kFlushed);
 }
 
 namespace {

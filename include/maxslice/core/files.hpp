@@ -15,13 +15,21 @@ namespace maxslice::core {
 [[nodiscard]] Result<void> check_input_file(const std::filesystem::path& path,
                                             std::string_view what);
 
+/// Whether write_file_atomic waits until the bytes are on the disk before the rename (a
+/// program: a power cut then leaves the old file or the new one), or leaves that to the
+/// system (previews, hundreds of small files: a wait for each costs seconds).
+enum class Durability : unsigned char { kSynced, kFlushed };
+
 /// Writes `bytes` to `path` so that nothing a user had is lost: into a temporary file beside
-/// the target, flushed to disk and closed with every error checked, then renamed over the
-/// target. On failure the previous file (if any) is left as it was, the temporary file is
-/// removed, and the error names the cause (the system's errno text). An empty path is
-/// refused.
+/// the target, written and closed with every error checked (and with kSynced, on the disk),
+/// then renamed over the target (a link is followed: the file it names is replaced). On
+/// failure the previous file (if any) is left as it was, the temporary file is removed, and
+/// the error names the cause (the system's errno text). An empty path or a folder is
+/// refused; "-" is standard output; a device or a pipe (/dev/stdout, a FIFO) is written
+/// straight into.
 [[nodiscard]] Result<void> write_file_atomic(const std::filesystem::path& path,
-                                             std::string_view bytes);
+                                             std::string_view bytes,
+                                             Durability durability = Durability::kSynced);
 
 /// Writes all of `bytes` to standard output and flushes it; an error (a full disk, a closed
 /// pipe) names its cause.
