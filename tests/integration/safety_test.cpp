@@ -3,6 +3,7 @@
 // cannot be printed is an error, absurd layer heights are refused before any work, and an
 // error message is one readable line whatever bytes it quotes.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <cstdlib>
@@ -152,4 +153,19 @@ TEST(Safety, MessagesEscapeControlBytes) {
     const CliRun r = run_cli({"info", name});
     expect_refusal(r, "\\x1B[2J\\x0Amore.stl", "a name with an escape sequence");
     EXPECT_EQ(r.err.find('\x1b'), std::string::npos);
+}
+
+// A FIFO (no writer: opening it to read would block forever) or a device given as an input
+// is refused before anything opens it.
+TEST(Safety, AnInputThatIsNotARegularFileIsRefusedAtOnce) {
+    const fs::path d = temp_dir("fifo");
+    const fs::path fifo = d / "part.stl";
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    const std::string out = (d / "x.gm").string();
+    expect_refusal(run_cli({"info", fifo.string()}, 30), "FIFO", "info FIFO");
+    expect_refusal(run_cli({"slice", fifo.string(), "-o", out}, 30), "FIFO", "slice FIFO");
+    expect_refusal(run_cli({"plan", kExample.string(), "--profile", fifo.string()}, 30), "FIFO",
+                   "plan --profile FIFO");
+    expect_refusal(run_cli({"slice", "/dev/zero", "-o", out}, 30), "character device",
+                   "slice /dev/zero");
 }
