@@ -15,6 +15,7 @@
 #include <tbb/parallel_for.h>
 
 #include "box_tree.hpp"
+#include "head_profile.hpp"
 #include "maxslice/core/units.hpp"
 #include "maxslice/geom2d/polygon.hpp"
 #include "maxslice/geom2d/wire_tree.hpp"
@@ -53,13 +54,6 @@ constexpr double kBoxSlackMm = 1e-9;
 constexpr double kLimitPadShare = 1e-9;
 constexpr double kLimitPadUm = 1e-3;
 
-// The clearance of a point t above the apex's plane (within the nozzle's length) and r from
-// its axis: to the cone's side (r cos - t sin of the half-angle) up to the cone's length, to
-// the body's side above it. Negative inside.
-double clearance_at(const Nozzle& nozzle, double t, double r, double cos_half, double sin_half) {
-    return t <= nozzle.cone_length_mm ? r * cos_half - t * sin_half : r - nozzle.body_radius_mm;
-}
-
 struct Vec2 {
     double x = 0.0;
     double y = 0.0;
@@ -97,6 +91,9 @@ struct LayerShape {
     core::Vec3d hi{-kInf, -kInf, -kInf};
     core::Vec3d reach_lo;  // box of everything its nozzle can reach
     core::Vec3d reach_hi;
+    // Every point of the layer's material lies within this of a sample (mm): the samples'
+    // grid spacing across the section, half the thickness through it.
+    double cover = 0.0;
 };
 
 void grow(core::Vec3d& lo, core::Vec3d& hi, const core::Vec3d& p) {
@@ -190,6 +187,7 @@ LayerShape shape_of(const Layer& l, const Nozzle& nozzle, double spacing, double
     }
     s.print_index = detail::RegionDistance(s.print);
     const double half = std::max(l.thickness_max_mm, l.span.thickness()) / 2.0;
+    s.cover = std::hypot(spacing * std::numbers::sqrt2 / 2.0, half);
     for (const Vec2& q : sample_region(own, spacing)) {
         const geom2d::Point2 p{core::mm_to_um(q.x), core::mm_to_um(q.y)};
         for (const double h : {-half, half}) {
@@ -241,10 +239,10 @@ LayerShape shape_of(const Layer& l, const Nozzle& nozzle, double spacing, double
     };
     for (SampleChunk& c : s.chunks) c.box = frame_box(c.begin, c.end);
     s.box = frame_box(0, s.samples.size());
-    // Reach: the footprint's box on the top plane swept along d by the nozzle's length,
-    // grown by its widest radius and the clearance.
+    // Reach: the footprint's box on the top plane swept along d by the nozzle's length and
+    // the clearance, grown by its widest radius and the clearance.
     const double a = nozzle.half_angle_deg * kDegToRad;
-    const double length = nozzle.cone_length_mm + nozzle.body_length_mm;
+    const double length = nozzle.cone_length_mm + nozzle.body_length_mm + nozzle.clearance_mm;
     const double radius =
         std::max(nozzle.cone_length_mm * std::tan(a), nozzle.body_radius_mm) + nozzle.clearance_mm;
     core::Vec3d rlo{kInf, kInf, kInf}, rhi{-kInf, -kInf, -kInf};
@@ -267,16 +265,8 @@ struct Meeting {
     core::Vec3d apex;
     core::Vec3d hit;
     bool in_stream = false;  // the hit lies in the powder stream (below the nozzle tip)
+    double cover = 0.0;      // S1's cover, taken off the hardware's gap
 };
-
-// The margin of a point t above the apex with clearance c (mm) from the nozzle: c for the
-// hardware (the cone above the standoff, the body), c plus the nozzle's clearance for the
-// powder stream between the melt pool and the nozzle tip, which needs only to stay clear
-// of material (it does not crash into it; inside it, it would be shadowed). A margin below
-// the nozzle's clearance is a collision either way.
-double stream_margin(const Nozzle& nozzle, double t, double c) {
-    return t <= nozzle.standoff_mm ? c + nozzle.clearance_mm : c;
-}
 
 // How S1's frame axes project on S2's axes (d, top.u, top.v): p[k][j] = |S2 axis k . S1
 // axis j|, the extent along S2's axis k of a unit step along S1's axis j.
@@ -293,10 +283,10 @@ Projection projection(const LayerShape& s2, const LayerShape& s1) {
     return out;
 }
 
-// The smallest clearance any point of the box can have from S2's nozzle (a lower bound), or
-// +inf when the whole box lies on or under S2's top plane or beyond the nozzle.
+// The smallest margin any point of the box can have from S2's head (a lower bound), or +inf
+// when the whole box lies on or under S2's top plane.
 double box_bound(const LayerShape& s2, const Projection& pr, const FrameBox& b,
-                 const Nozzle& nozzle, double ca, double sa, double length) {
+                 const detail::HeadProfile& head) {
     const core::Vec3d rel = b.centre - s2.top.origin;
     const double t = core::dot(rel, s2.d), u = core::dot(rel, s2.top.u),
                  v = core::dot(rel, s2.top.v);
@@ -306,55 +296,54 @@ double box_bound(const LayerShape& s2, const Projection& pr, const FrameBox& b,
             pr.p[k][0] * b.half[0] + pr.p[k][1] * b.half[1] + pr.p[k][2] * b.half[2] + kBoxSlackMm;
     }
     const double t_lo = t - r[0], t_hi = t + r[0];
-    // METHOD.md condition 2: all of it on or under S2's top plane; or beyond the nozzle.
-    if (t_hi <= kLevelTolerance || t_lo > length) return kInf;
+    // METHOD.md condition 2: all of it on or under S2's top plane.
+    if (t_hi <= kLevelTolerance) return kInf;
     const double gu = std::max({s2.print_lo.x - (u + r[1]), 0.0, (u - r[1]) - s2.print_hi.x});
     const double gv = std::max({s2.print_lo.y - (v + r[2]), 0.0, (v - r[2]) - s2.print_hi.y});
-    const double gap = std::sqrt(gu * gu + gv * gv);
-    const double cone = nozzle.cone_length_mm;
-    return std::min(gap * ca - std::min(t_hi, cone) * sa,
-                    t_hi > cone ? gap - nozzle.body_radius_mm : kInf) -
-           kBoxSlackMm;
+    return head.bound(t_lo, t_hi, std::sqrt(gu * gu + gv * gv)) - kBoxSlackMm;
 }
 
-Meeting meet(const LayerShape& s2, const LayerShape& s1, const Nozzle& nozzle) {
+// The margin of S1's samples is nozzle_margin_mm less S1's cover (a bound for the material
+// around each sample, the hardware's distance being 1-Lipschitz), so an ordered layer keeps
+// clearance_mm from the hardware everywhere, not only at the samples (decision 0023).
+Meeting meet(const LayerShape& s2, const LayerShape& s1, const Nozzle& nozzle,
+             const detail::HeadProfile& head) {
     Meeting m;
-    const double a = nozzle.half_angle_deg * kDegToRad;
-    const double ca = std::cos(a), sa = std::sin(a);
-    const double cone = nozzle.cone_length_mm;
-    const double length = cone + (nozzle.body_radius_mm > 0.0 ? nozzle.body_length_mm : 0.0);
     const double cap = std::max(kMarginCap, 2.0 * nozzle.clearance_mm);
+    const double cover = s1.cover;
+    m.cover = cover;
     // Nothing of S1 comes within the cap: skip the pair; then chunk by chunk.
     const Projection pr = projection(s2, s1);
-    if (box_bound(s2, pr, s1.box, nozzle, ca, sa, length) >= cap) return m;
+    if (box_bound(s2, pr, s1.box, head) - cover >= cap) return m;
     m.margin = cap;  // below this the samples are measured
     for (const SampleChunk& chunk : s1.chunks) {
-        if (box_bound(s2, pr, chunk.box, nozzle, ca, sa, length) >= m.margin) continue;
+        if (box_bound(s2, pr, chunk.box, head) - cover >= m.margin) continue;
         for (std::size_t k = chunk.begin; k < chunk.end; ++k) {
             const core::Vec3d& x = s1.samples[k];
             const core::Vec3d rel = x - s2.top.origin;
             const double t = core::dot(rel, s2.d);
-            if (t <= kLevelTolerance || t > length) continue;
+            if (t <= kLevelTolerance) continue;
             const Vec2 q{core::dot(rel, s2.top.u), core::dot(rel, s2.top.v)};
             // A lower bound of the distance to the footprint: the distance to its box.
             const double bx = std::max({s2.print_lo.x - q.x, 0.0, q.x - s2.print_hi.x});
             const double by = std::max({s2.print_lo.y - q.y, 0.0, q.y - s2.print_hi.y});
             const double box = std::sqrt(bx * bx + by * by);
-            if (clearance_at(nozzle, t, box, ca, sa) >= m.margin) continue;
+            if (head.bound(t, t, box) - cover >= m.margin) continue;
             // The distance to the footprint (0 inside) and its closest point, when it can be
             // short enough to lower the margin: below r_max (mm), padded for rounding.
-            const double r_max =
-                t <= cone ? (m.margin + t * sa) / ca : m.margin + nozzle.body_radius_mm;
+            const double r_max = head.reach_within(t, m.margin + cover);
+            if (!(r_max > 0.0)) continue;
             const std::optional<geom2d::ClosestPoint> found = s2.print_index.closest(
                 {q.x * core::kMicronsPerMm, q.y * core::kMicronsPerMm},
                 r_max * core::kMicronsPerMm * (1.0 + kLimitPadShare) + kLimitPadUm);
             if (!found) continue;
             const geom2d::ClosestPoint& cp = *found;
             const double r = cp.distance_um / core::kMicronsPerMm;
-            const double here = stream_margin(nozzle, t, clearance_at(nozzle, t, r, ca, sa));
+            bool in_stream = false;
+            const double here = head.margin(t, r, cover, &in_stream);
             if (here < m.margin) {
                 m.margin = here;
-                m.in_stream = t <= nozzle.standoff_mm;
+                m.in_stream = in_stream;
                 m.hit = x;
                 m.apex = s2.top.origin + s2.top.u * core::um_to_mm(cp.point.x) +
                          s2.top.v * core::um_to_mm(cp.point.y);
@@ -452,46 +441,6 @@ std::string describe(const Plan& plan, int id) {
 
 }  // namespace
 
-core::Result<void> validate(const Nozzle& n) {
-    const auto bad = [](const std::string& m) {
-        return core::fail(core::ErrorCode::kInvalidInput, m, "nozzle");
-    };
-    if (!(n.half_angle_deg > 0.0 && n.half_angle_deg <= 85.0)) {
-        return bad(
-            fmt::format("nozzle.half_angle_deg must be in (0, 85] (got {})", n.half_angle_deg));
-    }
-    if (!(n.cone_length_mm > 0.0 && n.cone_length_mm <= 1000.0)) {
-        return bad(
-            fmt::format("nozzle.cone_length_mm must be in (0, 1000] (got {})", n.cone_length_mm));
-    }
-    if (!(n.standoff_mm > 0.0 && n.standoff_mm <= n.cone_length_mm)) {
-        return bad(fmt::format("nozzle.standoff_mm must be in (0, cone_length_mm = {}] (got {})",
-                               n.cone_length_mm, n.standoff_mm));
-    }
-    if (!(n.body_radius_mm >= 0.0 && n.body_radius_mm <= 1000.0) ||
-        !(n.body_length_mm >= 0.0 && n.body_length_mm <= 1000.0)) {
-        return bad(
-            fmt::format("nozzle.body_radius_mm and nozzle.body_length_mm must be in "
-                        "[0, 1000] (got {} and {})",
-                        n.body_radius_mm, n.body_length_mm));
-    }
-    if (!(n.clearance_mm >= 0.0 && n.clearance_mm <= 50.0)) {
-        return bad(fmt::format("nozzle.clearance_mm must be in [0, 50] (got {})", n.clearance_mm));
-    }
-    return {};
-}
-
-double nozzle_clearance(const Nozzle& nozzle, const core::Vec3d& apex, const core::Vec3d& axis,
-                        const core::Vec3d& x) {
-    const core::Vec3d rel = x - apex;
-    const double t = core::dot(rel, axis);
-    const double cone = nozzle.cone_length_mm;
-    const double length = cone + (nozzle.body_radius_mm > 0.0 ? nozzle.body_length_mm : 0.0);
-    if (t <= kLevelTolerance || t > length) return kInf;
-    const double a = nozzle.half_angle_deg * kDegToRad;
-    return clearance_at(nozzle, t, core::norm(rel - axis * t), std::cos(a), std::sin(a));
-}
-
 double BuildOrder::smallest_margin_mm() const {
     double m = kInf;
     for (const int id : order) m = std::min(m, margin_mm[static_cast<std::size_t>(id)]);
@@ -502,6 +451,7 @@ core::Result<BuildOrder> order_layers(const Plan& plan, const OrderSettings& set
                                       const core::Progress* progress) {
     if (auto ok = validate(settings.nozzle); !ok) return std::unexpected(ok.error());
     const Nozzle& nozzle = settings.nozzle;
+    const detail::HeadProfile head(nozzle);
     const double spacing = settings.sample_spacing_mm > 0.0 ? settings.sample_spacing_mm
                                                             : plan.settings.track_width_mm / 2.0;
     if (!(spacing > 0.0) || !std::isfinite(spacing)) {
@@ -568,7 +518,7 @@ core::Result<BuildOrder> order_layers(const Plan& plan, const OrderSettings& set
             std::sort(candidates.begin(), candidates.end());
             for (const int s1 : candidates) {
                 if (below.descends(s1, s2)) continue;  // S1 comes after S2 in any order
-                const Meeting m = meet(a, shapes[static_cast<std::size_t>(s1)], nozzle);
+                const Meeting m = meet(a, shapes[static_cast<std::size_t>(s1)], nozzle, head);
                 if (m.margin < kInf) meets[i].emplace_back(s1, m);
             }
             if (progress != nullptr) {
@@ -676,6 +626,7 @@ core::Result<BuildOrder> order_layers(const Plan& plan, const OrderSettings& set
             c.apex = e->meeting.apex;
             c.hit = e->meeting.hit;
             c.in_stream = e->meeting.in_stream;
+            c.cover_mm = e->meeting.cover;
             c.margin_mm = e->meeting.margin - (c.in_stream ? nozzle.clearance_mm : 0.0);
             c.reason = fmt::format(
                 "the {} on {} at ({:.2f}, {:.2f}, {:.2f}) would meet {} at ({:.2f}, {:.2f}, "

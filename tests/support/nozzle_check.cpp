@@ -96,20 +96,74 @@ std::string describe(const NozzleCollision& c) {
     return buf;
 }
 
+namespace {
+
+// Distance from (t, r) to the segment from (t0, r0) to (t1, r1).
+double to_segment(double t, double r, double t0, double r0, double t1, double r1) {
+    const double dt = t1 - t0, dr = r1 - r0;
+    double s = ((t - t0) * dt + (r - r0) * dr) / (dt * dt + dr * dr);
+    s = std::min(1.0, std::max(0.0, s));
+    return std::hypot(t - t0 - s * dt, r - r0 - s * dr);
+}
+
+// The slice t in [lo, hi] of the cone r <= t tan(a): inside, minus the depth (to its side,
+// or to the planes t = lo and t = hi); outside, the distance to its side and its two faces.
+double to_cone_slice(double t, double r, double lo, double hi, double a) {
+    if (!(hi > lo)) return std::numeric_limits<double>::infinity();
+    const double ta = std::tan(a);
+    if (t >= lo && t <= hi && r <= t * ta) {
+        return -std::min({(t * ta - r) * std::cos(a), t - lo, hi - t});
+    }
+    return std::min({to_segment(t, r, lo, lo * ta, hi, hi * ta),
+                     to_segment(t, r, hi, 0, hi, hi * ta),
+                     lo > 0.0 ? to_segment(t, r, lo, 0, lo, lo * ta)
+                              : std::numeric_limits<double>::infinity()});
+}
+
+double to_body(const plan::Nozzle& n, double t, double r) {
+    if (!(n.body_radius_mm > 0.0 && n.body_length_mm > 0.0)) {
+        return std::numeric_limits<double>::infinity();
+    }
+    const double lo = n.cone_length_mm, hi = lo + n.body_length_mm, rad = n.body_radius_mm;
+    const double dt = std::max({lo - t, 0.0, t - hi}), dr = std::max(r - rad, 0.0);
+    if (dt == 0.0 && dr == 0.0) return -std::min({t - lo, hi - t, rad - r});
+    return std::hypot(dt, dr);
+}
+
+// (t, r) of x for the head at apex along axis; false at or below the apex's plane.
+bool head_coordinates(const Vec3d& apex, const Vec3d& axis, const Vec3d& x, double* t, double* r) {
+    const Vec3d d = x - apex;
+    *t = core::dot(d, axis);
+    if (*t <= kAboveApexMm) return false;
+    const Vec3d radial = d - axis * *t;
+    *r = std::sqrt(core::dot(radial, radial));
+    return true;
+}
+
+}  // namespace
+
 double cone_clearance_mm(const plan::Nozzle& nozzle, const Vec3d& apex, const Vec3d& axis,
                          const Vec3d& x) {
-    constexpr double kOut = std::numeric_limits<double>::infinity();
-    const Vec3d d = x - apex;
-    const double t = core::dot(d, axis);
-    if (t <= kAboveApexMm) return kOut;
-    const Vec3d radial = d - axis * t;
-    const double r = std::sqrt(core::dot(radial, radial));
+    double t = 0.0, r = 0.0;
+    if (!head_coordinates(apex, axis, x, &t, &r)) return std::numeric_limits<double>::infinity();
     const double a = radians(nozzle.half_angle_deg);
-    if (t <= nozzle.cone_length_mm) return (r - t * std::tan(a)) * std::cos(a);
-    if (nozzle.body_radius_mm > 0.0 && t <= nozzle.cone_length_mm + nozzle.body_length_mm) {
-        return r - nozzle.body_radius_mm;
-    }
-    return kOut;
+    return std::min(to_cone_slice(t, r, 0.0, nozzle.cone_length_mm, a), to_body(nozzle, t, r));
+}
+
+double hardware_clearance_mm(const plan::Nozzle& nozzle, const Vec3d& apex, const Vec3d& axis,
+                             const Vec3d& x) {
+    double t = 0.0, r = 0.0;
+    if (!head_coordinates(apex, axis, x, &t, &r)) return std::numeric_limits<double>::infinity();
+    const double a = radians(nozzle.half_angle_deg);
+    return std::min(to_cone_slice(t, r, nozzle.standoff_mm, nozzle.cone_length_mm, a),
+                    to_body(nozzle, t, r));
+}
+
+double stream_clearance_mm(const plan::Nozzle& nozzle, const Vec3d& apex, const Vec3d& axis,
+                           const Vec3d& x) {
+    double t = 0.0, r = 0.0;
+    if (!head_coordinates(apex, axis, x, &t, &r)) return std::numeric_limits<double>::infinity();
+    return to_cone_slice(t, r, 0.0, nozzle.standoff_mm, radians(nozzle.half_angle_deg));
 }
 
 bool inside_wires(const geom2d::WireTree& wires, double x_um, double y_um) {
@@ -205,7 +259,7 @@ std::vector<NozzleCollision> brute_force_collisions(const plan::Plan& plan,
             boxed(nozzle_apexes(l, track_width_mm, settings.sample_step_mm));
         material[static_cast<std::size_t>(id)] = boxed(material_points(l, settings.sample_step_mm));
     }
-    const double reach = reach_mm(nozzle);
+    const double reach = reach_mm(nozzle) + settings.clearance_mm;
     std::vector<NozzleCollision> out;
     for (std::size_t i = 0; i < order.size(); ++i) {
         const int lid = order[i];
@@ -230,6 +284,12 @@ std::vector<NozzleCollision> brute_force_collisions(const plan::Plan& plan,
                 for (const Vec3d& x : m.points) {
                     const double c = cone_clearance_mm(nozzle, apex, axis, x);
                     if (c < worst.clearance_mm) worst = {lid, oid, apex, x, c};
+                    if (settings.clearance_mm > 0.0 && worst.layer < 0) {
+                        const double h = hardware_clearance_mm(nozzle, apex, axis, x);
+                        if (h < settings.clearance_mm - settings.tolerance_mm) {
+                            worst = {lid, oid, apex, x, h};
+                        }
+                    }
                 }
             }
             if (worst.layer >= 0) out.push_back(worst);

@@ -9,7 +9,9 @@
 // plane) with its axis along the layer's top normal; every layer deposited before it is
 // sampled on its bottom and top faces (its wires' vertices, its edges resampled and an
 // interior grid at sample_step_mm). A sample of earlier material strictly above the apex's
-// plane and more than tolerance_mm inside the cone (or the body above it) is a collision.
+// plane and more than tolerance_mm inside the head (stream, nozzle or body) is a collision;
+// with a clearance, so is one closer than clearance_mm - tolerance_mm to the hardware (the
+// nozzle above its standoff, the body: its rim and underside included).
 #include <limits>
 #include <span>
 #include <string>
@@ -31,6 +33,8 @@ struct NozzleCheckSettings {
     double tolerance_mm = 0.05;
     /// Stop after this many colliding pairs (0: find them all).
     int max_pairs = 0;
+    /// The gap the hardware must keep (mm); 0: contact only.
+    double clearance_mm = 0.0;
 };
 
 /// One pair (layer, other) whose deepest sample lies inside the nozzle.
@@ -39,19 +43,28 @@ struct NozzleCollision {
     int other = -1;             ///< the earlier layer whose material the nozzle meets
     core::Vec3d apex;           ///< where the nozzle stands (mm, on layer's top)
     core::Vec3d point;          ///< the deepest sample of `other` inside the nozzle (mm)
-    double clearance_mm = 0.0;  ///< cone_clearance_mm there (negative: inside)
+    double clearance_mm = 0.0;  ///< cone_clearance_mm there (negative: inside), or with a
+                                ///< clearance, hardware_clearance_mm when that is what failed
 };
 
 /// "layer 12 hits layer 7 at (x, y, z) from apex (x, y, z), clearance -0.8 mm".
 [[nodiscard]] std::string describe(const NozzleCollision& c);
 
-/// Signed clearance (mm) of point x from the nozzle with its apex at `apex` and unit axis
-/// `axis`: with t the height of x above the apex along the axis and r its distance from the
-/// axis, (r - t tan(theta/2)) cos(theta/2) (the distance to the cone's side line, negative
-/// inside) for 0 < t <= H, r - body_radius for H < t <= H + body_length when the nozzle has
-/// a body, +inf otherwise (t <= 1e-6: at or below the apex's plane; beyond the nozzle).
+/// Signed clearance (mm) of point x from the whole head (cone and body) with its apex at
+/// `apex` and unit axis `axis`: with t the height of x above the apex along the axis and r
+/// its distance from the axis, the Euclidean distance in the (t, r) plane to the cone's
+/// triangle (apex, H on the axis, the rim) or the body's rectangle, whichever is nearer;
+/// inside, minus the depth. +inf at or below the apex's plane (t <= 1e-6).
 [[nodiscard]] double cone_clearance_mm(const plan::Nozzle& nozzle, const core::Vec3d& apex,
                                        const core::Vec3d& axis, const core::Vec3d& x);
+
+/// The same for the hardware only: the cone between the standoff and H, and the body.
+[[nodiscard]] double hardware_clearance_mm(const plan::Nozzle& nozzle, const core::Vec3d& apex,
+                                           const core::Vec3d& axis, const core::Vec3d& x);
+
+/// The same for the powder stream only: the cone up to the standoff.
+[[nodiscard]] double stream_clearance_mm(const plan::Nozzle& nozzle, const core::Vec3d& apex,
+                                         const core::Vec3d& axis, const core::Vec3d& x);
 
 /// Apexes of a layer (mm, part frame): its toolpath (plan_layer with this track width, the
 /// other path settings at their defaults) resampled at step_mm, lifted from the layer plane

@@ -11,35 +11,10 @@
 #include "maxslice/core/progress.hpp"
 #include "maxslice/core/result.hpp"
 #include "maxslice/core/vec3.hpp"
+#include "maxslice/plan/nozzle.hpp"
 #include "maxslice/plan/planner.hpp"
 
 namespace maxslice::plan {
-
-/// The nozzle together with its powder stream: a cone with its apex at the melt pool, its
-/// axis along the layer's build direction, half-angle theta/2 and length H, and optionally a
-/// cylinder for the head body above it (METHOD.md section 7). mm and degrees.
-struct Nozzle {
-    double half_angle_deg = 30.0;  ///< theta/2, in (0, 85]
-    double cone_length_mm = 40.0;  ///< H, > 0
-    double standoff_mm = 10.0;     ///< melt pool to nozzle tip, in (0, H]
-    double body_radius_mm = 0.0;   ///< head body above the cone (0: no body)
-    double body_length_mm = 0.0;   ///< its length, >= 0
-    /// The smallest clearance accepted between the nozzle (the cone above the standoff, the
-    /// body) and deposited material; it also covers the spacing of the points the check
-    /// samples. >= 0. The powder stream (the cone between the melt pool and the nozzle tip,
-    /// t <= standoff) needs only to stay clear of material (clearance 0).
-    double clearance_mm = 1.0;
-};
-
-/// Checks ranges; errors (kInvalidInput) name the setting ("nozzle.half_angle_deg").
-[[nodiscard]] core::Result<void> validate(const Nozzle& nozzle);
-
-/// Signed clearance (mm) between the nozzle standing with its apex at `apex` and axis
-/// `axis` (unit) and the point x: negative inside the cone or the body, the distance to
-/// the cone's side (or the body's side) outside. Points at or below the apex's plane
-/// (material under the melt pool) and beyond the nozzle's length are out of reach: +inf.
-[[nodiscard]] double nozzle_clearance(const Nozzle& nozzle, const core::Vec3d& apex,
-                                      const core::Vec3d& axis, const core::Vec3d& x);
 
 /// Settings of the ordering.
 struct OrderSettings {
@@ -53,14 +28,19 @@ struct OrderSettings {
 /// which must be deposited before it (it is an ancestor in the hierarchy graph, or the
 /// rest of the order puts it first).
 struct Conflict {
-    int layer = -1;          ///< the layer being deposited
-    int other = -1;          ///< the deposited layer its nozzle hits
-    core::Vec3d apex;        ///< where the nozzle stands (on `layer`'s top)
-    core::Vec3d hit;         ///< a point of `other` inside the nozzle
-    double margin_mm = 0.0;  ///< the clearance there (< the nozzle's clearance_mm, < 0 in
-                             ///< the powder stream)
+    int layer = -1;    ///< the layer being deposited
+    int other = -1;    ///< the deposited layer its nozzle hits
+    core::Vec3d apex;  ///< where the nozzle stands (on `layer`'s top)
+    core::Vec3d hit;   ///< a point of `other` inside the nozzle
+    /// The gap there: to the hardware (< the nozzle's clearance_mm plus the sampling's
+    /// cover) or, when in_stream, to the powder stream (< the cover).
+    double margin_mm = 0.0;
     std::string reason;      ///< one line, for people
     bool in_stream = false;  ///< the hit lies in the powder stream, below the nozzle tip
+    /// What was taken off the hardware's gap at the sample (mm): every point of `other`'s
+    /// material lies within this of one of its samples. margin_mm + cover_mm is the gap at
+    /// `hit` itself (for a hardware hit).
+    double cover_mm = 0.0;
 };
 
 /// A run of consecutive layers of one side (a branch of the hierarchy graph: a chain of
@@ -76,9 +56,10 @@ struct Section {
 struct BuildOrder {
     std::vector<int> order;  ///< layer ids in build sequence (partial when conflicts exist)
     /// Per layer id: the smallest margin (mm) between its nozzle and the material deposited
-    /// before it: the clearance to the head, or to the powder stream plus the nozzle's
-    /// clearance_mm (the stream needs only to stay clear), so at least clearance_mm for every
-    /// ordered layer; +inf when nothing is in reach; NaN for a layer not ordered.
+    /// before it: nozzle_margin_mm (the gap to the hardware, or to the powder stream plus the
+    /// nozzle's clearance_mm) less the sampling's cover, so a lower bound of the true margin
+    /// and at least clearance_mm for every ordered layer; +inf when nothing is in reach; NaN
+    /// for a layer not ordered.
     std::vector<double> margin_mm;
     std::vector<int> side_of;     ///< per layer id: its branch
     std::vector<int> section_of;  ///< per layer id: its section (-1 when not ordered)
