@@ -1,11 +1,12 @@
 // OBJ through assimp (PLY and OFF have their own reader: ply_off_reader.cpp says why).
-// Only aiProcess_Triangulate runs (it cuts concave polygons by ear clipping, not by a fan);
-// vertices are welded by mesh::weld_exact like every other format. Assimp reads from our copy
+// Assimp parses; polygons are cut here by the same ear clipping as PLY and OFF
+// (polygon_soup.cpp), not by aiProcess_Triangulate, which took minutes on a face of many
+// corners and left degenerate triangles in concave ones (a comb of 8192 corners: 4092).
+// Vertices are welded by mesh::weld_exact like every other format. Assimp reads from our copy
 // of the bytes so that the text can be checked first (scan_obj) and UTF-16 converted; every
 // index assimp hands back is checked again before use, and every exception it might throw is
 // caught here.
 
-#include <assimp/postprocess.h>
 #include <assimp/scene.h>
 #include <fmt/format.h>
 #include <assimp/Importer.hpp>
@@ -15,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "polygon_soup.hpp"
 #include "readers.hpp"
 
 namespace maxslice::io::detail {
@@ -25,16 +27,21 @@ struct Collected {
     std::size_t meshes_with_triangles = 0;
     std::size_t non_triangles = 0;  // points and lines assimp kept as primitives
     std::size_t bad_indices = 0;
+    std::size_t polygons = 0;
+    std::size_t fanned = 0;  // polygons ear clipping could not cut cleanly
+    std::size_t too_large = 0;
 };
 
-// Walks the node tree so node transforms are applied (OBJ, PLY and OFF put every mesh
-// under the identity root, but nothing stops a file from nesting them).
+// Walks the node tree so node transforms are applied (OBJ puts every mesh under the
+// identity root, but nothing stops a file from nesting them).
 void collect(const aiScene& scene, const aiNode& node, const aiMatrix4x4& parent, int depth,
              Collected& out) {
     if (depth > 64) return;
     const aiMatrix4x4 world = parent * node.mTransformation;
     const bool identity = world.IsIdentity();
     const bool mirrored = world.Determinant() < 0.0f;
+    std::vector<core::Vec3d> vertices;
+    std::vector<std::uint32_t> polygon;
     for (unsigned m = 0; m < node.mNumMeshes; ++m) {
         if (node.mMeshes == nullptr || node.mMeshes[m] >= scene.mNumMeshes) {
             ++out.bad_indices;
@@ -42,29 +49,44 @@ void collect(const aiScene& scene, const aiNode& node, const aiMatrix4x4& parent
         }
         const aiMesh* mesh = scene.mMeshes[node.mMeshes[m]];
         if (mesh == nullptr || mesh->mVertices == nullptr || mesh->mFaces == nullptr) continue;
-        std::size_t triangles = 0;
+        vertices.resize(mesh->mNumVertices);
+        for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
+            aiVector3D p = mesh->mVertices[v];
+            if (!identity) p = world * p;
+            vertices[v] = {static_cast<double>(p.x), static_cast<double>(p.y),
+                           static_cast<double>(p.z)};
+        }
+        PolygonSoup soup(vertices);
         for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
             const aiFace& face = mesh->mFaces[f];
-            if (face.mNumIndices != 3 || face.mIndices == nullptr) {
+            if (face.mNumIndices < 3 || face.mIndices == nullptr) {
                 ++out.non_triangles;
                 continue;
             }
-            const unsigned order[3] = {0, mirrored ? 2u : 1u, mirrored ? 1u : 2u};
+            if (face.mNumIndices > kMaxPolygonCorners) {  // scan_obj refuses these first
+                ++out.too_large;
+                continue;
+            }
             bool ok = true;
-            for (unsigned k : order) ok = ok && face.mIndices[k] < mesh->mNumVertices;
+            polygon.resize(face.mNumIndices);
+            for (unsigned k = 0; k < face.mNumIndices; ++k) {
+                // Reversed order for a mirroring transform keeps the outside outside.
+                const unsigned at = mirrored ? face.mNumIndices - 1 - k : k;
+                ok = ok && face.mIndices[at] < mesh->mNumVertices;
+                polygon[k] = face.mIndices[at];
+            }
             if (!ok) {
                 ++out.bad_indices;
                 continue;
             }
-            for (unsigned k : order) {
-                aiVector3D p = mesh->mVertices[face.mIndices[k]];
-                if (!identity) p = world * p;
-                out.xyz.insert(out.xyz.end(), {static_cast<double>(p.x), static_cast<double>(p.y),
-                                               static_cast<double>(p.z)});
-            }
-            ++triangles;
+            if (face.mNumIndices > 3) ++out.polygons;
+            soup.add(polygon);
         }
-        if (triangles > 0) ++out.meshes_with_triangles;
+        out.fanned += soup.fanned_faces();
+        if (!soup.xyz().empty()) {
+            ++out.meshes_with_triangles;
+            out.xyz.insert(out.xyz.end(), soup.xyz().begin(), soup.xyz().end());
+        }
     }
     for (unsigned c = 0; c < node.mNumChildren; ++c) {
         if (node.mChildren != nullptr && node.mChildren[c] != nullptr) {
@@ -107,8 +129,7 @@ core::Result<RawImport> read_impl(std::string_view bytes, Format format) {
     }
 
     Assimp::Importer importer;
-    const aiScene* scene =
-        importer.ReadFileFromMemory(bytes.data(), bytes.size(), aiProcess_Triangulate, "obj");
+    const aiScene* scene = importer.ReadFileFromMemory(bytes.data(), bytes.size(), 0, "obj");
     if (scene == nullptr) {
         const std::string why = importer.GetErrorString();
         return core::fail(core::ErrorCode::kInvalidInput,
@@ -118,6 +139,13 @@ core::Result<RawImport> read_impl(std::string_view bytes, Format format) {
     Collected got;
     if (scene->mRootNode != nullptr) {
         collect(*scene, *scene->mRootNode, aiMatrix4x4(), 0, got);
+    }
+    if (got.too_large > 0) {
+        return core::fail(core::ErrorCode::kInvalidInput,
+                          fmt::format("{} more than {} corners; maxslice reads at most {} per "
+                                      "polygon",
+                                      count_of(got.too_large, "face has", "faces have"),
+                                      kMaxPolygonCorners, kMaxPolygonCorners));
     }
     if (got.bad_indices > 0) {
         return core::fail(core::ErrorCode::kInvalidInput,
@@ -138,6 +166,11 @@ core::Result<RawImport> read_impl(std::string_view bytes, Format format) {
             return core::fail(core::ErrorCode::kInvalidInput,
                               "a vertex has a NaN or infinite coordinate");
         }
+    }
+    if (got.fanned > 0) {
+        out.warnings.push_back(fmt::format(
+            "{} of {} polygons cross themselves or have no area; they were fanned from a corner",
+            got.fanned, got.polygons));
     }
     if (format == Format::kObj) {
         if (scan.short_faces > 0) {

@@ -92,7 +92,10 @@ core::Result<RawImport> read_cad(const std::filesystem::path& path, Format forma
             (*read)(&path, format, &options, &out);
             return out;
         },
-        options.library_time_limit_s, "Open CASCADE");
+        options.library_time_limit_s, "Open CASCADE",
+        "reading and tessellating the solids took too long; a coarser tessellation "
+        "(a larger --chord-deviation) may help if the part is large or finely "
+        "curved, else the file is damaged");
 }
 
 }  // namespace maxslice::io::detail

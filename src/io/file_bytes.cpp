@@ -32,9 +32,12 @@ std::string errno_text(int err) {
     return std::strerror(err);
 }
 
-// Opens a regular file and reports its size.
+// Opens a regular file and reports its size. O_NONBLOCK: opening a FIFO for reading blocks
+// until a writer appears (forever, for a part file), and a device may block as well; with it
+// the open returns at once and fstat refuses what is not a regular file. On a regular file
+// O_NONBLOCK changes nothing (reads from disk never return EAGAIN).
 core::Result<int> open_regular(const std::filesystem::path& path, std::uint64_t& size) {
-    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK | O_NOCTTY);
     if (fd < 0) {
         const int err = errno;
         return core::fail(core::ErrorCode::kIo, "cannot open: " + errno_text(err));
@@ -47,9 +50,10 @@ core::Result<int> open_regular(const std::filesystem::path& path, std::uint64_t&
     }
     if (!S_ISREG(st.st_mode)) {
         ::close(fd);
-        return core::fail(core::ErrorCode::kIo, S_ISDIR(st.st_mode)
-                                                    ? "is a directory, not a part file"
-                                                    : "is not a regular file");
+        return core::fail(core::ErrorCode::kIo,
+                          S_ISDIR(st.st_mode)    ? "is a directory, not a part file"
+                          : S_ISFIFO(st.st_mode) ? "is a FIFO (named pipe), not a regular file"
+                                                 : "is not a regular file (a device or socket)");
     }
     size = static_cast<std::uint64_t>(st.st_size);
     return fd;

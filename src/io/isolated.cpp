@@ -11,10 +11,16 @@
 // _exit, so no destructor, atexit handler or stdio buffer of the parent runs twice. Only the
 // forking thread exists in the child; the reader must not rely on other threads (the
 // tessellation runs sequentially).
+//
+// The child dies with its parent: the kernel sends it SIGKILL when the thread that forked it
+// ends (PR_SET_PDEATHSIG; that thread waits for the child, so this is the parent's death),
+// and a parent that died between fork and prctl is caught by comparing getppid() with the
+// parent's pid. Otherwise a killed slicer would leave a reader running with no time limit.
 
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -146,7 +152,9 @@ void write_all(int fd, std::string_view bytes) {
 }  // namespace
 
 core::Result<RawImport> run_isolated(const std::function<core::Result<RawImport>()>& reader,
-                                     double time_limit_s, std::string_view library) {
+                                     double time_limit_s, std::string_view library,
+                                     std::string_view slow_because) {
+    const pid_t parent = ::getpid();
     int fds[2];
     if (::pipe2(fds, O_CLOEXEC) != 0) {
         return core::fail(core::ErrorCode::kIo, fmt::format("cannot start the {} reader: {}",
@@ -161,6 +169,7 @@ core::Result<RawImport> run_isolated(const std::function<core::Result<RawImport>
                                                             library, std::strerror(err)));
     }
     if (pid == 0) {
+        if (::prctl(PR_SET_PDEATHSIG, SIGKILL) != 0 || ::getppid() != parent) ::_exit(1);
         ::close(fds[0]);
         std::string bytes;
         try {
@@ -210,10 +219,9 @@ core::Result<RawImport> run_isolated(const std::function<core::Result<RawImport>
 
     if (timed_out) {
         return core::fail(core::ErrorCode::kInvalidInput,
-                          fmt::format("{} did not finish reading the file within {} s; it was "
-                                      "stopped (a coarser chord/angle tolerance may help if the "
-                                      "part is large)",
-                                      library, time_limit_s));
+                          fmt::format("{} did not finish reading the file within the {} s "
+                                      "limit for a part reader and was stopped: {}",
+                                      library, time_limit_s, slow_because));
     }
     if (waited == pid && WIFSIGNALED(status)) {
         const int sig = WTERMSIG(status);

@@ -11,10 +11,12 @@
 #include <Model/COM/NMR_DLLInterfaces.h>
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstring>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "readers.hpp"
@@ -26,8 +28,9 @@ using Affine = std::array<double, 12>;  // row-major [R | t], column vectors
 
 constexpr Affine kIdentity = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
 constexpr int kMaxComponentDepth = 32;
-// Components can place one object many times at every level; this bounds the soup.
-constexpr std::size_t kMaxPlacedTriangles = 100'000'000;
+// Components can place one object many times at every level; this bounds the soup (1.4 GB
+// of coordinates while reading, ten times the largest part maxslice is measured on).
+constexpr std::uint64_t kMaxPlacedTriangles = 20'000'000;
 
 // Owns one lib3mf instance.
 class Handle {
@@ -101,27 +104,96 @@ std::unexpected<core::Error> invalid(std::string message) {
     return core::fail(core::ErrorCode::kInvalidInput, std::move(message));
 }
 
+// One object resource as the build uses it, read from lib3mf once however often it is placed.
+struct ObjectInfo {
+    enum class Kind { kMesh, kComponents, kSkipped, kOther };
+    Kind kind = Kind::kOther;
+    std::vector<NMR::MODELMESHVERTEX> vertices;
+    std::vector<NMR::MODELMESHTRIANGLE> triangles;
+    struct Component {
+        DWORD target = 0;
+        Affine local = kIdentity;
+    };
+    std::vector<Component> components;
+    bool done = false;  // false while its components are being read: a cycle
+    int height = 0;     // nesting levels below it
+    // Triangles and mesh placements once every component is expanded (saturating).
+    std::uint64_t expanded_triangles = 0;
+    std::uint64_t expanded_meshes = 0;
+};
+
+std::uint64_t saturating_add(std::uint64_t a, std::uint64_t b) {
+    return a > UINT64_MAX - b ? UINT64_MAX : a + b;
+}
+
+// Components let one object place another many times at every level: 30 levels that each
+// place the next twice make a 1.5 KB file of 2^30 placements. The collector therefore reads
+// every object once (lib3mf is asked about each object once, not once per placement), counts
+// what the build expands to from those counts (linear in the number of objects and
+// components), refuses a build that expands past kMaxPlacedTriangles before placing
+// anything, and then places only subtrees that hold triangles, so the placing work is
+// proportional to the triangles it writes.
 class Collector {
 public:
-    std::vector<double> xyz;
-    std::size_t placed_meshes = 0;
-    std::size_t skipped_objects = 0;  // support, surface and "other" objects
+    std::size_t skipped_objects = 0;  // support, surface and "other" objects (distinct)
     std::size_t beam_objects = 0;
 
-    core::Result<void> add_object(NMR::PLib3MFBase* object, const Affine& world, int depth) {
-        if (depth > kMaxComponentDepth) {
-            return invalid(
-                fmt::format("components are nested more than {} deep (or refer to "
-                            "each other in a cycle)",
-                            kMaxComponentDepth));
+    // Reads the object and everything its components refer to; returns its resource id.
+    core::Result<DWORD> load(NMR::PLib3MFBase* object, int depth) {
+        DWORD id = 0;
+        if (NMR::lib3mf_resource_getresourceid(object, &id) != LIB3MF_OK) {
+            return invalid(last_error(object, "cannot read an object's id"));
         }
+        if (const auto it = objects_.find(id); it != objects_.end()) {
+            if (!it->second.done || depth + it->second.height > kMaxComponentDepth) {
+                return too_deep();
+            }
+            return id;
+        }
+        if (depth > kMaxComponentDepth) return too_deep();
+        objects_.emplace(id, ObjectInfo{});
+        auto info = read_object(object, depth);
+        if (!info) return std::unexpected(info.error());
+        info->done = true;
+        objects_[id] = std::move(*info);
+        return id;
+    }
+
+    [[nodiscard]] const ObjectInfo& info(DWORD id) const { return objects_.at(id); }
+
+    // Appends the triangles of `id` placed by `world`.
+    void place(DWORD id, const Affine& world) {
+        const ObjectInfo& o = objects_.at(id);
+        if (o.expanded_triangles == 0) return;
+        if (o.kind == ObjectInfo::Kind::kMesh) {
+            place_mesh(o, world);
+            return;
+        }
+        for (const ObjectInfo::Component& c : o.components)
+            place(c.target, compose(world, c.local));
+    }
+
+    std::vector<double> xyz;
+    std::size_t placed_meshes = 0;
+
+private:
+    static std::unexpected<core::Error> too_deep() {
+        return invalid(
+            fmt::format("components are nested more than {} deep (or refer to each other in "
+                        "a cycle)",
+                        kMaxComponentDepth));
+    }
+
+    core::Result<ObjectInfo> read_object(NMR::PLib3MFBase* object, int depth) {
+        ObjectInfo o;
         DWORD type = NMR::MODELOBJECTTYPE_MODEL;
         if (NMR::lib3mf_object_gettype(object, &type) != LIB3MF_OK) {
             return invalid(last_error(object, "cannot read an object's type"));
         }
         if (type != NMR::MODELOBJECTTYPE_MODEL) {
+            o.kind = ObjectInfo::Kind::kSkipped;
             ++skipped_objects;
-            return {};
+            return o;
         }
         BOOL is_mesh = false;
         BOOL is_components = false;
@@ -129,8 +201,12 @@ public:
             NMR::lib3mf_object_iscomponentsobject(object, &is_components) != LIB3MF_OK) {
             return invalid(last_error(object, "cannot read an object"));
         }
-        if (is_mesh) return add_mesh(object, world);
-        if (!is_components) return {};
+        if (is_mesh) {
+            if (auto ok = read_mesh(object, o); !ok) return std::unexpected(ok.error());
+            return o;
+        }
+        if (!is_components) return o;
+        o.kind = ObjectInfo::Kind::kComponents;
         DWORD count = 0;
         if (NMR::lib3mf_componentsobject_getcomponentcount(object, &count) != LIB3MF_OK) {
             return invalid(last_error(object, "cannot read a components object"));
@@ -148,7 +224,7 @@ public:
                 return invalid(last_error(component.get(),
                                           "a component refers to an object that does not exist"));
             }
-            Affine local = kIdentity;
+            ObjectInfo::Component c;
             BOOL has_transform = false;
             NMR::lib3mf_component_hastransform(component.get(), &has_transform);
             if (has_transform) {
@@ -157,16 +233,24 @@ public:
                     return invalid(
                         last_error(component.get(), "cannot read a component transform"));
                 }
-                local = from_lib3mf(t);
+                c.local = from_lib3mf(t);
             }
-            auto ok = add_object(target.get(), compose(world, local), depth + 1);
-            if (!ok) return ok;
+            auto target_id = load(target.get(), depth + 1);
+            if (!target_id) return std::unexpected(target_id.error());
+            c.target = *target_id;
+            const ObjectInfo& t = objects_.at(c.target);
+            o.height = std::max(o.height, t.height + 1);
+            o.expanded_triangles = saturating_add(o.expanded_triangles, t.expanded_triangles);
+            o.expanded_meshes = saturating_add(o.expanded_meshes, t.expanded_meshes);
+            // Only components that hold triangles are kept, so that every step of place()
+            // leads to a triangle.
+            if (t.expanded_triangles > 0) o.components.push_back(c);
         }
-        return {};
+        return o;
     }
 
-private:
-    core::Result<void> add_mesh(NMR::PLib3MFBase* object, const Affine& world) {
+    core::Result<void> read_mesh(NMR::PLib3MFBase* object, ObjectInfo& o) {
+        o.kind = ObjectInfo::Kind::kMesh;
         DWORD vertex_count = 0;
         DWORD triangle_count = 0;
         if (NMR::lib3mf_meshobject_getvertexcount(object, &vertex_count) != LIB3MF_OK ||
@@ -178,38 +262,43 @@ private:
             ++beam_objects;
         }
         if (triangle_count == 0) return {};
-        if (xyz.size() / 9 + triangle_count > kMaxPlacedTriangles) {
-            return invalid(fmt::format("more than {} triangles once every component is placed",
-                                       kMaxPlacedTriangles));
-        }
-        std::vector<NMR::MODELMESHVERTEX> vertices(vertex_count);
-        std::vector<NMR::MODELMESHTRIANGLE> triangles(triangle_count);
+        o.vertices.resize(vertex_count);
+        o.triangles.resize(triangle_count);
         DWORD got = 0;
         if ((vertex_count > 0 && NMR::lib3mf_meshobject_getvertices(
-                                     object, vertices.data(), vertex_count, &got) != LIB3MF_OK) ||
-            NMR::lib3mf_meshobject_gettriangleindices(object, triangles.data(), triangle_count,
+                                     object, o.vertices.data(), vertex_count, &got) != LIB3MF_OK) ||
+            NMR::lib3mf_meshobject_gettriangleindices(object, o.triangles.data(), triangle_count,
                                                       &got) != LIB3MF_OK) {
             return invalid(last_error(object, "cannot read a mesh object's data"));
         }
-        const bool mirrored = determinant(world) < 0.0;
-        const bool identity = world == kIdentity;
-        xyz.reserve(xyz.size() + 9 * static_cast<std::size_t>(triangle_count));
-        for (const NMR::MODELMESHTRIANGLE& t : triangles) {
-            const DWORD order[3] = {t.m_nIndices[0], t.m_nIndices[mirrored ? 2 : 1],
-                                    t.m_nIndices[mirrored ? 1 : 2]};
-            for (const DWORD v : order) {
+        for (const NMR::MODELMESHTRIANGLE& t : o.triangles) {
+            for (const DWORD v : t.m_nIndices) {
                 if (v >= vertex_count) {
                     return invalid(
                         fmt::format("a triangle refers to vertex {} of a mesh with {} "
                                     "vertices",
                                     v, vertex_count));
                 }
-                const float* p = vertices[v].m_fPosition;
+            }
+        }
+        o.expanded_triangles = triangle_count;
+        o.expanded_meshes = 1;
+        return {};
+    }
+
+    void place_mesh(const ObjectInfo& o, const Affine& world) {
+        const bool mirrored = determinant(world) < 0.0;
+        const bool identity = world == kIdentity;
+        const Affine& a = world;
+        for (const NMR::MODELMESHTRIANGLE& t : o.triangles) {
+            const DWORD order[3] = {t.m_nIndices[0], t.m_nIndices[mirrored ? 2 : 1],
+                                    t.m_nIndices[mirrored ? 1 : 2]};
+            for (const DWORD v : order) {
+                const float* p = o.vertices[v].m_fPosition;
                 const double x = p[0], y = p[1], z = p[2];
                 if (identity) {
                     xyz.insert(xyz.end(), {x, y, z});
                 } else {
-                    const Affine& a = world;
                     xyz.insert(xyz.end(), {a[0] * x + a[1] * y + a[2] * z + a[3],
                                            a[4] * x + a[5] * y + a[6] * z + a[7],
                                            a[8] * x + a[9] * y + a[10] * z + a[11]});
@@ -217,8 +306,9 @@ private:
             }
         }
         ++placed_meshes;
-        return {};
     }
+
+    std::unordered_map<DWORD, ObjectInfo> objects_;
 };
 
 core::Result<RawImport> read_impl(const std::filesystem::path& path) {
@@ -269,15 +359,23 @@ core::Result<RawImport> read_impl(const std::filesystem::path& path) {
     if (NMR::lib3mf_model_getbuilditems(model.get(), items.out()) != LIB3MF_OK) {
         return invalid(last_error(model.get(), "cannot read the build items"));
     }
+    // First every build item's object and what the build expands to; nothing is placed
+    // before the whole build is known to fit.
+    struct Item {
+        DWORD object = 0;
+        Affine world = kIdentity;
+    };
+    std::vector<Item> build;
     Collector collector;
-    std::size_t item_count = 0;
+    std::uint64_t total_triangles = 0;
+    std::uint64_t total_meshes = 0;
+    int deepest = 0;
     while (true) {
         BOOL has_next = false;
         if (NMR::lib3mf_builditemiterator_movenext(items.get(), &has_next) != LIB3MF_OK ||
             !has_next) {
             break;
         }
-        ++item_count;
         Handle item;
         if (NMR::lib3mf_builditemiterator_getcurrent(items.get(), item.out()) != LIB3MF_OK) {
             return invalid(last_error(items.get(), "cannot read a build item"));
@@ -287,7 +385,7 @@ core::Result<RawImport> read_impl(const std::filesystem::path& path) {
             object.get() == nullptr) {
             return invalid(last_error(item.get(), "a build item refers to a missing object"));
         }
-        Affine world = kIdentity;
+        Item placed;
         BOOL has_transform = false;
         NMR::lib3mf_builditem_hasobjecttransform(item.get(), &has_transform);
         if (has_transform) {
@@ -295,11 +393,31 @@ core::Result<RawImport> read_impl(const std::filesystem::path& path) {
             if (NMR::lib3mf_builditem_getobjecttransform(item.get(), &t) != LIB3MF_OK) {
                 return invalid(last_error(item.get(), "cannot read a build item transform"));
             }
-            world = from_lib3mf(t);
+            placed.world = from_lib3mf(t);
         }
-        auto ok = collector.add_object(object.get(), world, 0);
-        if (!ok) return std::unexpected(ok.error());
+        auto id = collector.load(object.get(), 0);
+        if (!id) return std::unexpected(id.error());
+        placed.object = *id;
+        const ObjectInfo& info = collector.info(*id);
+        total_triangles = saturating_add(total_triangles, info.expanded_triangles);
+        total_meshes = saturating_add(total_meshes, info.expanded_meshes);
+        deepest = std::max(deepest, info.height);
+        build.push_back(placed);
     }
+    const std::size_t item_count = build.size();
+    if (total_triangles > kMaxPlacedTriangles) {
+        return invalid(
+            fmt::format("the build places {} triangles once its components are expanded ({} mesh "
+                        "placements, components nested {} deep); maxslice reads at most {} placed "
+                        "triangles: the file multiplies its objects far beyond a part's size",
+                        total_triangles == UINT64_MAX ? std::string("more than 1.8e19")
+                                                      : std::to_string(total_triangles),
+                        total_meshes == UINT64_MAX ? std::string("more than 1.8e19")
+                                                   : std::to_string(total_meshes),
+                        deepest, kMaxPlacedTriangles));
+    }
+    collector.xyz.reserve(9 * static_cast<std::size_t>(total_triangles));
+    for (const Item& item : build) collector.place(item.object, item.world);
     if (item_count == 0) {
         return invalid("no triangles: the 3MF build has no items (nothing is placed to print)");
     }

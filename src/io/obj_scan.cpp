@@ -2,7 +2,9 @@
 // "3.1+e2" as 3.1 and stops, and its index checks report no line; both would let a damaged
 // file through as a different shape or fail without saying where. This pass reads only
 // 'v', 'f', 'p' and 'l' statements, joins lines continued with a trailing backslash, and
-// leaves everything else (groups, materials, texture coordinates) to assimp.
+// leaves everything else (groups, materials, texture coordinates) to assimp. Faces with more
+// corners than the PLY and OFF readers take (kMaxPolygonCorners) are refused here, before
+// anything triangulates them.
 
 #include <fmt/format.h>
 
@@ -11,6 +13,7 @@
 #include <cstdint>
 #include <string>
 
+#include "polygon_soup.hpp"
 #include "readers.hpp"
 
 namespace maxslice::io::detail {
@@ -167,10 +170,13 @@ core::Result<ObjScan> scan_obj(std::string_view text) {
         if (kind == 0) {
             int numbers = 0;
             for (std::string_view t = tokens.next(); !t.empty(); t = tokens.next()) {
-                double value = 0.0;
-                if (!parse_number(t, value)) {
-                    return error_at(st.line,
-                                    fmt::format("vertex coordinate {} is not a number", shown(t)));
+                // assimp holds coordinates as 32-bit floats: a larger number would become
+                // infinite there, so the range is checked here where the line is known.
+                float value = 0.0f;
+                const NumberRead got = parse_number(t, value);
+                if (got != NumberRead::kOk) {
+                    return error_at(st.line, number_problem("vertex coordinate", t, got,
+                                                            /*single_precision=*/true));
                 }
                 if (!std::isfinite(value)) {
                     return error_at(st.line,
@@ -194,6 +200,11 @@ core::Result<ObjScan> scan_obj(std::string_view text) {
                     return std::unexpected(ok.error());
                 }
                 ++corners;
+            }
+            if (keyword == "f" && corners > kMaxPolygonCorners) {
+                return error_at(st.line, fmt::format("face has {} corners; maxslice reads at "
+                                                     "most {} per polygon",
+                                                     corners, kMaxPolygonCorners));
             }
             if (keyword == "p") {
                 scan.points += corners;

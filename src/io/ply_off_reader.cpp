@@ -178,9 +178,10 @@ core::Result<RawImport> read_off_impl(std::string_view text) {
             if (t.empty()) {
                 return invalid(fmt::format("the file ends after {} of {} vertices", i, nv));
             }
-            if (!parse_number(t, c[k])) {
-                return invalid(fmt::format("line {}: vertex coordinate {} is not a number",
-                                           tok.line(), shown(t)));
+            if (const NumberRead got = parse_number(t, c[k]); got != NumberRead::kOk) {
+                return invalid(fmt::format(
+                    "line {}: {}", tok.line(),
+                    number_problem("vertex coordinate", t, got, /*single_precision=*/false)));
             }
             if (!std::isfinite(c[k])) {
                 return invalid(fmt::format("line {}: vertex coordinate {} is not finite",
@@ -520,7 +521,14 @@ core::Result<RawImport> read_ply_impl(std::string_view bytes) {
                     for (std::uint64_t it = 0; it < items; ++it) {
                         if (it > 0) t = tok.next();
                         double value = 0.0;
-                        if (!parse_number(t, value)) {
+                        const NumberRead got =
+                            t.empty() ? NumberRead::kNotANumber : parse_number(t, value);
+                        if (got == NumberRead::kOutOfRange) {
+                            return invalid(where(tok.line()) +
+                                           number_problem("value", t, got,
+                                                          /*single_precision=*/false));
+                        }
+                        if (got != NumberRead::kOk) {
                             return invalid(fmt::format("{}{} is not a number", where(tok.line()),
                                                        t.empty() ? "the end" : shown(t)));
                         }

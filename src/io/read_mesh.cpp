@@ -15,6 +15,12 @@ namespace {
 // Enough to see any format's signature and the first line of an IGES file.
 constexpr std::size_t kSniffBytes = 4096;
 
+// The end of the time-out message of the mesh readers that run in a child (assimp, lib3mf):
+// they do no tessellation, so no option makes them faster.
+constexpr std::string_view kSlowLibraryReader =
+    "the reader took too long on this file, which is damaged or far larger than it looks; "
+    "check it, or export it again";
+
 std::string lower_extension(const std::filesystem::path& path) {
     std::string ext = path.extension().string();
     for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -196,13 +202,13 @@ core::Result<ImportedMesh> read_impl(const std::filesystem::path& path,
             } else {
                 raw = detail::run_isolated(
                     [&] { return detail::read_with_assimp(bytes->view(), *format); },
-                    options.library_time_limit_s, "assimp");
+                    options.library_time_limit_s, "assimp", kSlowLibraryReader);
             }
             break;
         }
         case Format::k3mf:
             raw = detail::run_isolated([&] { return detail::read_3mf(path); },
-                                       options.library_time_limit_s, "lib3mf");
+                                       options.library_time_limit_s, "lib3mf", kSlowLibraryReader);
             break;
         case Format::kStep:
         case Format::kIges: raw = detail::read_cad(path, *format, options); break;
@@ -297,14 +303,8 @@ core::Result<Format> detect_format(const std::filesystem::path& path) {
         auto format = detail::sniff_format(head->view(), size, path);
         if (!format) return std::unexpected(core::with_context(format.error(), context));
         if (*format == Format::kStlAscii || *format == Format::kStlBinary) {
-            // Same rule as the reader: "solid" and no binary bytes in what was read.
-            const bool text = std::none_of(head->view().begin(), head->view().end(), [](char ch) {
-                const auto c = static_cast<unsigned char>(ch);
-                return c < 0x20 && c != '\t' && c != '\n' && c != '\r' && c != '\f' && c != '\v' &&
-                       c != 0x1A;
-            });
-            const std::string_view t = skip_bom_and_space(head->view());
-            return (looks_like_solid(t) && text) ? Format::kStlAscii : Format::kStlBinary;
+            // The reader's rule, on what was read.
+            return detail::stl_is_ascii(head->view()) ? Format::kStlAscii : Format::kStlBinary;
         }
         return format;
     } catch (const std::exception& e) {

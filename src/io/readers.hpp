@@ -71,6 +71,12 @@ private:
 [[nodiscard]] core::Result<Format> sniff_format(std::string_view head, std::uint64_t file_size,
                                                 const std::filesystem::path& path);
 
+/// True when an STL file whose first bytes are `head` is read as ASCII: it starts with
+/// "solid" (after an optional UTF-8 BOM and white space) and either holds no control byte or
+/// has a text first line followed by "facet" or "endsolid" (a damaged text file, refused with
+/// the place of the byte).
+[[nodiscard]] bool stl_is_ascii(std::string_view head);
+
 /// Binary or ASCII STL from the whole file (the two are told apart here, not by sniffing).
 [[nodiscard]] core::Result<RawImport> read_stl(std::string_view bytes);
 /// The same from a file whose first bytes (head) and size are known: ASCII is read whole,
@@ -97,10 +103,12 @@ private:
 
 /// Runs a reader in a forked child process: a crash (signal) or a run longer than
 /// time_limit_s (<= 0: no limit) of the library behind it refuses the file (kInvalidInput)
-/// instead of ending or blocking the program. kIo when the child cannot be started.
+/// instead of ending or blocking the program; `slow_because` ends the time-out message
+/// (what makes this reader slow on a file, and what to do). The child is killed when the
+/// calling thread ends (the program is killed). kIo when the child cannot be started.
 [[nodiscard]] core::Result<RawImport> run_isolated(
     const std::function<core::Result<RawImport>()>& reader, double time_limit_s,
-    std::string_view library);
+    std::string_view library, std::string_view slow_because);
 
 /// Checks an OBJ text before assimp sees it: every 'v' number parses, every face index
 /// points at a vertex. Counts faces with fewer than 3 corners and point/line elements.
@@ -125,9 +133,18 @@ struct ObjScan {
 [[nodiscard]] std::string count_of(std::size_t n, std::string_view singular,
                                    std::string_view plural_form = {});
 
+/// What parse_number found: a number, text that is not one, or a number too large for the
+/// type (underflow reads as zero, which is what the writer meant).
+enum class NumberRead { kOk, kNotANumber, kOutOfRange };
+
 /// Parses a decimal number the way from_chars does, also accepting a leading '+';
-/// the whole token must be the number.
-[[nodiscard]] bool parse_number(std::string_view token, double& value);
-[[nodiscard]] bool parse_number(std::string_view token, float& value);
+/// the whole token must be the number. `value` is set only for kOk.
+[[nodiscard]] NumberRead parse_number(std::string_view token, double& value);
+[[nodiscard]] NumberRead parse_number(std::string_view token, float& value);
+
+/// "<what> '<token>' is not a number", or for kOutOfRange "<what> '<token>' is out of range:
+/// its magnitude is above <the type's largest number>".
+[[nodiscard]] std::string number_problem(std::string_view what, std::string_view token,
+                                         NumberRead why, bool single_precision);
 
 }  // namespace maxslice::io::detail

@@ -75,6 +75,48 @@ bool looks_like_text(std::string_view s) {
     return true;
 }
 
+// The first word after the "solid" line, when that line is text: "facet" or "endsolid" there
+// is what an ASCII writer puts; a binary header that starts with "solid" (80 bytes, then the
+// triangle count) has no reason to.
+bool first_facet_is_text(std::string_view s) {
+    s = skip_bom(s);
+    const std::size_t eol = s.find('\n');
+    if (eol == std::string_view::npos || !looks_like_text(s.substr(0, eol))) return false;
+    std::size_t i = eol + 1;
+    while (i < s.size() && is_space(s[i])) ++i;
+    std::size_t end = i;
+    while (end < s.size() && !is_space(s[end])) ++end;
+    const std::string_view word = s.substr(i, end - i);
+    return iequals(word, "facet") || iequals(word, "endsolid");
+}
+
+// Where a control byte sits in a text that should have none: "line 3, column 7, byte 0x01".
+core::Error control_byte_error(std::string_view text) {
+    std::size_t line = 1;
+    std::size_t column = 1;
+    for (const char ch : text) {
+        const auto c = static_cast<unsigned char>(ch);
+        if (c < 0x20 && c != '\t' && c != '\n' && c != '\r' && c != '\f' && c != '\v' &&
+            c != 0x1A) {
+            return core::Error{
+                core::ErrorCode::kInvalidInput,
+                fmt::format("line {}, column {}: control byte \\x{:02X} in an ASCII STL (the file "
+                            "starts with 'solid' and its first facet is text, so it is read as "
+                            "ASCII); a text file holds no such byte: the file is damaged, export "
+                            "it again",
+                            line, column, c),
+                {}};
+        }
+        if (ch == '\n') {
+            ++line;
+            column = 1;
+        } else {
+            ++column;
+        }
+    }
+    return core::Error{core::ErrorCode::kInternal, "no control byte", {}};
+}
+
 // A token for a message: at most 40 characters, non-printable bytes as \xNN.
 std::string quote(std::string_view token) {
     std::string out = "'";
@@ -359,8 +401,9 @@ private:
         float normal[3] = {0.0f, 0.0f, 0.0f};
         std::string_view tok = lex_.next();
         if (iequals(tok, "normal")) {
-            // Up to three numbers; missing, NaN or zero components are accepted (normals
-            // are ignored), text that is not a number is not.
+            // Up to three numbers; missing, NaN, zero or out-of-range components are
+            // accepted (normals are ignored; those say nothing), text that is not a number
+            // is not.
             for (int k = 0; k < 3; ++k) {
                 const std::string_view t = lex_.peek();
                 if (t.empty() || iequals(t, "outer") || iequals(t, "vertex") ||
@@ -369,7 +412,9 @@ private:
                 }
                 lex_.next();
                 float v = 0.0f;
-                if (!parse_number(t, v)) {
+                const NumberRead got = parse_number(t, v);
+                if (got == NumberRead::kOutOfRange) continue;
+                if (got != NumberRead::kOk) {
                     return error(
                         lex_.line(),
                         fmt::format("facet normal component {} is not a number", quote(t)));
@@ -395,7 +440,13 @@ private:
                 float c[3];
                 for (float& v : c) {
                     const std::string_view t = lex_.next();
-                    if (t.empty() || !parse_number(t, v)) {
+                    const NumberRead got = t.empty() ? NumberRead::kNotANumber : parse_number(t, v);
+                    if (got == NumberRead::kOutOfRange) {
+                        return error(vertex_line, number_problem("vertex coordinate", t, got,
+                                                                 /*single_precision=*/true) +
+                                                      " (ASCII STL holds 32-bit floats)");
+                    }
+                    if (got != NumberRead::kOk) {
                         return error(
                             vertex_line,
                             fmt::format("a vertex needs 3 numbers; found {}",
@@ -438,13 +489,22 @@ private:
 
 }  // namespace
 
+bool stl_is_ascii(std::string_view head) {
+    return starts_with_solid(head) && (looks_like_text(head) || first_facet_is_text(head));
+}
+
 core::Result<RawImport> read_stl(std::string_view bytes) {
     if (bytes.empty()) {
         return core::fail(core::ErrorCode::kInvalidInput, "the file is empty (0 bytes)");
     }
     const bool solid = starts_with_solid(bytes);
     try {
-        if (solid && looks_like_text(bytes)) return AsciiParser(skip_bom(bytes)).parse();
+        if (stl_is_ascii(bytes)) {
+            // Text with a stray control byte is a damaged ASCII file, not a binary one: say
+            // where the byte is rather than measure the text against the binary layout.
+            if (!looks_like_text(bytes)) return std::unexpected(control_byte_error(bytes));
+            return AsciiParser(skip_bom(bytes)).parse();
+        }
         return read_binary_in_memory(bytes, solid);
     } catch (const std::bad_alloc&) {
         return core::fail(core::ErrorCode::kInvalidInput, "not enough memory for the mesh");
@@ -454,7 +514,7 @@ core::Result<RawImport> read_stl(std::string_view bytes) {
 core::Result<RawImport> read_stl_file(const std::filesystem::path& path, std::string_view head,
                                       std::uint64_t size) {
     const bool solid = starts_with_solid(head);
-    if (size <= head.size() || (solid && looks_like_text(head))) {
+    if (size <= head.size() || stl_is_ascii(head)) {
         // Small files and (probable) ASCII: the whole text in memory; read_stl checks again
         // that all of it is text.
         if (size <= head.size()) return read_stl(head);

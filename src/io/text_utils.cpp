@@ -14,32 +14,32 @@ namespace {
 
 // from_chars reports result_out_of_range both for overflow and for underflow below the
 // smallest subnormal; strtod (on a terminated copy) tells the two apart. Underflow reads as
-// zero, which is what the writer meant; overflow is refused.
+// zero, which is what the writer meant; overflow is out of range.
 template <class Real>
-bool parse_out_of_range(std::string_view token, Real& value) {
+NumberRead parse_out_of_range(std::string_view token, Real& value) {
     const std::string copy(token);
     char* end = nullptr;
     const double d = std::strtod(copy.c_str(), &end);
-    if (end != copy.c_str() + copy.size()) return false;
+    if (end != copy.c_str() + copy.size()) return NumberRead::kNotANumber;
     if (std::isinf(d) || std::fabs(d) > static_cast<double>(std::numeric_limits<Real>::max())) {
-        return false;
+        return NumberRead::kOutOfRange;
     }
     value = static_cast<Real>(d);
-    return true;
+    return NumberRead::kOk;
 }
 
 template <class Real>
-bool parse_real(std::string_view token, Real& value) {
+NumberRead parse_real(std::string_view token, Real& value) {
     if (token.size() > 1 && token.front() == '+' && token[1] != '-' && token[1] != '+') {
         token.remove_prefix(1);
     }
-    if (token.empty()) return false;
+    if (token.empty()) return NumberRead::kNotANumber;
     const char* first = token.data();
     const char* last = first + token.size();
     const auto [ptr, ec] = std::from_chars(first, last, value, std::chars_format::general);
-    if (ptr != last) return false;
+    if (ptr != last) return NumberRead::kNotANumber;
     if (ec == std::errc::result_out_of_range) return parse_out_of_range(token, value);
-    return ec == std::errc{};
+    return ec == std::errc{} ? NumberRead::kOk : NumberRead::kNotANumber;
 }
 
 void append_utf8(std::string& out, char32_t cp) {
@@ -86,11 +86,23 @@ std::string count_of(std::size_t n, std::string_view singular, std::string_view 
     return out;
 }
 
-bool parse_number(std::string_view token, double& value) {
+NumberRead parse_number(std::string_view token, double& value) {
     return parse_real(token, value);
 }
-bool parse_number(std::string_view token, float& value) {
+NumberRead parse_number(std::string_view token, float& value) {
     return parse_real(token, value);
+}
+
+std::string number_problem(std::string_view what, std::string_view token, NumberRead why,
+                           bool single_precision) {
+    if (why != NumberRead::kOutOfRange)
+        return fmt::format("{} {} is not a number", what, shown(token));
+    return fmt::format(
+        "{} {} is out of range: its magnitude is above {:.6g}, the largest {} number", what,
+        shown(token),
+        single_precision ? static_cast<double>(std::numeric_limits<float>::max())
+                         : std::numeric_limits<double>::max(),
+        single_precision ? "single-precision (32-bit)" : "double-precision (64-bit)");
 }
 
 std::optional<std::string> utf16_to_utf8(std::string_view bytes) {

@@ -1,10 +1,16 @@
 #include <gtest/gtest.h>
 
+#include <fmt/format.h>
+
+#include <array>
+#include <cmath>
 #include <cstring>
 #include <string>
+#include <vector>
 
 #include "io_test_support.hpp"
 #include "maxslice/io/read_mesh.hpp"
+#include "maxslice/mesh/validation.hpp"
 
 namespace maxslice::io {
 namespace {
@@ -196,6 +202,104 @@ TEST(Assimp, ConcavePolygonIsEarClippedNotFanned) {
     }
     EXPECT_GT(abs_sum, 0.0);
     EXPECT_NEAR(core::norm(sum), abs_sum, 1e-9 * abs_sum);
+}
+
+// A comb in the plane z = 0, counter-clockwise seen from +z: a base strip and `teeth` thin
+// teeth (2 * teeth + 2 corners, all exact in binary); `area` is its shoelace area.
+std::string comb_obj(int teeth, double& area) {
+    std::vector<std::array<double, 2>> corners = {{0.0, -1.0}, {0.25 * teeth, -1.0}};
+    for (int i = teeth; i > 0; --i) {
+        corners.push_back({0.25 * i, 10.0});
+        corners.push_back({0.25 * i - 0.125, 0.0});
+    }
+    std::string text;
+    area = 0.0;
+    for (std::size_t k = 0; k < corners.size(); ++k) {
+        const auto& p = corners[k];
+        const auto& q = corners[(k + 1) % corners.size()];
+        area += 0.5 * (p[0] * q[1] - q[0] * p[1]);
+        text += fmt::format("v {} {} 0\n", p[0], p[1]);
+    }
+    text += "f";
+    for (std::size_t k = 1; k <= corners.size(); ++k) text += " " + std::to_string(k);
+    text += "\n";
+    return text;
+}
+
+TEST(Assimp, LargeConcaveObjFaceIsEarClippedWithoutDegenerateTriangles) {
+    // 8192 corners, the most a polygon may have: cut by the same ear clipping as PLY and OFF
+    // (assimp's own triangulation left thousands of zero-area triangles in this comb).
+    ScratchDir dir;
+    double area = 0.0;
+    const int teeth = 4095;
+    auto r = read_mesh(dir.write("comb.obj", comb_obj(teeth, area)));
+    ASSERT_TRUE(r) << r.error().describe();
+    EXPECT_EQ(r->mesh.triangles.size(), static_cast<std::size_t>(2 * teeth));
+    core::Vec3d sum{};
+    double abs_sum = 0.0;
+    std::size_t degenerate = 0;
+    for (std::size_t t = 0; t < r->mesh.triangles.size(); ++t) {
+        const core::Vec3d a = mesh::area_vector(r->mesh, t);
+        sum += a;
+        abs_sum += core::norm(a);
+        const mesh::Triangle& tri = r->mesh.triangles[t];
+        degenerate += mesh::is_degenerate(r->mesh.vertices[tri[0]], r->mesh.vertices[tri[1]],
+                                          r->mesh.vertices[tri[2]])
+                          ? 1
+                          : 0;
+    }
+    EXPECT_EQ(degenerate, 0u);
+    // area_vector is twice the area: every triangle inside, facing +z, none overlapping.
+    EXPECT_NEAR(0.5 * sum.z, area, 1e-9 * area);
+    EXPECT_NEAR(0.5 * abs_sum, area, 1e-9 * area);
+    EXPECT_TRUE(r->warnings.empty()) << joined(r->warnings);
+}
+
+TEST(Assimp, ObjFaceWithMoreCornersThanTheCapIsRefusedWithItsLine) {
+    // 200,000 corners: refused by the scan (linear), with the count and the cap PLY and OFF
+    // use, before anything triangulates it.
+    ScratchDir dir;
+    const int corners = 200'000;
+    std::string text;
+    text.reserve(static_cast<std::size_t>(corners) * 30);
+    for (int i = 0; i < corners; ++i) {
+        const double a = 6.283185307179586 * i / corners;
+        text += "v " + std::to_string(std::cos(a)) + " " + std::to_string(std::sin(a)) + " 0\n";
+    }
+    text += "f";
+    for (int k = 1; k <= corners; ++k) text += " " + std::to_string(k);
+    text += "\n";
+    auto r = read_mesh(dir.write("huge.obj", text));
+    ASSERT_FALSE(r);
+    EXPECT_EQ(r.error().code, core::ErrorCode::kInvalidInput);
+    EXPECT_TRUE(contains(r.error().message, "line " + std::to_string(corners + 1) +
+                                                ": face has 200000 corners; maxslice reads at "
+                                                "most 8192 per polygon"))
+        << r.error().describe();
+}
+
+TEST(Assimp, ObjCoordinateBeyondFloatRangeIsOutOfRange) {
+    // assimp keeps 32-bit floats: 1e300 is a number, but out of their range (it used to
+    // come back as "a vertex has a NaN or infinite coordinate", with no line).
+    ScratchDir dir;
+    auto r = read_mesh(dir.write("big.obj", "v 0 0 0\nv 1e300 0 0\nv 0 1 0\nf 1 2 3\n"));
+    ASSERT_FALSE(r);
+    EXPECT_TRUE(contains(r.error().message,
+                         "line 2: vertex coordinate '1e300' is out of range: its magnitude is "
+                         "above 3.40282e+38"))
+        << r.error().describe();
+    r = read_mesh(dir.write("x.obj", "v 0 0 0\nv 1x 0 0\nv 0 1 0\nf 1 2 3\n"));
+    ASSERT_FALSE(r);
+    EXPECT_TRUE(contains(r.error().message, "line 2: vertex coordinate '1x' is not a number"))
+        << r.error().describe();
+}
+
+TEST(Assimp, OffCoordinateBeyondDoubleRangeIsOutOfRange) {
+    ScratchDir dir;
+    auto r = read_mesh(dir.write("big.off", "OFF\n3 1 0\n0 0 0\n1e999 0 0\n0 1 0\n3 0 1 2\n"));
+    ASSERT_FALSE(r);
+    EXPECT_TRUE(contains(r.error().message, "line 4: vertex coordinate '1e999' is out of range"))
+        << r.error().describe();
 }
 
 }  // namespace

@@ -1,9 +1,15 @@
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
+#include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <future>
 #include <limits>
 #include <string>
 #include <vector>
@@ -217,7 +223,12 @@ INSTANTIATE_TEST_SUITE_P(
         AsciiError{"inf_vertex", kHead + "vertex 0 0 0\nvertex 0 1 0\nvertex 1 0 inf\n" + kTail,
                    "line 6: vertex coordinate 'inf' is not finite"},
         AsciiError{"overflow", kHead + "vertex 0 0 0\nvertex 0 1 0\nvertex 1 0 1e999\n" + kTail,
-                   "line 6: a vertex needs 3 numbers; found '1e999'"},
+                   "line 6: vertex coordinate '1e999' is out of range"},
+        // A double, but beyond what the 32-bit floats of an STL hold: out of range, with the
+        // value, not "not a number".
+        AsciiError{"beyond_float", kHead + "vertex 0 0 0\nvertex 0 1e300 0\nvertex 1 0 0\n" + kTail,
+                   "line 5: vertex coordinate '1e300' is out of range: its magnitude is above "
+                   "3.40282e+38"},
         AsciiError{"garbage", kHead + "vertex 0 0 0\nvertex 0 1x 0\nvertex 1 0 0\n" + kTail,
                    "line 5: a vertex needs 3 numbers; found '1x'"},
         AsciiError{"two_numbers", kHead + "vertex 0 0\nvertex 0 1 0\nvertex 1 0 0\n" + kTail,
@@ -252,17 +263,55 @@ TEST(StlAscii, MissingEndsolidAndSeveralSolidsAreWarnings) {
     EXPECT_TRUE(contains(r->warnings[0], "2 'solid' blocks"));
 }
 
-TEST(StlAscii, BinaryBytesAfterSolidMeanBinary) {
-    // A file that starts with "solid" but holds control bytes and has no binary layout is
-    // refused as a damaged binary STL, saying why it was not taken as ASCII.
+// The line and column of byte `at` in `text`, as the reader counts them (1-based).
+std::string line_and_column(std::string_view text, std::size_t at) {
+    const std::size_t line = 1 + static_cast<std::size_t>(std::count(
+                                     text.begin(), text.begin() + static_cast<long>(at), '\n'));
+    const std::size_t line_start = text.rfind('\n', at - 1);
+    return "line " + std::to_string(line) + ", column " + std::to_string(at - line_start);
+}
+
+TEST(StlAscii, StrayControlByteIsReportedAsAsciiWithItsPlace) {
+    // A text STL with one stray control byte is a damaged ASCII file: the message says so
+    // and where the byte is, instead of measuring the text against the binary layout
+    // ("damaged binary STL: ... truncated").
     ScratchDir dir;
     std::string bytes = ascii_stl(kTetra);
-    bytes[20] = '\x01';
-    auto r = read_mesh(dir.write("x.stl", bytes));
-    if (r) {
-        GTEST_SKIP() << "size happens to fit the binary layout";
+    const std::size_t at = bytes.find("vertex", bytes.find("facet", 30));
+    ASSERT_NE(at, std::string::npos);
+    bytes.insert(at, 1, '\x01');
+    // Once as it is, once padded so that its size also fits 84 + 50 n (which used to read
+    // the text as binary triangles).
+    for (int padded = 0; padded < 2; ++padded) {
+        std::string file = bytes;
+        if (padded == 1) {
+            const std::size_t pad = (50 - (file.size() - 84) % 50) % 50;
+            file.insert(file.find('\n'), pad, ' ');
+            ASSERT_EQ((file.size() - 84) % 50, 0u);
+        }
+        const std::size_t byte_at = file.find('\x01');
+        auto r = read_mesh(dir.write("x.stl", file));
+        ASSERT_FALSE(r) << "padded " << padded;
+        EXPECT_EQ(r.error().code, core::ErrorCode::kInvalidInput);
+        const std::string& m = r.error().message;
+        EXPECT_TRUE(contains(m, line_and_column(file, byte_at) + ": control byte \\x01 in an "
+                                                                 "ASCII STL"))
+            << r.error().describe();
+        EXPECT_FALSE(contains(m, "binary")) << r.error().describe();
+        auto format = detect_format(dir.path() / "x.stl");
+        ASSERT_TRUE(format);
+        EXPECT_EQ(*format, Format::kStlAscii);
     }
-    EXPECT_TRUE(contains(r.error().message, "starts with 'solid'")) << r.error().describe();
+}
+
+TEST(StlBinary, SolidHeaderWithoutTextFacetStaysBinary) {
+    // A binary header that starts with "solid " and a text-looking first line is still
+    // binary when the next word is not "facet" or "endsolid".
+    ScratchDir dir;
+    auto r = read_mesh(dir.write("b.stl", binary_stl(kTetra, "solid part\nmade by cad", 4)));
+    ASSERT_TRUE(r) << r.error().describe();
+    EXPECT_EQ(r->format, Format::kStlBinary);
+    EXPECT_EQ(r->mesh.triangles.size(), 4u);
 }
 
 TEST(StlWrite, RoundTripKeepsTrianglesAndVolume) {
@@ -309,6 +358,26 @@ TEST(ReadMesh, MissingFileDirectoryAndUnknownFormat) {
     ASSERT_FALSE(r);
     EXPECT_EQ(r.error().code, core::ErrorCode::kInvalidInput);
     EXPECT_TRUE(contains(r.error().message, "empty"));
+}
+
+TEST(ReadMesh, FifoIsRefusedWithoutBlocking) {
+    // Opening a FIFO for reading waits for a writer; the reader must refuse it at once. The
+    // read runs on another thread so that a regression fails here instead of hanging: on a
+    // time-out the test opens the write end itself, which releases the blocked open.
+    ScratchDir dir;
+    const auto fifo = dir.path() / "part.stl";
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    auto pending = std::async(std::launch::async, [&] { return read_mesh(fifo); });
+    if (pending.wait_for(std::chrono::seconds(30)) != std::future_status::ready) {
+        ADD_FAILURE() << "read_mesh blocked on a FIFO";
+        const int fd = ::open(fifo.c_str(), O_WRONLY | O_NONBLOCK);
+        if (fd >= 0) ::close(fd);
+    }
+    auto r = pending.get();
+    ASSERT_FALSE(r);
+    EXPECT_EQ(r.error().code, core::ErrorCode::kIo);
+    EXPECT_TRUE(contains(r.error().message, "not a regular file")) << r.error().describe();
+    EXPECT_FALSE(detect_format(fifo));
 }
 
 TEST(ReadMesh, ContentWinsOverExtension) {
