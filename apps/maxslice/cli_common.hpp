@@ -11,6 +11,9 @@ namespace maxslice::app {
 inline constexpr int kExitOk = 0;
 inline constexpr int kExitInternal = 1;
 inline constexpr int kExitBadInput = 2;
+/// `maxslice verify`: the program was read but is unsafe to run or does not build the part
+/// (docs/verifier.md).
+inline constexpr int kExitRefused = 3;
 
 /// The longest error line printed: a message that quotes a file's bytes is cut there.
 inline constexpr std::size_t kMaxMessageChars = 1000;

@@ -3,6 +3,7 @@
 #include "cli_common.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <CLI/CLI.hpp>
 
 #include <cmath>
@@ -15,6 +16,7 @@
 #include <sstream>
 #include <string_view>
 
+#include "maxslice/core/files.hpp"
 #include "maxslice/core/units.hpp"
 #include "maxslice/io/read_mesh.hpp"
 #include "maxslice/machine/profile.hpp"
@@ -80,6 +82,7 @@ std::optional<core::Vec3d> header_direction(const std::string& text) {
 }
 
 core::Result<std::string> read_text(const std::string& file) {
+    if (auto ok = core::check_input_file(file, "program"); !ok) return std::unexpected(ok.error());
     std::ifstream in(file, std::ios::binary);
     if (!in) return core::fail(core::ErrorCode::kIo, "cannot open", "file " + file);
     std::ostringstream s;
@@ -163,6 +166,14 @@ CLI::App* add_verify_command(CLI::App& app, VerifyCommandOptions& opts) {
         ->check(CLI::NonNegativeNumber);
     cmd->add_option("--units", opts.units,
                     "Unit of the model file's numbers: mm, in, m, cm, um, ft");
+    cmd->add_option("--min-coverage", opts.min_coverage_pct,
+                    "Coverage of the model (percent) the program must reach (default 97, as "
+                    "`slice` builds to)")
+        ->check(CLI::Range(0.0, 100.0));
+    cmd->add_option("--max-excess", opts.max_excess_pct,
+                    "Excess (percent of the model) the program must stay under (default 5, as "
+                    "`slice` builds to)")
+        ->check(CLI::NonNegativeNumber);
     cmd->add_option("--finer", opts.finer,
                     "The program was made with the profile's finer process N "
                     "([[process.finer]]; the job's 'verify with' line names it)")
@@ -179,9 +190,19 @@ int run_verify(const VerifyCommandOptions& opts) {
             machine::with_finer_process(*profiles, opts.finer).error(), "--finer"));
     }
 
+    if (!opts.json_file.empty()) {
+        std::vector<std::filesystem::path> inputs(files.begin(), files.end());
+        inputs.emplace_back(opts.program);
+        inputs.emplace_back(opts.model);
+        if (auto ok = core::check_output_not_input(opts.json_file, "--json", inputs); !ok) {
+            return report_error(ok.error());
+        }
+    }
     verify::VerifySettings settings;
     settings.voxel_mm = opts.voxel_mm;
     settings.clearance_mm = opts.clearance_mm;
+    settings.min_coverage = opts.min_coverage_pct / 100.0;
+    settings.max_excess = opts.max_excess_pct / 100.0;
     if (!opts.dialect.empty()) {
         auto d = verify::parse_dialect(opts.dialect);
         if (!d) return report_error(core::with_context(d.error(), "--dialect"));
@@ -242,22 +263,24 @@ int run_verify(const VerifyCommandOptions& opts) {
                      100.0 * report->excess, 100.0 * report->coverage);
     }
     if (!opts.json_file.empty()) {
-        const std::string json = verify::report_json(*report);
-        std::FILE* f = std::fopen(opts.json_file.c_str(), "wb");
-        if (f == nullptr)
-            return report_error({core::ErrorCode::kIo, "cannot open for writing", opts.json_file});
-        const bool ok = std::fwrite(json.data(), 1, json.size(), f) == json.size();
-        if (std::fclose(f) != 0 || !ok) {
-            return report_error({core::ErrorCode::kIo, "write failed", opts.json_file});
+        if (auto ok = core::write_file_atomic(opts.json_file, verify::report_json(*report)); !ok) {
+            return report_error(core::with_context(ok.error(), "--json"));
         }
     }
-    if (!report->passed()) {
+    if (!report->accepted()) {
+        const bool unsafe = !report->passed(), mismatch = !report->matches_part();
+        std::fprintf(stderr, "maxslice: error: verification failed (%s): the program %s%s%s\n",
+                     fmt::format("{}", fmt::join(verify::failed_checks(*report), ", ")).c_str(),
+                     unsafe ? "is not safe to run" : "", unsafe && mismatch ? " and " : "",
+                     mismatch ? "does not build the part (--min-coverage and --max-excess "
+                                "state other figures)"
+                              : "");
+        return kExitRefused;
+    }
+    if (!report->coverage_judged()) {
         std::fprintf(stderr,
-                     "maxslice: error: verification failed: %zu collisions, %zu unsupported "
-                     "beads, %zu axis-limit violations\n",
-                     report->collisions.count, report->unsupported.count,
-                     report->limit_violations.count);
-        return kExitBadInput;
+                     "maxslice: warning: the model is not closed or has a body inside out: "
+                     "coverage and excess are estimates, and not judged\n");
     }
     return kExitOk;
 }

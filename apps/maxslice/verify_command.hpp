@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "maxslice/verify/verify.hpp"
+
 namespace CLI {
 class App;
 }
@@ -23,6 +25,8 @@ struct VerifyCommandOptions {
     double clearance_mm = 0.0;
     std::string units;
     int finer = 0;  ///< the profile's finer process the program was made with (0: the main one)
+    double min_coverage_pct = 100.0 * verify::kMinCoverage;  ///< --min-coverage
+    double max_excess_pct = 100.0 * verify::kMaxExcess;      ///< --max-excess
 };
 
 /// Adds the `verify` subcommand to `app`, binding its options to `opts` (which must outlive
@@ -30,8 +34,10 @@ struct VerifyCommandOptions {
 CLI::App* add_verify_command(CLI::App& app, VerifyCommandOptions& opts);
 
 /// Runs the verification: prints the text report on stdout, writes the JSON report when asked.
-/// Exit code: 0 when the program passes, 2 when it fails the checks or the input is bad (with a
-/// message on stderr), 1 for an internal error.
+/// Exit code (docs/verifier.md): 0 when the program is safe and builds the part, 3
+/// (kExitRefused) when it is unsafe (Report::passed()) or does not build the part
+/// (Report::matches_part()), 2 when the input is bad (with a message on stderr), 1 for an
+/// internal error.
 int run_verify(const VerifyCommandOptions& opts);
 
 }  // namespace maxslice::app

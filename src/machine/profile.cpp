@@ -835,11 +835,12 @@ core::Result<void> check_block(std::string_view key, std::size_t index, std::str
         i = close;
     }
     if (const auto word = motion_word(block)) {
-        return core::fail(ErrorCode::kInvalidInput,
-                          fmt::format("{} moves the machine ({}): a code block may switch the "
-                                      "laser and powder, not move (write moves in the program; "
-                                      "the verifier replays only the program's moves)",
-                                      where, *word));
+        return core::fail(
+            ErrorCode::kInvalidInput,
+            fmt::format("{} moves the machine ({}): a code block may switch the "
+                        "laser and powder, not move (the planner does not plan a move "
+                        "written there: put moves in the program)",
+                        where, *word));
     }
     return {};
 }

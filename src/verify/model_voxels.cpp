@@ -81,9 +81,13 @@ ModelVoxels voxelize_model(const mesh::TriangleMesh& mesh, const core::Vec3d& or
         const int j = static_cast<int>(hits[s].column % static_cast<std::uint32_t>(ny));
         int winding = 0;
         double enter = 0.0;
+        bool inverted = false;
         for (std::size_t h = s; h < e; ++h) {
             const int before = winding;
             winding += hits[h].sign;
+            // Below 0 once every crossing at this height is counted (an edge seen from below
+            // is left and entered at the same height).
+            if (winding < 0 && (h + 1 == e || hits[h + 1].z != hits[h].z)) inverted = true;
             if (before <= 0 && winding > 0) enter = hits[h].z;
             if (before > 0 && winding <= 0) {
                 const int k0 = std::max(0, ceil_index((enter - origin.z) / voxel - 0.5));
@@ -93,6 +97,7 @@ ModelVoxels voxelize_model(const mesh::TriangleMesh& mesh, const core::Vec3d& or
         }
         ++out.columns;
         if (winding != 0) ++out.open_columns;
+        if (inverted) ++out.inverted_columns;
         s = e;
     }
     return out;

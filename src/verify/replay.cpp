@@ -12,6 +12,8 @@
 #include <string>
 #include <utility>
 
+#include "maxslice/core/files.hpp"
+
 namespace maxslice::verify {
 namespace {
 
@@ -20,6 +22,17 @@ using core::Vec3d;
 
 /// A power written with 2 decimals is "on" when it exceeds the off power by more than this.
 constexpr double kPowerOnMarginW = 1e-6;
+/// Powers and powder feeds are written with 2 decimals, feeds with 1: a value within half the
+/// last digit of a range's end lies in the range.
+constexpr double kTwoDecimalsSlack = 0.005;
+constexpr double kOneDecimalSlack = 0.05;
+/// The longest piece of a program line quoted in a message.
+constexpr std::size_t kQuotedChars = 80;
+
+// Program bytes for a message: control and non-ASCII bytes escaped, long text cut.
+std::string quote_block(std::string_view s) {
+    return core::printable(s, kQuotedChars);
+}
 
 core::Error line_error(int line, ErrorCode code, std::string message) {
     return core::Error{code, std::move(message), fmt::format("line {}", line)};
@@ -101,10 +114,17 @@ std::string normalize_template(std::string_view s) {
     return out;
 }
 
-// Matches a normalized line against a template; `power_w` receives the laser power that a
-// {power} or {power_pct} placeholder stands for.
+// The values a matched template's placeholders stood for.
+struct Captured {
+    std::optional<double> power_w;  // {power}, or {power_pct} in W
+    bool power_pct = false;         // it was a {power_pct}
+    std::optional<double> powder_g_min;
+};
+
+// Matches a normalized line against a template; `got` receives the laser power that a {power}
+// or {power_pct} placeholder stands for and the powder feed of a {powder}.
 bool match_template(const TemplateLine& t, std::string_view line, double power_max_w,
-                    std::optional<double>& power_w) {
+                    Captured& got) {
     std::size_t i = 0, j = 0;
     const std::string_view tt = t.text;
     while (i < tt.size()) {
@@ -113,8 +133,12 @@ bool match_template(const TemplateLine& t, std::string_view line, double power_m
             const std::string_view name = tt.substr(i + 1, close - i - 1);
             const auto v = parse_number(line, j);
             if (!v) return false;
-            if (name == "power") power_w = *v;
-            if (name == "power_pct") power_w = *v * power_max_w / 100.0;
+            if (name == "power") got.power_w = *v;
+            if (name == "power_pct") {
+                got.power_w = *v * power_max_w / 100.0;
+                got.power_pct = true;
+            }
+            if (name == "powder") got.powder_g_min = *v;
             i = close + 1;
             continue;
         }
@@ -198,6 +222,12 @@ public:
             if (auto ok = line_(line, line_no, out); !ok) return std::unexpected(ok.error());
         }
         int lines = line_no;
+        out.end_code = ended_;
+        out.last_line = line_no;
+        out.cut = !ended_ && !text.empty() && text.back() != '\n';
+        out.laser_on_at_end = laser_on_;
+        out.powder_on_at_end = powder_on_;
+        out.end_tip_mm = kin_.forward(pose_).tip_mm;
         // Lines after the end code are counted but not read (the controller stops there).
         while (pos < text.size()) {
             std::size_t eol = text.find('\n', pos);
@@ -221,7 +251,7 @@ private:
                 return std::unexpected(line_error(line_no, ErrorCode::kInvalidInput,
                                                   "gm line must start with the power and powder "
                                                   "columns: '" +
-                                                      std::string(raw) + "'"));
+                                                      quote_block(raw) + "'"));
             }
             while (p < block.size() && is_space(block[p])) ++p;
             const auto powder = parse_number(block, p);
@@ -229,11 +259,14 @@ private:
                 return std::unexpected(line_error(line_no, ErrorCode::kInvalidInput,
                                                   "gm line must start with the power and powder "
                                                   "columns: '" +
-                                                      std::string(raw) + "'"));
+                                                      quote_block(raw) + "'"));
             }
             const bool on = *power > profiles_.process.laser_power_off_w + kPowerOnMarginW;
+            check_power(*power, false, on, line_no, out);
+            check_powder(*powder, line_no, out);
             set_laser(on, out);
             if (on) note_power(*power, out);
+            powder_on_ = *powder > 0.0;
             block = block.substr(p);
         }
         if (auto ok = strip_comments(block, line_no, stripped_); !ok) {
@@ -243,10 +276,76 @@ private:
         const std::string& norm = norm_;
         if (norm.empty()) return {};
         if (dialect_ == ProgramDialect::kFanuc && norm == "%") return {};
-        if (match_codes(norm, out)) return {};
+        if (match_codes(norm, line_no, out)) return replay_template_motion(norm, line_no, raw, out);
         auto words = parse_words(norm, line_no);
         if (!words) return std::unexpected(words.error());
         return apply(*words, line_no, raw, out);
+    }
+
+    // A line that matched a code template is a switch; whatever motion it also carries is
+    // replayed, so that no move the machine makes goes unchecked (profile validation refuses
+    // such templates; a profile made in code, or a hand-edited one, may still have them). A
+    // macro call's (G65 / G66) words are its arguments; a line that is not plain words ($
+    // variables, names) moves nothing the replay could read, and the profile check refuses
+    // motion there.
+    core::Result<void> replay_template_motion(const std::string& norm, int line_no,
+                                              std::string_view raw, Replay& out) {
+        auto words = parse_words(norm, line_no);
+        if (!words || words->has_g(65) || words->has_g(66)) return {};
+        bool moves = false;
+        for (const double g : words->g) moves = moves || g < 4.0;
+        for (const char c : std::string_view("XYZABCUVWIJK")) moves = moves || (*words)[c];
+        if (!moves) return {};
+        words->m.count = 0;  // the switch, done by match_codes
+        return apply(*words, line_no, raw, out);
+    }
+
+    // A laser power read from the program: below 0 or above the machine's maximum, or
+    // switching on below its minimum, is out of range.
+    void check_power(double w, bool pct, bool on, int line_no, Replay& out) {
+        const auto& m = profiles_.machine;
+        const double slack =
+            pct ? kTwoDecimalsSlack * m.laser_power_max_w / 100.0 : kTwoDecimalsSlack;
+        if (w < -slack) {
+            out_of_range(line_no, fmt::format("laser power {:.2f} W is below 0", w), out);
+        } else if (w > m.laser_power_max_w + slack) {
+            out_of_range(line_no,
+                         fmt::format("laser power {:.2f} W is above machine.laser_power_max_w = "
+                                     "{:.2f}",
+                                     w, m.laser_power_max_w),
+                         out);
+        } else if (on && w < m.laser_power_min_w - slack) {
+            out_of_range(line_no,
+                         fmt::format("laser power {:.2f} W is below machine.laser_power_min_w = "
+                                     "{:.2f}",
+                                     w, m.laser_power_min_w),
+                         out);
+        }
+    }
+
+    void check_powder(double g, int line_no, Replay& out) {
+        const double max = profiles_.machine.powder_feed_max_g_min;
+        if (g < -kTwoDecimalsSlack) {
+            out_of_range(line_no, fmt::format("powder feed {:.2f} g/min is below 0", g), out);
+        } else if (g > max + kTwoDecimalsSlack) {
+            out_of_range(line_no,
+                         fmt::format("powder feed {:.2f} g/min is above "
+                                     "machine.powder_feed_max_g_min = {:.2f}",
+                                     g, max),
+                         out);
+        }
+    }
+
+    // One finding per line: the first out-of-range value of a line counts.
+    void out_of_range(int line_no, std::string detail, Replay& out) {
+        if (line_no == out_of_range_line_) return;
+        out_of_range_line_ = line_no;
+        ReplayFault& f = out.out_of_range;
+        if (f.count++ == 0) {
+            f.line = line_no;
+            f.tip_mm = kin_.forward(pose_).tip_mm;
+            f.detail = std::move(detail);
+        }
     }
 
     // The block without its comments, into `out` (a buffer reused from line to line).
@@ -290,23 +389,36 @@ private:
         laser_on_ = on;
     }
 
-    // A line that is one of the profile's code blocks: sets the laser state and returns true.
-    bool match_codes(const std::string& norm, Replay& out) {
+    // A line that is one of the profile's code blocks: sets the laser and powder state, checks
+    // the values it sets and returns true.
+    bool match_codes(const std::string& norm, int line_no, Replay& out) {
         for (const bool literal : {true, false}) {
             bool matched = false;
             for (const TemplateLine& t : templates_) {
                 if (t.literal != literal) continue;
-                std::optional<double> power;
-                if (!match_template(t, norm, profiles_.machine.laser_power_max_w, power)) continue;
+                Captured got;
+                if (!match_template(t, norm, profiles_.machine.laser_power_max_w, got)) continue;
                 matched = true;
-                if (dialect_ == ProgramDialect::kGm) continue;  // gm: the power column rules
-                if (t.role == Role::kLaserOn) {
-                    const bool on =
-                        !power || *power > profiles_.process.laser_power_off_w + kPowerOnMarginW;
-                    set_laser(on, out);
-                    if (on && power) note_power(*power, out);
-                } else if (t.role == Role::kLaserOff) {
-                    set_laser(false, out);
+                const bool on = !got.power_w || *got.power_w > profiles_.process.laser_power_off_w +
+                                                                   kPowerOnMarginW;
+                if (got.power_w) {
+                    check_power(*got.power_w, got.power_pct, t.role == Role::kLaserOn && on,
+                                line_no, out);
+                }
+                if (got.powder_g_min) check_powder(*got.powder_g_min, line_no, out);
+                if (dialect_ == ProgramDialect::kGm) continue;  // gm: the columns rule
+                switch (t.role) {
+                    case Role::kLaserOn:
+                        set_laser(on, out);
+                        if (on && got.power_w) note_power(*got.power_w, out);
+                        break;
+                    case Role::kLaserOff: set_laser(false, out); break;
+                    case Role::kPowderOn:
+                        powder_on_ = !got.powder_g_min || *got.powder_g_min > 0.0;
+                        break;
+                    case Role::kPowderOff: powder_on_ = false; break;
+                    case Role::kStart:
+                    case Role::kEnd: break;
                 }
             }
             if (matched) return true;
@@ -323,9 +435,10 @@ private:
                 continue;
             }
             if (!is_alpha(s[p])) {
-                return std::unexpected(
-                    line_error(line_no, ErrorCode::kInvalidInput,
-                               fmt::format("unexpected '{}' in block '{}'", s[p], s)));
+                return std::unexpected(line_error(
+                    line_no, ErrorCode::kInvalidInput,
+                    fmt::format("unexpected '{}' in block '{}'",
+                                quote_block(std::string_view(s).substr(p, 1)), quote_block(s))));
             }
             std::size_t q = p;
             while (q < s.size() && is_alpha(s[q])) ++q;
@@ -336,10 +449,10 @@ private:
                 } else if (dialect_ == ProgramDialect::kSiemens && kw == "TRAFOOF") {
                     w.trafoof = true;
                 } else {
-                    return std::unexpected(
-                        line_error(line_no, ErrorCode::kInvalidInput,
-                                   fmt::format("unknown word '{}' for dialect {} in block '{}'", kw,
-                                               dialect_name(dialect_), s)));
+                    return std::unexpected(line_error(
+                        line_no, ErrorCode::kInvalidInput,
+                        fmt::format("unknown word '{}' for dialect {} in block '{}'",
+                                    quote_block(kw), dialect_name(dialect_), quote_block(s))));
                 }
                 p = q;
                 continue;
@@ -349,29 +462,32 @@ private:
             while (p < s.size() && s[p] == ' ') ++p;
             const auto v = parse_number(s, p);
             if (!v || (p < s.size() && !is_alpha(s[p]) && s[p] != ' ')) {
-                return std::unexpected(line_error(
-                    line_no, ErrorCode::kInvalidInput,
-                    fmt::format("malformed number after '{}' in block '{}'", letter, s)));
+                return std::unexpected(
+                    line_error(line_no, ErrorCode::kInvalidInput,
+                               fmt::format("malformed number after '{}' in block '{}'", letter,
+                                           quote_block(s))));
             }
             const auto too_many = [&] {
-                return std::unexpected(line_error(line_no, ErrorCode::kInvalidInput,
-                                                  fmt::format("more than {} {} codes in block '{}'",
-                                                              Codes<int>::kMax, letter, s)));
+                return std::unexpected(
+                    line_error(line_no, ErrorCode::kInvalidInput,
+                               fmt::format("more than {} {} codes in block '{}'", Codes<int>::kMax,
+                                           letter, quote_block(s))));
             };
             if (letter == 'G') {
                 if (!w.g.push(*v)) return too_many();
             } else if (letter == 'M') {
                 if (*v != std::floor(*v)) {
-                    return std::unexpected(line_error(line_no, ErrorCode::kInvalidInput,
-                                                      fmt::format("malformed M code in '{}'", s)));
+                    return std::unexpected(
+                        line_error(line_no, ErrorCode::kInvalidInput,
+                                   fmt::format("malformed M code in '{}'", quote_block(s))));
                 }
                 if (!w.m.push(static_cast<int>(*v))) return too_many();
             } else {
                 auto& slot = w.value[static_cast<std::size_t>(letter - 'A')];
                 if (slot) {
-                    return std::unexpected(
-                        line_error(line_no, ErrorCode::kInvalidInput,
-                                   fmt::format("word {} twice in block '{}'", letter, s)));
+                    return std::unexpected(line_error(
+                        line_no, ErrorCode::kInvalidInput,
+                        fmt::format("word {} twice in block '{}'", letter, quote_block(s))));
                 }
                 slot = *v;
             }
@@ -382,7 +498,7 @@ private:
     core::Result<void> apply(const Words& w, int line_no, std::string_view raw, Replay& out) {
         const auto fail = [&](ErrorCode code, std::string msg) -> core::Result<void> {
             return std::unexpected(
-                line_error(line_no, code, msg + " in '" + std::string(normalize(raw)) + "'"));
+                line_error(line_no, code, msg + " in '" + quote_block(normalize(raw)) + "'"));
         };
         const bool fanuc = dialect_ == ProgramDialect::kFanuc;
         const bool siemens = dialect_ == ProgramDialect::kSiemens;
@@ -496,6 +612,17 @@ private:
         if (!axes) return {};
         if (!motion_) return fail(ErrorCode::kInvalidInput, "axis words before any G0 / G1");
         if (!*motion_ && feed_ <= 0.0) return fail(ErrorCode::kInvalidInput, "G1 without a feed");
+        if (!*motion_) {
+            const auto& m = profiles_.machine;
+            if (feed_ < m.feed_min_mm_min - kOneDecimalSlack ||
+                feed_ > m.feed_max_mm_min + kOneDecimalSlack) {
+                out_of_range(line_no,
+                             fmt::format("G1 feed F{:.1f} outside [machine.feed_min_mm_min, "
+                                         "feed_max_mm_min] = [{:.1f}, {:.1f}]",
+                                         feed_, m.feed_min_mm_min, m.feed_max_mm_min),
+                             out);
+            }
+        }
 
         ReplayBlock b;
         b.line = line_no;
@@ -556,6 +683,8 @@ private:
     std::optional<bool> motion_;
     double feed_ = 0.0;
     bool laser_on_ = false;
+    bool powder_on_ = false;
+    int out_of_range_line_ = 0;  // the line last counted in Replay::out_of_range
     bool tcp_ = false;
     bool ended_ = false;
     std::string stripped_, norm_;  // the line being read, reused

@@ -1,7 +1,10 @@
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <iterator>
 #include <string>
+#include <string_view>
+#include <vector>
 
 #include "maxslice/verify/verify.hpp"
 
@@ -52,6 +55,37 @@ std::string finding_text(std::string_view name, const Finding& f) {
                        f.first->detail);
 }
 
+// "coverage 44.00% below 97.00%; excess 74.00% not under 5.00%", or why the program does not
+// match its part otherwise; "" when it matches.
+std::string match_text(const Report& r) {
+    if (r.deposits_nothing()) {
+        return r.deposit_moves == 0
+                   ? "the program deposits nothing"
+                   : fmt::format(
+                         "the program's beads fill no voxel of {:.4f} mm (deposits "
+                         "nothing measurable: is the model's unit or the voxel right?)",
+                         r.voxel_mm);
+    }
+    std::string out;
+    if (r.coverage_low()) {
+        out = fmt::format("coverage {:.2f}% below {:.2f}%", 100.0 * r.coverage,
+                          100.0 * r.min_coverage);
+    }
+    if (r.excess_high()) {
+        out += fmt::format("{}excess {:.2f}% not under {:.2f}%", out.empty() ? "" : "; ",
+                           100.0 * r.excess, 100.0 * r.max_excess);
+    }
+    return out;
+}
+
+std::string checks_json(const std::vector<std::string_view>& checks) {
+    std::string out = "[";
+    for (std::size_t i = 0; i < checks.size(); ++i) {
+        out += fmt::format("{}\"{}\"", i > 0 ? ", " : "", checks[i]);
+    }
+    return out + "]";
+}
+
 }  // namespace
 
 std::string report_json(const Report& r) {
@@ -59,7 +93,10 @@ std::string report_json(const Report& r) {
     const auto field = [&](std::string_view key, const std::string& value, bool last = false) {
         out += fmt::format("  \"{}\": {}{}\n", key, value, last ? "" : ",");
     };
-    field("passed", r.passed() ? "true" : "false");
+    field("passed", r.accepted() ? "true" : "false");
+    field("safe", r.passed() ? "true" : "false");
+    field("matches_part", r.matches_part() ? "true" : "false");
+    field("failed_checks", checks_json(failed_checks(r)));
     field("dialect", json_string(r.dialect));
     field("kinematics", json_string(r.machine_kinematics));
     field("lines", std::to_string(r.lines));
@@ -75,6 +112,9 @@ std::string report_json(const Report& r) {
     field("unsupported", finding_json(r.unsupported));
     field("unsupported_length_mm", num(r.unsupported_length_mm, 3));
     field("limit_violations", finding_json(r.limit_violations));
+    field("out_of_range", finding_json(r.out_of_range));
+    field("unfinished", finding_json(r.unfinished));
+    field("left_on", finding_json(r.left_on));
     field("substrate", r.substrate ? "true" : "false");
     field("below_plate", finding_json(r.below_plate));
     field("below_plate_mm", num(r.below_plate_mm, 3));
@@ -86,6 +126,10 @@ std::string report_json(const Report& r) {
     field("excess", num(r.excess, 6));
     field("model_open_columns", std::to_string(r.model_open_columns));
     field("model_columns", std::to_string(r.model_columns));
+    field("model_inverted_columns", std::to_string(r.model_inverted_columns));
+    field("coverage_judged", r.coverage_judged() ? "true" : "false");
+    field("min_coverage", num(r.min_coverage, 6));
+    field("max_excess", num(r.max_excess, 6));
     field("deposition_length_mm", num(r.deposition_length_mm, 3));
     field("idle_length_mm", num(r.idle_length_mm, 3));
     field("rotary_travel_deg", num(r.rotary_travel_deg, 3));
@@ -101,7 +145,12 @@ std::string report_json(const Report& r) {
 std::string report_text(const Report& r) {
     std::string out;
     auto it = std::back_inserter(out);
-    fmt::format_to(it, "verification    {}\n", r.passed() ? "PASSED" : "FAILED");
+    const std::vector<std::string_view> failed = failed_checks(r);
+    if (failed.empty()) {
+        out += "verification    PASSED\n";
+    } else {
+        fmt::format_to(it, "verification    FAILED ({})\n", fmt::join(failed, ", "));
+    }
     fmt::format_to(it,
                    "program         {} lines, {} moves ({} depositing), {} laser-on, "
                    "dialect {}, kinematics {}\n",
@@ -112,10 +161,12 @@ std::string report_text(const Report& r) {
     if (r.default_nozzle) {
         out += "nozzle          no [machine.nozzle] in the profile: default cone (30 deg, 40 mm)\n";
     }
-    if (r.deposit_moves == 0) out += "note            the program deposits nothing\n";
     out += finding_text("collisions", r.collisions);
     out += finding_text("unsupported", r.unsupported);
     out += finding_text("axis limits", r.limit_violations);
+    out += finding_text("out of range", r.out_of_range);
+    if (r.unfinished.count > 0) out += finding_text("unfinished", r.unfinished);
+    if (r.left_on.count > 0) out += finding_text("left on", r.left_on);
     if (r.below_plate.count > 0) {
         fmt::format_to(it,
                        "plate level     the head reaches up to {:.1f} mm below the plate's level "
@@ -134,6 +185,20 @@ std::string report_text(const Report& r) {
                        "model           not closed: {} of {} voxel columns cross its surface "
                        "unevenly; coverage and excess are estimates\n",
                        r.model_open_columns, r.model_columns);
+    }
+    if (r.model_inverted_columns > 0) {
+        fmt::format_to(it,
+                       "model           inside out in {} of {} voxel columns (a body facing "
+                       "inwards): coverage and excess are estimates\n",
+                       r.model_inverted_columns, r.model_columns);
+    }
+    if (const std::string why = match_text(r); !why.empty()) {
+        fmt::format_to(it, "part match      no: {}\n", why);
+    } else if (!r.coverage_judged()) {
+        out += "part match      not judged: the verifier cannot tell the model's inside\n";
+    } else {
+        fmt::format_to(it, "part match      yes (coverage >= {:.2f}%, excess < {:.2f}%)\n",
+                       100.0 * r.min_coverage, 100.0 * r.max_excess);
     }
     fmt::format_to(it, "deposition      {:.1f} mm, bead height {:.3f} - {:.3f} mm\n",
                    r.deposition_length_mm, r.bead_height_min_mm, r.bead_height_max_mm);

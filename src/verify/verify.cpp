@@ -101,6 +101,9 @@ public:
         rep.lines = replay.line_count;
         rep.laser_on_count = replay.laser_on_count;
         rep.clearance_mm = settings_.clearance_mm;
+        rep.min_coverage = settings_.min_coverage;
+        rep.max_excess = settings_.max_excess;
+        note_program_faults(replay, rep);
         if (auto ok = setup_grid(replay, model, rep); !ok) return std::unexpected(ok.error());
         // The model's voxels are needed only for the volumes at the end: they are made on
         // another core while the program is replayed.
@@ -192,6 +195,32 @@ public:
     }
 
 private:
+    // What the replay found in the program's values and its end (not in its geometry).
+    static void note_program_faults(const Replay& replay, Report& rep) {
+        if (const ReplayFault& f = replay.out_of_range; f.count > 0) {
+            rep.out_of_range = Finding{f.count, Location{f.line, f.tip_mm, f.detail}};
+        }
+        const bool needs_end_code = replay.dialect != ProgramDialect::kGm;
+        if (replay.cut || (needs_end_code && !replay.end_code)) {
+            std::string what =
+                replay.cut ? "the last line has no line break: the program is cut off" : "";
+            if (needs_end_code && !replay.end_code) {
+                what +=
+                    fmt::format("{}the program ends without M2 or M30", what.empty() ? "" : "; ");
+            }
+            rep.unfinished = Finding{1, Location{replay.last_line, replay.end_tip_mm, what}};
+        }
+        if (replay.laser_on_at_end || replay.powder_on_at_end) {
+            const std::string what =
+                replay.laser_on_at_end && replay.powder_on_at_end
+                    ? "the laser and the powder are"
+                    : (replay.laser_on_at_end ? "the laser is" : "the powder is");
+            rep.left_on =
+                Finding{1, Location{replay.last_line, replay.end_tip_mm,
+                                    what + " still on after the program's last line read"}};
+        }
+    }
+
     core::Result<void> setup_grid(const Replay& replay, const mesh::TriangleMesh& model,
                                   Report& rep) {
         core::Box3d box = mesh::bounding_box(model);
@@ -619,6 +648,7 @@ private:
         rep.excess_volume_mm3 = static_cast<double>(n_dep - n_both) * v3;
         rep.model_columns = model_.columns;
         rep.model_open_columns = model_.open_columns;
+        rep.model_inverted_columns = model_.inverted_columns;
         rep.coverage =
             n_model > 0 ? static_cast<double>(n_both) / static_cast<double>(n_model) : 0.0;
         rep.excess =
@@ -668,6 +698,24 @@ private:
 
 }  // namespace
 
+std::vector<std::string_view> failed_checks(const Report& r) {
+    std::vector<std::string_view> out;
+    const std::pair<const Finding*, std::string_view> findings[] = {
+        {&r.collisions, "collisions"},
+        {&r.unsupported, "unsupported"},
+        {&r.limit_violations, "limit_violations"},
+        {&r.out_of_range, "out_of_range"},
+        {&r.unfinished, "unfinished"},
+        {&r.left_on, "left_on"}};
+    for (const auto& [f, name] : findings) {
+        if (f->count > 0) out.push_back(name);
+    }
+    if (r.deposits_nothing()) out.push_back("nothing_deposited");
+    if (r.coverage_low()) out.push_back("coverage");
+    if (r.excess_high()) out.push_back("excess");
+    return out;
+}
+
 core::Result<mesh::TriangleMesh> place_model(mesh::TriangleMesh model,
                                              const core::Vec3d& base_direction,
                                              const machine::MachineProfile& machine) {
@@ -691,6 +739,14 @@ core::Result<Report> verify_program(std::string_view program_text,
         !std::isfinite(settings.clearance_mm)) {
         return core::fail(ErrorCode::kInvalidInput,
                           "verify settings: voxel, sample, clearance must be finite and >= 0",
+                          "verify settings");
+    }
+    if (!(settings.min_coverage >= 0.0 && settings.min_coverage <= 1.0) ||
+        !(settings.max_excess >= 0.0) || !std::isfinite(settings.max_excess)) {
+        return core::fail(ErrorCode::kInvalidInput,
+                          fmt::format("verify settings: the coverage to reach ({}) must lie in "
+                                      "[0, 1] and the excess bound ({}) be finite and >= 0",
+                                      settings.min_coverage, settings.max_excess),
                           "verify settings");
     }
     ProgramDialect dialect = ProgramDialect::kGm;

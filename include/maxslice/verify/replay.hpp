@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -50,6 +51,15 @@ struct ReplayBlock {
     double dwell_s = 0.0;       ///< kDwell: seconds
 };
 
+/// A fault the replay found in the program's values or its end: how many lines have it and the
+/// first one.
+struct ReplayFault {
+    std::size_t count = 0;
+    int line = 0;        ///< 1-based line of the first one
+    core::Vec3d tip_mm;  ///< part-frame tool tip there
+    std::string detail;  ///< what was found, for a person (program bytes escaped and cut)
+};
+
 /// A parsed program: its blocks that move or wait, in order.
 struct Replay {
     ProgramDialect dialect = ProgramDialect::kGm;
@@ -61,6 +71,20 @@ struct Replay {
     /// template's {power} or {power_pct}. Empty when the program names none; after 16
     /// distinct ones, a NaN stands for the rest.
     std::vector<double> laser_powers_w;
+    /// Lines that set a laser power, a powder feed or a G1 feed outside the machine's ranges:
+    /// a power below 0 or above machine.laser_power_max_w, or one that switches the laser on
+    /// below laser_power_min_w; a powder feed below 0 or above powder_feed_max_g_min; the feed
+    /// of a G1 block outside [feed_min_mm_min, feed_max_mm_min] (deg/min for a rotary-only
+    /// block, as the controller reads F). Values within the written rounding pass.
+    ReplayFault out_of_range;
+    bool end_code = false;  ///< M2 or M30 was read (lines after it are not)
+    /// The text does not end with a line break and no end code came before its last line: the
+    /// program was cut off in the middle of a line.
+    bool cut = false;
+    bool laser_on_at_end = false;   ///< the laser is on after the last line read
+    bool powder_on_at_end = false;  ///< the powder is on after the last line read
+    int last_line = 0;              ///< the last line read (the end code's, else the last one)
+    core::Vec3d end_tip_mm;         ///< part-frame tool tip after the last line read
 };
 
 /// Which of the profile's processes made a program, by the laser powers it deposits with:
@@ -83,10 +107,17 @@ struct Replay {
 /// marked pose_known = false). The laser is on: gm, when a line's power column exceeds
 /// process.laser_power_off_w; other dialects, after a line matching a block of the profile's
 /// `[machine.codes]` laser_on template (placeholders stand for numbers; a `{power}` at or below
-/// the off power counts as off) until one matching laser_off. Literal template blocks win over
-/// ones with placeholders. Errors (kInvalidInput, kUnsupported for G20, G91, G93 ...), with
-/// context "line N": malformed numbers, unknown words or codes, axis words the machine lacks,
-/// a motion block before any G0 / G1, tool centre point words in a joint-space dialect.
+/// the off power counts as off) until one matching laser_off; powder likewise (gm's powder
+/// column above 0, or the powder_on / powder_off templates, a `{powder}` of 0 counting as
+/// off). Literal template blocks win over ones with placeholders. A line that matches a
+/// template is a switch, and the motion words it carries (G0 / G1, axis words; not the
+/// arguments of a G65 / G66 macro call) are replayed as well: nothing the machine would
+/// execute is skipped (profile validation refuses such templates; decision 0022). Errors
+/// (kInvalidInput, kUnsupported for G20, G91, G93 ...), with context "line N": malformed numbers,
+/// unknown words or codes, axis words the machine lacks, a motion block before any G0 / G1, tool
+/// centre point words in a joint-space dialect. The program's bytes quoted in a message are escaped
+/// and cut (core::printable). Out-of-range values and the end of the program are not errors: they
+/// are noted in the Replay.
 [[nodiscard]] core::Result<Replay> replay_program(std::string_view program_text,
                                                   const machine::Profiles& profiles,
                                                   ProgramDialect dialect);

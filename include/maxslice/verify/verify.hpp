@@ -14,6 +14,11 @@
 
 namespace maxslice::verify {
 
+/// The coverage a program must reach and the excess it must stay under to match its part: the
+/// figures `maxslice slice` builds to (docs/verifier.md, decision 0022).
+inline constexpr double kMinCoverage = 0.97;
+inline constexpr double kMaxExcess = 0.05;
+
 /// How to verify a program (docs/verifier.md).
 struct VerifySettings {
     /// Voxel edge in mm; 0 = automatic: min(track / 4, h_min / 2), coarsened until the grid
@@ -29,6 +34,10 @@ struct VerifySettings {
     double clearance_mm = 0.0;
     /// The program's dialect; unset = the machine profile's.
     std::optional<ProgramDialect> dialect;
+    /// Report::matches_part(): coverage at least this, [0, 1] ...
+    double min_coverage = kMinCoverage;
+    /// ... and excess below this, >= 0.
+    double max_excess = kMaxExcess;
 };
 
 /// Where a finding first happened.
@@ -70,6 +79,15 @@ struct Report {
     Finding below_plate;
     double below_plate_mm = 0.0;  ///< the deepest such reach (mm below the plate's level)
 
+    /// Lines with a laser power, powder feed or G1 feed outside the machine's ranges
+    /// (Replay::out_of_range).
+    Finding out_of_range;
+    /// 1 when the program is cut off in the middle of a line, or (linuxcnc, fanuc, siemens)
+    /// ends without M2 / M30: a program that does not end as written was cut or lost its end.
+    Finding unfinished;
+    /// 1 when the laser or the powder is still on after the program's last line.
+    Finding left_on;
+
     double model_volume_mm3 = 0.0;      ///< voxelized model
     double deposited_volume_mm3 = 0.0;  ///< voxelized beads
     double covered_volume_mm3 = 0.0;    ///< model inside beads
@@ -80,6 +98,11 @@ struct Report {
     /// when non-zero, coverage and excess are estimates (docs/verifier.md).
     std::size_t model_open_columns = 0;
     std::size_t model_columns = 0;  ///< columns that cross the model's surface
+    /// Columns where the model's surface is crossed leaving before entering (a body inside
+    /// out, or facing inwards where bodies touch): what it encloses is not the part.
+    std::size_t model_inverted_columns = 0;
+    double min_coverage = kMinCoverage;  ///< the thresholds matches_part() applies
+    double max_excess = kMaxExcess;
 
     double deposition_length_mm = 0.0;  ///< tool tip path with the laser on (part frame)
     double idle_length_mm = 0.0;        ///< linear axes' path with the laser off (machine)
@@ -91,11 +114,45 @@ struct Report {
     double bead_height_min_mm = 0.0;
     double bead_height_max_mm = 0.0;
 
-    /// No collisions, no unsupported beads and no axis-limit violations.
+    /// The program is safe to run: no collisions, no unsupported beads, no axis-limit
+    /// violations, no out-of-range values, it ends as written with the laser and powder off.
+    /// `maxslice slice` keeps a program on this verdict.
     [[nodiscard]] bool passed() const {
-        return collisions.count == 0 && unsupported.count == 0 && limit_violations.count == 0;
+        return unsupported.count == 0 && passed_apart_from_support();
     }
+
+    /// passed() but for unsupported beads (what `maxslice slice --allow-overhangs` keeps).
+    [[nodiscard]] bool passed_apart_from_support() const {
+        return collisions.count == 0 && limit_violations.count == 0 && out_of_range.count == 0 &&
+               unfinished.count == 0 && left_on.count == 0;
+    }
+
+    /// The program lays no bead the voxel grid holds (no deposit, or beads finer than the
+    /// voxels: a model read in the wrong unit makes the automatic voxel coarse).
+    [[nodiscard]] bool deposits_nothing() const { return deposited_volume_mm3 <= 0.0; }
+
+    /// Coverage and excess describe the part: the model is closed and no body of it is
+    /// inside out. Otherwise they are estimates and matches_part() does not judge them.
+    [[nodiscard]] bool coverage_judged() const {
+        return model_open_columns == 0 && model_inverted_columns == 0;
+    }
+    [[nodiscard]] bool coverage_low() const { return coverage_judged() && coverage < min_coverage; }
+    [[nodiscard]] bool excess_high() const { return coverage_judged() && excess >= max_excess; }
+
+    /// The program builds the part it was checked against: it deposits, and (where judged)
+    /// covers at least min_coverage of the model with excess below max_excess.
+    [[nodiscard]] bool matches_part() const {
+        return !deposits_nothing() && !coverage_low() && !excess_high();
+    }
+
+    /// What `maxslice verify` accepts (exit 0): passed() and matches_part().
+    [[nodiscard]] bool accepted() const { return passed() && matches_part(); }
 };
+
+/// The names of the checks the report fails, in a fixed order: "collisions", "unsupported",
+/// "limit_violations", "out_of_range", "unfinished", "left_on" (passed()), then
+/// "nothing_deposited", "coverage", "excess" (matches_part()). Empty when accepted().
+[[nodiscard]] std::vector<std::string_view> failed_checks(const Report& report);
 
 /// The model placed as the job places a part on the plate (docs/program-dialects.md): rotated
 /// so that `base_direction` points to +Z (Rodrigues about d x Z, a half turn about X for -Z),
@@ -108,9 +165,11 @@ struct Report {
 
 /// Verifies a program against the placed model (part frame) and the profiles: replays it
 /// (replay_program), lays beads in a voxel grid and checks collisions, support and axis limits
-/// and measures coverage, excess, lengths and time. A program that fails the checks is a
-/// Report with passed() false, not an error. Errors: the program does not parse (context
-/// "line N"), invalid profiles or settings, a grid too large for max_voxels.
+/// and measures coverage, excess, lengths and time; notes out-of-range values and how the
+/// program ends. A program that fails the checks is a Report with passed() or matches_part()
+/// false, not an error. Errors: the program does not parse (context
+/// "line N"), invalid profiles or settings (min_coverage outside [0, 1], a negative
+/// max_excess), a grid too large for max_voxels.
 [[nodiscard]] core::Result<Report> verify_program(std::string_view program_text,
                                                   const mesh::TriangleMesh& placed_model,
                                                   const machine::Profiles& profiles,
