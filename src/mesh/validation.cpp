@@ -300,6 +300,35 @@ TriangleTallies analyse_triangles(const TriangleMesh& mesh) {
     return total;
 }
 
+// True when every used vertex lies within kFlatFraction of the diagonal of the plane of the
+// largest triangle (any triangle of a flat mesh spans its plane; the largest is the least
+// sensitive to rounding). A mesh without a triangle of positive area is flat too.
+bool is_flat(const TriangleMesh& mesh, const std::vector<std::uint8_t>& used,
+             const core::Box3d& box) {
+    if (box.empty()) return true;
+    core::Vec3d normal{};
+    double largest = 0.0;
+    std::size_t at = 0;
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+        const core::Vec3d n = area_vector(mesh, t);
+        const double a = core::dot(n, n);
+        if (a > largest) {
+            largest = a;
+            normal = n;
+            at = t;
+        }
+    }
+    if (!(largest > 0.0)) return true;
+    normal = normal / std::sqrt(largest);
+    const core::Vec3d origin = mesh.corner(at, 0);
+    const double tolerance = ValidationReport::kFlatFraction * core::norm(box.size());
+    for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
+        if (!used[v] || !core::is_finite(mesh.vertices[v])) continue;
+        if (!(std::abs(core::dot(mesh.vertices[v] - origin, normal)) <= tolerance)) return false;
+    }
+    return true;
+}
+
 std::string plural(std::size_t n, const char* one, const char* many) {
     return fmt::format("{} {}", n, n == 1 ? one : many);
 }
@@ -366,12 +395,17 @@ std::vector<std::string> ValidationReport::defects() const {
     line(inward_pieces,
          "piece of surface where closed bodies touch faces inwards (its inside is empty)",
          "pieces of surface where closed bodies touch face inwards (their inside is empty)");
-    if (bodies_touch() && inward_pieces.count == 0) {
+    if (flat) {
+        lines.push_back(fmt::format(
+            "the mesh is flat: every vertex lies in one plane, so it encloses no volume "
+            "({:.3g} mm^3) and is a surface, not a solid",
+            volume_mm3));
+    } else if (bodies_touch() && inward_pieces.count == 0) {
         lines.emplace_back(
             "every edge is used as often one way as the other: closed bodies touch along those "
             "edges, and are sliced as one solid");
     }
-    if (inside_out()) {
+    if (inside_out() && !flat) {
         lines.push_back(fmt::format("the surface is inside out (volume {:.3f} mm^3)", volume_mm3));
     }
     return lines;
@@ -428,13 +462,16 @@ ValidationReport validate(const TriangleMesh& mesh) {
     fill_edge(report.nonmanifold_edges, edges.nonmanifold);
     fill_edge(report.misoriented_edges, edges.misoriented);
     fill_edge(report.unbalanced_edges, edges.unbalanced);
-    if (report.bodies > 1 && report.boundary_edges.count == 0 &&
+    // A flat mesh has no inside: every piece of it would look inside out.
+    report.flat = is_flat(mesh, used, report.bounding_box);
+    const bool flat = report.flat;
+    if (!flat && report.bodies > 1 && report.boundary_edges.count == 0 &&
         report.nonmanifold_edges.count == 0 && report.misoriented_edges.count == 0) {
         const detail::InsideOutShells inverted = detail::inside_out_shells(mesh);
         report.inside_out_shells.count = inverted.count;
         report.inside_out_shells.example = inverted.example;
     }
-    if (report.bodies_touch()) {
+    if (!flat && report.bodies_touch()) {
         const detail::InsideOutShells inward = detail::inward_pieces(mesh);
         report.inward_pieces.count = inward.count;
         report.inward_pieces.example = inward.example;

@@ -41,8 +41,14 @@ struct ValidationReport {
     DefectCount inside_out_shells;
     /// Where closed bodies touch (every misoriented edge balanced): pieces of surface whose
     /// inside is empty, i.e. a touching body that faces inwards (repair does not reorient
-    /// bodies with non-manifold edges). Among the 64 largest pieces.
+    /// bodies with non-manifold edges). Among the 64 largest pieces. Not looked for in a flat
+    /// mesh.
     DefectCount inward_pieces;
+    /// Every used vertex lies in one plane (within kFlatFraction of the bounding box
+    /// diagonal): the mesh encloses no volume and has no inside, so neither
+    /// inside_out_shells nor inward_pieces are looked for (they would find every piece).
+    bool flat = false;
+    static constexpr double kFlatFraction = 1e-9;
     core::Box3d bounding_box;  ///< of the used vertices with finite coordinates (mm)
     double volume_mm3 = 0.0;   ///< signed; negative means inside-out
     double area_mm2 = 0.0;
@@ -57,6 +63,7 @@ struct ValidationReport {
     [[nodiscard]] bool bodies_touch() const;
     /// Closed, consistently oriented, and with negative volume.
     [[nodiscard]] bool inside_out() const;
+
     /// One human-readable line per defect present ("12 open edges, e.g. at (1, 2, 3)").
     [[nodiscard]] std::vector<std::string> defects() const;
 };

@@ -158,6 +158,16 @@ TEST(Assimp, ObjIndexChecksNameTheLine) {
     EXPECT_EQ(r->mesh.triangles.size(), 2u);
 }
 
+TEST(Assimp, ObjWithANulByteIsRefusedBeforeAssimp) {
+    // assimp crashes on a NUL inside an 'mtllib' name (fuzz/corpus/fuzz_obj/crash-07342c0c...).
+    ScratchDir dir;
+    const auto r = read_mesh(dir.write(
+        "nul.obj", std::string("v 0 0 0\nmtllib u") + '\0' + "a\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"));
+    ASSERT_FALSE(r);
+    EXPECT_EQ(r.error().code, core::ErrorCode::kInvalidInput);
+    EXPECT_TRUE(contains(r.error().message, "line 2: a NUL byte")) << r.error().describe();
+}
+
 TEST(Assimp, ObjLineContinuation) {
     ScratchDir dir;
     auto r = read_mesh(dir.write("c.obj",

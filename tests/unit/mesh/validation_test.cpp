@@ -211,6 +211,32 @@ TEST(Validate, ATouchingBodyThatFacesInwardsIsFound) {
     EXPECT_EQ(validate(test::two_cubes_sharing_an_edge()).inward_pieces.count, 0u);
 }
 
+TEST(Validate, AFlatMeshIsFlatNotAnInsideOutTouchingBody) {
+    // A square written on both sides (four triangles, its diagonal shared by all four): it
+    // encloses nothing. It used to be reported as pieces of a touching body facing inwards.
+    // Once in the plane z = 0 and once tilted out of every axis plane.
+    for (const bool tilted : {false, true}) {
+        TriangleMesh m;
+        m.vertices = {{0, 0, 0}, {10, 0, 0}, {10, 10, 0}, {0, 10, 0}};
+        if (tilted) {
+            for (core::Vec3d& v : m.vertices) v = {v.x, 0.6 * v.y, 0.8 * v.y + 0.3 * v.x};
+        }
+        m.triangles = {{0, 1, 2}, {0, 2, 3}, {0, 2, 1}, {0, 3, 2}};
+        const ValidationReport r = validate(m);
+        EXPECT_TRUE(r.flat) << "tilted " << tilted;
+        EXPECT_EQ(r.inward_pieces.count, 0u);
+        EXPECT_EQ(r.inside_out_shells.count, 0u);
+        EXPECT_TRUE(has_line(r, "the mesh is flat")) << "tilted " << tilted;
+        EXPECT_FALSE(has_line(r, "inwards"));
+        EXPECT_FALSE(has_line(r, "inside out"));
+    }
+    EXPECT_FALSE(validate(test::unit_cube()).flat);
+    // Zero net volume is not flatness: the touching cube that faces inwards is still found.
+    const ValidationReport flipped = validate(two_cubes_sharing_a_face(true));
+    EXPECT_FALSE(flipped.flat);
+    EXPECT_GE(flipped.inward_pieces.count, 1u);
+}
+
 TEST(Validate, AnInsideOutBodyBesideAnotherIsFoundButAVoidIsNot) {
     TriangleMesh apart = test::unit_cube();
     append(apart, test::moved(test::inside_out_cube(), 3, 0, 0));
