@@ -219,7 +219,12 @@ public:
             pos = eol + 1;
             ++line_no;
             if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-            if (auto ok = line_(line, line_no, out); !ok) return std::unexpected(ok.error());
+            if (auto ok = line_(line, line_no, out); !ok) {
+                // The last line of a text without a final line break was cut off: it is not
+                // read, and the program counts as cut (Replay::cut), not as malformed.
+                if (pos >= text.size() && text.back() != '\n') break;
+                return std::unexpected(ok.error());
+            }
         }
         int lines = line_no;
         out.end_code = ended_;
@@ -276,27 +281,9 @@ private:
         const std::string& norm = norm_;
         if (norm.empty()) return {};
         if (dialect_ == ProgramDialect::kFanuc && norm == "%") return {};
-        if (match_codes(norm, line_no, out)) return replay_template_motion(norm, line_no, raw, out);
+        if (match_codes(norm, line_no, out)) return {};
         auto words = parse_words(norm, line_no);
         if (!words) return std::unexpected(words.error());
-        return apply(*words, line_no, raw, out);
-    }
-
-    // A line that matched a code template is a switch; whatever motion it also carries is
-    // replayed, so that no move the machine makes goes unchecked (profile validation refuses
-    // such templates; a profile made in code, or a hand-edited one, may still have them). A
-    // macro call's (G65 / G66) words are its arguments; a line that is not plain words ($
-    // variables, names) moves nothing the replay could read, and the profile check refuses
-    // motion there.
-    core::Result<void> replay_template_motion(const std::string& norm, int line_no,
-                                              std::string_view raw, Replay& out) {
-        auto words = parse_words(norm, line_no);
-        if (!words || words->has_g(65) || words->has_g(66)) return {};
-        bool moves = false;
-        for (const double g : words->g) moves = moves || g < 4.0;
-        for (const char c : std::string_view("XYZABCUVWIJK")) moves = moves || (*words)[c];
-        if (!moves) return {};
-        words->m.count = 0;  // the switch, done by match_codes
         return apply(*words, line_no, raw, out);
     }
 
@@ -545,7 +532,8 @@ private:
             } else {
                 return fail(ErrorCode::kInvalidInput,
                             fmt::format("unknown code M{} (not one of the profile's "
-                                        "[machine.codes] blocks)",
+                                        "[machine.codes] blocks, each of which stands alone on "
+                                        "its line)",
                                         m));
             }
         }

@@ -79,7 +79,8 @@ struct Replay {
     ReplayFault out_of_range;
     bool end_code = false;  ///< M2 or M30 was read (lines after it are not)
     /// The text does not end with a line break and no end code came before its last line: the
-    /// program was cut off in the middle of a line.
+    /// program was cut off in the middle of a line (that line, when it does not parse, is not
+    /// read).
     bool cut = false;
     bool laser_on_at_end = false;   ///< the laser is on after the last line read
     bool powder_on_at_end = false;  ///< the powder is on after the last line read
@@ -110,9 +111,9 @@ struct Replay {
 /// the off power counts as off) until one matching laser_off; powder likewise (gm's powder
 /// column above 0, or the powder_on / powder_off templates, a `{powder}` of 0 counting as
 /// off). Literal template blocks win over ones with placeholders. A line that matches a
-/// template is a switch, and the motion words it carries (G0 / G1, axis words; not the
-/// arguments of a G65 / G66 macro call) are replayed as well: nothing the machine would
-/// execute is skipped (profile validation refuses such templates; decision 0022). Errors
+/// template is a switch and nothing else: the profile's templates hold no motion
+/// (machine::motion_word; the profiles are validated first, decision 0022), and a template
+/// block with other words on its line is an unknown code. Errors
 /// (kInvalidInput, kUnsupported for G20, G91, G93 ...), with context "line N": malformed numbers,
 /// unknown words or codes, axis words the machine lacks, a motion block before any G0 / G1, tool
 /// centre point words in a joint-space dialect. The program's bytes quoted in a message are escaped

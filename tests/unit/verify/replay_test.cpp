@@ -319,5 +319,154 @@ TEST(Replay, WrittenFiveAxisProgramMatchesLinuxCncsInterpreter) {
     EXPECT_GE(tilted, 4);
 }
 
+// Issue 23: a line that matched a [machine.codes] template counted as a switch only, so the
+// move of a template such as laser_on = "M8 G1 X0 Y0 Z0" was never replayed (140 plunges
+// "verified"). Such a profile is refused before the replay now, naming the key; a template
+// block with a move added on its line is an unknown code, not a switch. A macro call's
+// arguments (fanuc's G65 P9011 A{power}) stay arguments.
+TEST(Replay, MotionNextToATemplateIsNeverSkipped) {
+    machine::Profiles p = load("linuxcnc_generic.toml");
+    p.machine.codes.laser_on.blocks = {"M8 G1 X0 Y0 Z0"};
+    p.machine.codes.laser_off.blocks = {"M9"};
+    const std::string text = "G21\nG0 X10 Y20 Z30\nM8 G1 X0 Y0 Z0\nG1 X5 F381\nM9\nM2\n";
+    auto r = replay_program(text, p, ProgramDialect::kLinuxCnc);
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.error().describe().find("machine.codes.laser_on[0]"), std::string::npos)
+        << r.error().describe();
+    p.machine.codes.laser_on.blocks = {"M8"};
+    r = replay_program(text, p, ProgramDialect::kLinuxCnc);
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.error().describe().find("line 3"), std::string::npos) << r.error().describe();
+    EXPECT_NE(r.error().describe().find("M8"), std::string::npos) << r.error().describe();
+
+    machine::Profiles fanuc = load("fanuc_5axis_ac.toml");
+    auto f = replay_program(
+        "%\nO1000 (T)\nG21 G90 G94 G17\nG0 X0 Y0 Z100 A0 C0\nG65 P9010 A8.00\nM71\n"
+        "G65 P9011 A700.00\nM73\nG1 X1 F381\nM74\nM72\nM30\n%\n",
+        fanuc, ProgramDialect::kFanuc);
+    ASSERT_TRUE(f) << f.error().describe();
+    ASSERT_EQ(f->blocks.size(), 2U);
+    EXPECT_NEAR(f->blocks[1].pose.a_or_b_deg, 0.0, 1e-12);  // A700 was the macro's argument
+    EXPECT_TRUE(f->blocks[1].laser_on);
+}
+
+// The end of a program: the end code, a cut last line, the laser and powder state after the
+// last line read, per dialect.
+TEST(Replay, TheEndOfTheProgramIsNoted) {
+    const machine::Profiles lc = load("linuxcnc_generic.toml");
+    const std::string body =
+        "G21\nG0 X1 Y1 Z1\nM68 E1 Q8.00\nM64 P1\nM68 E0 Q700.00\nM64 P0\nG1 X2 F381\n";
+    const std::string off = "M65 P0\nM68 E0 Q0\nM65 P1\nM68 E1 Q0\n";
+    struct Case {
+        std::string text;
+        bool end_code, cut, laser, powder;
+    };
+    const std::vector<Case> cases = {
+        {body + off + "M2\n", true, false, false, false},
+        {body + off + "M2", true, false, false, false},  // no break after M2: complete
+        {body + off, false, false, false, false},
+        {body, false, false, true, true},
+        {body + "G1 X3", false, true, true, true},  // cut mid-line
+        {body + "M65 P0\nM68 E0 Q0\nM2\n", true, false, false, true},
+        {body + "M2\nM65 P0\n", true, false, true, true},  // lines after M2 are not run
+        {"", false, false, false, false},
+    };
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.text);
+        auto r = replay_program(c.text, lc, ProgramDialect::kLinuxCnc);
+        ASSERT_TRUE(r) << r.error().describe();
+        EXPECT_EQ(r->end_code, c.end_code);
+        EXPECT_EQ(r->cut, c.cut);
+        EXPECT_EQ(r->laser_on_at_end, c.laser);
+        EXPECT_EQ(r->powder_on_at_end, c.powder);
+    }
+    // gm: the columns of the last line, and its line break.
+    const machine::Profiles gm = load("reference_lmd.toml");
+    auto on =
+        replay_program("0.00 0.00 G21\n700.00 8.00 G1 X1 Y1 Z1 F381\n", gm, ProgramDialect::kGm);
+    ASSERT_TRUE(on);
+    EXPECT_TRUE(on->laser_on_at_end);
+    EXPECT_TRUE(on->powder_on_at_end);
+    EXPECT_FALSE(on->cut);
+    auto cut = replay_program("0.00 0.00 G21\n0.00 0.00 G1 X1 Y1 Z1 F3", gm, ProgramDialect::kGm);
+    ASSERT_TRUE(cut);
+    EXPECT_TRUE(cut->cut);
+    EXPECT_FALSE(cut->laser_on_at_end);
+}
+
+// Powers, powder feeds and feeds outside the machine's ranges are noted, one per line, the
+// first with its line; the values a writer rounds stay in range.
+TEST(Replay, ValuesOutsideTheMachinesRangesAreNoted) {
+    machine::Profiles lc = load("linuxcnc_generic.toml");
+    lc.machine.laser_power_min_w = 100.0;
+    const auto& m = lc.machine;
+    const auto noted = [&](const std::string& line) {
+        auto r =
+            replay_program("G21\nG0 X1 Y1 Z1\n" + line + "\nM2\n", lc, ProgramDialect::kLinuxCnc);
+        EXPECT_TRUE(r) << r.error().describe();
+        return r ? r->out_of_range : ReplayFault{};
+    };
+    for (const std::string& line :
+         {std::string("M68 E0 Q-700.00"), fmt::format("M68 E0 Q{:.2f}", m.laser_power_max_w + 1),
+          std::string("M68 E0 Q50.00"), std::string("M68 E1 Q-1.00"),
+          fmt::format("M68 E1 Q{:.2f}", m.powder_feed_max_g_min + 0.01),
+          fmt::format("G1 X2 F{:.1f}", m.feed_max_mm_min + 1.0),
+          fmt::format("G1 X2 F{:.1f}", 0.5 * m.feed_min_mm_min)}) {
+        SCOPED_TRACE(line);
+        const ReplayFault f = noted(line);
+        EXPECT_EQ(f.count, 1U);
+        EXPECT_EQ(f.line, 3);
+        EXPECT_FALSE(f.detail.empty());
+    }
+    for (const std::string& line :
+         {std::string("M68 E0 Q0"), fmt::format("M68 E0 Q{:.2f}", m.laser_power_max_w),
+          std::string("M68 E0 Q100.00"), fmt::format("M68 E1 Q{:.2f}", m.powder_feed_max_g_min),
+          fmt::format("G1 X2 F{:.1f}", m.feed_max_mm_min), std::string("G0 X500")}) {
+        SCOPED_TRACE(line);
+        EXPECT_EQ(noted(line).count, 0U);
+    }
+    // gm's columns: -700 W, and 800 g/min on a machine whose maximum is 30.
+    const machine::Profiles gm = load("reference_lmd.toml");
+    ASSERT_LT(gm.machine.powder_feed_max_g_min, 800.0);
+    for (const std::string line : {"-700.00 8.00 G1 X2 F381", "700.00 800.00 G1 X2 F381"}) {
+        auto r = replay_program("0.00 0.00 G21\n0.00 0.00 G0 X1 Y1 Z1\n" + line + "\n", gm,
+                                ProgramDialect::kGm);
+        ASSERT_TRUE(r) << r.error().describe();
+        EXPECT_EQ(r->out_of_range.count, 1U) << line;
+        EXPECT_EQ(r->out_of_range.line, 3) << line;
+    }
+}
+
+// Issue 23: the replay's errors quoted the program's bytes raw (terminal escape sequences,
+// a million-digit number as a 1 MB line). They are escaped and cut now.
+TEST(Replay, ErrorsQuoteTheProgramEscapedAndShort) {
+    const machine::Profiles lc = load("linuxcnc_generic.toml");
+    const machine::Profiles gm = load("reference_lmd.toml");
+    const std::string digits(1000000, '7');
+    struct Case {
+        const machine::Profiles* p;
+        ProgramDialect d;
+        std::string text;
+    };
+    const std::vector<Case> cases = {
+        {&lc, ProgramDialect::kLinuxCnc, "G21\nG1 X\x1b[31mRED F10\n"},
+        {&lc, ProgramDialect::kLinuxCnc, "G21\nG1 X1 \x1b]0;title\x07 F10\n"},
+        {&lc, ProgramDialect::kLinuxCnc, "G21\nG1 X" + digits + " F10\n"},
+        {&lc, ProgramDialect::kLinuxCnc, "G21\nG1 X1 Y1 Z1 F10\nG1 Q" + digits + "\n"},
+        {&lc, ProgramDialect::kLinuxCnc, "G21\nG91 X\x1b[2J" + digits + "\n"},
+        {&gm, ProgramDialect::kGm, "0.00 0.00 G21\n\x1b[31m" + digits + "\n"},
+    };
+    for (const Case& c : cases) {
+        auto r = replay_program(c.text, *c.p, c.d);
+        ASSERT_FALSE(r);
+        const std::string msg = r.error().describe();
+        EXPECT_NE(msg.find("line "), std::string::npos) << msg.substr(0, 300);
+        EXPECT_LT(msg.size(), 400U) << msg.substr(0, 300);
+        for (const char ch : msg) {
+            EXPECT_TRUE(ch >= 0x20 && ch < 0x7f) << "raw byte " << static_cast<int>(ch);
+        }
+    }
+}
+
 }  // namespace
 }  // namespace maxslice::verify
