@@ -35,6 +35,8 @@ namespace {
 
 const fs::path kProfiles = kSource / "examples/profiles";
 const fs::path kReference5 = kProfiles / "reference_5axis_ac.toml";
+// `maxslice verify`'s exit code for an unsafe or wrong program (docs/verifier.md).
+constexpr int kExitUnsafe = 3;
 
 fs::path temp_dir(const std::string& name) {
     return maxslice::test::fresh_temp_dir("five_axis_test", name);
@@ -140,7 +142,8 @@ void expect_clean_job(const fs::path& part, const fs::path& profile, const fs::p
     ASSERT_TRUE(v.report.is_object());
     EXPECT_EQ(v.report.value("passed", false), true);
     EXPECT_EQ(v.report.value("dialect", ""), dialect);
-    EXPECT_EQ(v.report["collisions"].value("count", -1), 0);
+    EXPECT_EQ(v.report["contact"].value("count", -1), 0);
+    EXPECT_EQ(v.report["clearance"].value("count", -1), 0);
     EXPECT_EQ(v.report["unsupported"].value("count", -1), 0);
     EXPECT_EQ(v.report["limit_violations"].value("count", -1), 0);
     // The same program, model and profile: the same coverage and excess as slice printed
@@ -200,9 +203,9 @@ std::string gm_line(double power, double powder, double x, double y, double z, d
     return buf;
 }
 
-// The verifier's text line "collisions      N (first: line L: ...)".
+// The verifier's text line "contact         N (first: line L: ...)".
 std::string collisions_line(const std::string& out) {
-    const auto at = out.find("\ncollisions");
+    const auto at = out.find("\ncontact");
     if (at == std::string::npos) return {};
     return out.substr(at + 1, out.find('\n', at + 1) - at - 1);
 }
@@ -234,6 +237,51 @@ TEST(FiveAxis, FixturesBuildCleanWithTheOtherTableProfiles) {
     for (const Case& c : cases) {
         expect_clean_job(export_fixture(c.fixture, dir), kProfiles / c.profile, dir, c.dialect);
     }
+}
+
+// The portal of issue 23 with the LinuxCNC 5-axis cell, whose profile asks for 2 mm of
+// clearance: built upside down, the head body's rim passed 1.35 mm from the finished column's
+// top when the tip went down for the other column's first layer, and the program verified
+// because only contact was checked. The order now keeps the clearance from the body too, and
+// `maxslice verify` checks the profile's clearance by default, contact and clearance apart.
+TEST(FiveAxis, TheProfilesClearanceIsKeptByTheHeadBody) {
+    const fs::path dir = temp_dir("clearance");
+    const fs::path part = export_fixture(maxslice::test::tall_portal(), dir);
+    const fs::path profile = kProfiles / "linuxcnc_5axis_ac.toml";
+    const fs::path program = dir / "p.ngc";
+    const CliRun r =
+        run_cli({"slice", part.string(), "--profile", profile.string(), "-o", program.string()});
+    ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+    expect_clean(read_figures(r.out), r.out);
+    const VerifyRun v = run_verify(program, part, profile, dir / "report.json");
+    EXPECT_EQ(v.run.exit_code, 0) << v.run.out << v.run.err;
+    ASSERT_TRUE(v.report.is_object());
+    EXPECT_DOUBLE_EQ(v.report.value("clearance_mm", -1.0), 2.0);
+    EXPECT_EQ(v.report["contact"].value("count", -1), 0);
+    EXPECT_EQ(v.report["clearance"].value("count", -1), 0) << v.run.out;
+    EXPECT_NE(v.run.out.find("\nclearance 2.00  none"), std::string::npos) << v.run.out;
+
+    // The same program against a head asking for 6 mm: it touches nothing, but the body
+    // passes closer than that; the verifier says so apart from contact, and fails it.
+    std::string text = slurp(profile);
+    const std::string from = "clearance_mm = 2.0";
+    const auto pos = text.find(from);
+    ASSERT_NE(pos, std::string::npos);
+    text.replace(pos, from.size(), "clearance_mm = 6.0");
+    const fs::path wide = dir / "wide_clearance.toml";
+    std::ofstream(wide) << text;
+    const VerifyRun w = run_verify(program, part, wide, dir / "wide.json");
+    EXPECT_NE(w.run.exit_code, 0) << w.run.out;
+    ASSERT_TRUE(w.report.is_object());
+    EXPECT_EQ(w.report.value("passed", true), false);
+    EXPECT_EQ(w.report["contact"].value("count", -1), 0);
+    EXPECT_GT(w.report["clearance"].value("count", 0), 0);
+    EXPECT_NE(w.run.out.find("\nclearance 6.00  "), std::string::npos) << w.run.out;
+    EXPECT_NE(w.run.out.find("comes within 6.00 mm of material"), std::string::npos) << w.run.out;
+    // --clearance 0 checks contact only.
+    const CliRun c = run_cli({"verify", program.string(), "--model", part.string(), "--profile",
+                              wide.string(), "--clearance", "0"});
+    EXPECT_EQ(c.exit_code, 0) << c.out << c.err;
 }
 
 // A nozzle with a 60 degree half angle cannot reach under the portal's beam: no build order,
@@ -471,7 +519,12 @@ TEST(FiveAxis, APartThatCannotBeBuiltAsGivenIsStoodOnAnotherBase) {
     ASSERT_TRUE(name[0] == '+' || name[0] == '-') << r.out;
     const std::map<char, std::string> axis{{'X', "1,0,0"}, {'Y', "0,1,0"}, {'Z', "0,0,1"}};
     ASSERT_TRUE(axis.contains(name[1])) << r.out;
-    const std::string direction = (name[0] == '-' ? "-" : "") + axis.at(name[1]);
+    std::string direction = axis.at(name[1]);
+    if (name[0] == '-') {
+        for (std::size_t k = direction.size(); k-- > 0;) {
+            if (direction[k] == '1') direction.insert(k, "-");
+        }
+    }
     const CliRun v = run_cli({"verify", program.string(), "--model", part.string(), "--profile",
                               kReference5.string(), "--direction", direction});
     EXPECT_EQ(v.exit_code, 0) << v.out << v.err;
@@ -662,7 +715,7 @@ TEST(FiveAxis, APlantedCollisionIsCaughtByVerify) {
         std::ofstream(program, std::ios::binary) << join_lines(bad);
         const VerifyRun v = run_verify(program, part, kReference5, dir / "deposit_down.json");
         const int line = static_cast<int>(d.index) + 1;
-        EXPECT_EQ(v.run.exit_code, 2) << v.run.out << v.run.err;
+        EXPECT_EQ(v.run.exit_code, kExitUnsafe) << v.run.out << v.run.err;
         EXPECT_NE(v.run.err.find("maxslice: error: verification failed"), std::string::npos)
             << v.run.err;
         EXPECT_NE(collisions_line(v.run.out).find("line " + std::to_string(line)),
@@ -671,8 +724,8 @@ TEST(FiveAxis, APlantedCollisionIsCaughtByVerify) {
             << v.run.out;
         ASSERT_TRUE(v.report.is_object());
         EXPECT_EQ(v.report.value("passed", true), false);
-        EXPECT_GE(v.report["collisions"].value("count", 0), 1);
-        EXPECT_EQ(v.report["collisions"]["first"].value("line", -1), line);
+        EXPECT_GE(v.report["contact"].value("count", 0), 1);
+        EXPECT_EQ(v.report["contact"]["first"].value("line", -1), line);
     }
     // 2. After a wire late in the build: a travel 5 mm straight down into the part and back.
     {
@@ -693,14 +746,14 @@ TEST(FiveAxis, APlantedCollisionIsCaughtByVerify) {
         std::ofstream(program, std::ios::binary) << join_lines(bad);
         const VerifyRun v = run_verify(program, part, kReference5, dir / "travel_down.json");
         const int line = static_cast<int>(off) + 2;  // 1-based, right after the M9
-        EXPECT_EQ(v.run.exit_code, 2) << v.run.out << v.run.err;
+        EXPECT_EQ(v.run.exit_code, kExitUnsafe) << v.run.out << v.run.err;
         EXPECT_NE(collisions_line(v.run.out).find("line " + std::to_string(line)),
                   std::string::npos)
             << "planted at line " << line << "\n"
             << v.run.out;
         ASSERT_TRUE(v.report.is_object());
         EXPECT_EQ(v.report.value("passed", true), false);
-        EXPECT_EQ(v.report["collisions"]["first"].value("line", -1), line);
+        EXPECT_EQ(v.report["contact"]["first"].value("line", -1), line);
         // A travel lays nothing: no unsupported bead comes from it.
         EXPECT_EQ(v.report["unsupported"].value("count", -1), 0);
     }
@@ -788,7 +841,8 @@ TEST(FiveAxis, EverySharedModelIsBuiltOrRefusedCleanly) {
                                                    "--profile", kReference5.string()};
                 if (!units.empty()) v_args.insert(v_args.end(), {"--units", units});
                 const CliRun v = run_cli(v_args, 300);
-                EXPECT_EQ(v.exit_code, 2) << "slice's verifier refused it\n" << v.out << v.err;
+                EXPECT_EQ(v.exit_code, kExitUnsafe) << "slice's verifier refused it\n"
+                                                    << v.out << v.err;
             }
             continue;
         }

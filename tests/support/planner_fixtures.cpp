@@ -727,6 +727,12 @@ PlannerFixture portal_frame(const PortalSpec& spec) {
                 });
 }
 
+PlannerFixture tall_portal() {
+    PlannerFixture f = portal_frame({60.0, 10.0, 40.0, 8.0, 10.0});
+    f.name = "tall_portal";
+    return f;
+}
+
 PlannerFixture slot(const SlotSpec& spec) {
     const double w = spec.wall_thickness;
     const double g = spec.slot_width;

@@ -247,6 +247,10 @@ struct PortalSpec {
     double depth = 15.0;          ///< mm, along Y
 };
 [[nodiscard]] PlannerFixture portal_frame(const PortalSpec& spec = {});
+/// The portal of issue 23: two 10 x 10 x 40 columns 50 mm apart (centre to centre) under a
+/// 60 x 10 x 8 beam. Built upside down (beam first), the 5-axis cells' head body (80 mm
+/// across) reaches over one column while the tip is at the other's foot.
+[[nodiscard]] PlannerFixture tall_portal();
 
 /// Two parallel walls with a deep narrow slot between them on a common base: in the (x, z)
 /// plane the base [0, 2 wall_thickness + slot_width] x [0, base_height] and the walls

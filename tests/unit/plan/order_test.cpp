@@ -295,14 +295,19 @@ TEST(NozzleCheck, OwnConeTest) {
     EXPECT_NEAR(
         test::cone_clearance_mm(n, apex, up, {1 + 10 * std::tan(std::numbers::pi / 6), 2, 13}), 0.0,
         1e-9);
-    EXPECT_TRUE(std::isinf(test::cone_clearance_mm(n, apex, up, {1, 2, 3})));   // at the apex
-    EXPECT_TRUE(std::isinf(test::cone_clearance_mm(n, apex, up, {1, 2, 2})));   // below
-    EXPECT_TRUE(std::isinf(test::cone_clearance_mm(n, apex, up, {1, 2, 44})));  // beyond H
+    EXPECT_TRUE(std::isinf(test::cone_clearance_mm(n, apex, up, {1, 2, 3})));  // at the apex
+    EXPECT_TRUE(std::isinf(test::cone_clearance_mm(n, apex, up, {1, 2, 2})));  // below
+    // 1 mm over the cone's top (no body): 1 mm from its top face.
+    EXPECT_NEAR(test::cone_clearance_mm(n, apex, up, {1, 2, 44}), 1.0, 1e-9);
     Nozzle body = n;
     body.body_radius_mm = 30;
     body.body_length_mm = 20;
-    EXPECT_NEAR(test::cone_clearance_mm(body, apex, up, {21, 2, 50}), -10.0, 1e-9);
-    EXPECT_TRUE(std::isinf(test::cone_clearance_mm(body, apex, up, {1, 2, 64})));
+    EXPECT_NEAR(test::cone_clearance_mm(body, apex, up, {21, 2, 50}), -7.0, 1e-9);
+    EXPECT_NEAR(test::cone_clearance_mm(body, apex, up, {1, 2, 64}), 1.0, 1e-9);  // over the top
+    // Under the body's rim (30 mm out, the cone's rim 23.1 mm): 2 mm below its underside.
+    EXPECT_NEAR(test::cone_clearance_mm(body, apex, up, {29, 2, 41}), 2.0, 1e-9);
+    EXPECT_NEAR(test::hardware_clearance_mm(body, apex, up, {29, 2, 41}), 2.0, 1e-9);
+    EXPECT_NEAR(test::stream_clearance_mm(body, apex, up, {1, 2, 8}), -2.5, 1e-9);
     // The crossing test: a 10 um square with a 4 um square hole.
     geom2d::WireTree square;
     square.nodes.resize(2);
