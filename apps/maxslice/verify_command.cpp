@@ -162,7 +162,8 @@ CLI::App* add_verify_command(CLI::App& app, VerifyCommandOptions& opts) {
     cmd->add_option("--voxel", opts.voxel_mm, "Voxel edge in mm (default: automatic)")
         ->check(CLI::NonNegativeNumber);
     cmd->add_option("--clearance", opts.clearance_mm,
-                    "Gap to material counted as a collision, mm (default 0: contact)")
+                    "Gap the nozzle above its tip and the head body must keep from material, mm "
+                    "(default: the profile's [machine.nozzle] clearance_mm; 0: contact only)")
         ->check(CLI::NonNegativeNumber);
     cmd->add_option("--units", opts.units,
                     "Unit of the model file's numbers: mm, in, m, cm, um, ft");

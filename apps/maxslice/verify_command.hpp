@@ -22,7 +22,7 @@ struct VerifyCommandOptions {
     std::string dialect;
     std::vector<double> direction;  ///< empty: the program's header, else +Z
     double voxel_mm = 0.0;
-    double clearance_mm = 0.0;
+    std::optional<double> clearance_mm;  ///< --clearance (unset: the profile's)
     std::string units;
     int finer = 0;  ///< the profile's finer process the program was made with (0: the main one)
     double min_coverage_pct = 100.0 * verify::kMinCoverage;  ///< --min-coverage

@@ -108,7 +108,8 @@ std::string report_json(const Report& r) {
     field("poses_checked", std::to_string(r.poses_checked));
     field("default_nozzle", r.default_nozzle ? "true" : "false");
     field("clearance_mm", num(r.clearance_mm, 3));
-    field("collisions", finding_json(r.collisions));
+    field("contact", finding_json(r.collisions));
+    field("clearance", finding_json(r.clearance));
     field("unsupported", finding_json(r.unsupported));
     field("unsupported_length_mm", num(r.unsupported_length_mm, 3));
     field("limit_violations", finding_json(r.limit_violations));
@@ -161,7 +162,8 @@ std::string report_text(const Report& r) {
     if (r.default_nozzle) {
         out += "nozzle          no [machine.nozzle] in the profile: default cone (30 deg, 40 mm)\n";
     }
-    out += finding_text("collisions", r.collisions);
+    out += finding_text("contact", r.collisions);
+    out += finding_text(fmt::format("clearance {:.2f}", r.clearance_mm), r.clearance);
     out += finding_text("unsupported", r.unsupported);
     out += finding_text("axis limits", r.limit_violations);
     out += finding_text("out of range", r.out_of_range);

@@ -86,6 +86,8 @@ public:
           settings_(settings),
           nozzle_(nozzle),
           law_(machine::SpeedLaw::of(profiles.process)) {
+        clearance_ = settings.clearance_mm.value_or(
+            profiles.machine.nozzle ? profiles.machine.nozzle->clearance_mm : 0.0);
         if (const auto& p = profiles.machine.substrate) {
             const Vec3d c = machine::plate_center(profiles.machine);
             substrate_ = Box{{c.x - 0.5 * p->size_x_mm, c.y - 0.5 * p->size_y_mm, -p->thickness_mm},
@@ -100,7 +102,7 @@ public:
             std::string(machine::kinematics_name(profiles_.machine.kinematics));
         rep.lines = replay.line_count;
         rep.laser_on_count = replay.laser_on_count;
-        rep.clearance_mm = settings_.clearance_mm;
+        rep.clearance_mm = clearance_;
         rep.min_coverage = settings_.min_coverage;
         rep.max_excess = settings_.max_excess;
         note_program_faults(replay, rep);
@@ -292,7 +294,27 @@ private:
             const double r = nozzle_.body_radius_mm, top = len + nozzle_.body_length_mm;
             nozzle_region_.add({{{len, -r}, {top, -r}, {top, r}, {len, r}}});
         }
-        head_outline_ = {{{apex, apex * t}, {len, len * t}}};
+        // The hardware, which keeps clearance_ (decision 0023): the cone above the nozzle tip
+        // and the body. The outline's cone is split at the tip for the substrate check.
+        const double nozzle_tip = std::max(apex, nozzle_.standoff_mm);
+        hardware_region_ = Region{};
+        if (len > nozzle_tip) {
+            hardware_region_.add({{{nozzle_tip, -nozzle_tip * t},
+                                   {len, -len * t},
+                                   {len, len * t},
+                                   {nozzle_tip, nozzle_tip * t}}});
+        }
+        if (nozzle_.body_radius_mm > 0.0 && nozzle_.body_length_mm > 0.0) {
+            const double r = nozzle_.body_radius_mm, top = len + nozzle_.body_length_mm;
+            hardware_region_.add({{{len, -r}, {top, -r}, {top, r}, {len, r}}});
+        }
+        head_outline_.clear();
+        if (nozzle_tip > apex) {
+            head_outline_.push_back({{apex, apex * t}, {nozzle_tip, nozzle_tip * t}});
+        }
+        if (len > nozzle_tip) {
+            head_outline_.push_back({{nozzle_tip, nozzle_tip * t}, {len, len * t}});
+        }
         if (nozzle_.body_radius_mm > 0.0 && nozzle_.body_length_mm > 0.0) {
             const double r = nozzle_.body_radius_mm;
             head_outline_.push_back({{len, r}, {len + nozzle_.body_length_mm, r}});
@@ -399,30 +421,53 @@ private:
                                 what)};
             }
         };
+        // The first pose whose hardware comes within clearance_ without contact: counted when
+        // the whole block makes no contact.
+        std::optional<Location> near;
+        const auto within = [&](const Sample& s, const Vec3d& hit, std::string_view what) {
+            near = Location{b.line, hit,
+                            fmt::format("{} with the tip at ({:.3f}, {:.3f}, {:.3f}): the nozzle "
+                                        "or head body comes within {:.2f} mm of {}",
+                                        b.laser_on ? "deposit" : "travel", s.tip.x, s.tip.y,
+                                        s.tip.z, clearance_, what)};
+        };
         for (const Sample& s : samples) {
             ++poses_checked_;
             Vec3d hit;
-            if (detail::find_occupied(grid_, origin_, voxel_, s.tip, s.dir, nozzle_region_,
-                                      settings_.clearance_mm, &hit)) {
+            if (detail::find_occupied(grid_, origin_, voxel_, s.tip, s.dir, nozzle_region_, 0.0,
+                                      &hit)) {
                 collide(s, hit, "material deposited earlier");
                 return;
             }
             if (!substrate_) {
                 note_below_plate(b, s, rep);
-            } else if (substrate_hit(s.tip, s.dir, &hit)) {
+            } else if (substrate_hit(s.tip, s.dir, 0.0, false, &hit)) {
                 collide(s, hit, "the substrate plate (machine.substrate)");
                 return;
             }
+            if (near || !(clearance_ > 0.0)) continue;
+            if (detail::find_occupied(grid_, origin_, voxel_, s.tip, s.dir, hardware_region_,
+                                      clearance_, &hit)) {
+                within(s, hit, "material deposited earlier");
+            } else if (substrate_ && substrate_hit(s.tip, s.dir, clearance_, true, &hit)) {
+                within(s, hit, "the substrate plate (machine.substrate)");
+            }
+        }
+        if (near) {
+            ++rep.clearance.count;
+            if (!rep.clearance.first) rep.clearance.first = std::move(near);
         }
     }
 
-    // Whether the head standing at `tip` with axis `dir` comes within the clearance of the
-    // substrate box. The head is the nozzle region's outline (the cone from a voxel above the
-    // apex, then the body) turned about the axis: its lowest point lies on the circle of one of
-    // the outline's corners, so a head that stays above the plate costs four circles; one that
-    // dips is sampled on its surface, a circle every sample_ along the axis and 64 points on
-    // each (enough for a plate's face; the caps of the body are not sampled).
-    bool substrate_hit(const Vec3d& tip, const Vec3d& dir, Vec3d* hit) const {
+    // Whether the head standing at `tip` with axis `dir` comes within c of the substrate box
+    // (with hardware_only, the outline from the nozzle tip up). The head is the nozzle region's
+    // outline (the cone from a voxel above the apex, then the body) turned about the axis: its
+    // lowest point lies on the circle of one of the outline's corners, so a head that stays
+    // above the plate costs four circles; one that dips is sampled on its surface, a circle
+    // every sample_ along the axis and 64 points on each (enough for a plate's face; the caps
+    // of the body are not sampled).
+    bool substrate_hit(const Vec3d& tip, const Vec3d& dir, double c, bool hardware_only,
+                       Vec3d* hit) const {
         const Box& box = *substrate_;
         const double c = settings_.clearance_mm;
         if (lowest_point(tip, dir).z >= box.hi.z + c) return false;
@@ -434,6 +479,7 @@ private:
         const Vec3d e1 = any_perpendicular(dir), e2 = core::cross(dir, e1);
         constexpr int kAround = 64;
         for (const auto& [a, b] : head_outline_) {
+            if (hardware_only && a.t < nozzle_.standoff_mm) continue;
             const int n = std::max(1, static_cast<int>(std::ceil((b.t - a.t) / sample_)));
             for (int k = 0; k <= n; ++k) {
                 const double f = static_cast<double>(k) / n;
@@ -668,6 +714,8 @@ private:
     OccupancyPyramid grid_;
     detail::ModelVoxels model_;
     Region nozzle_region_;
+    Region hardware_region_;  // the nozzle above its tip and the body
+    double clearance_ = 0.0;  // the gap the hardware keeps (mm; 0: contact only)
     // The head's side as (axis distance, radius) segments: the cone, then the body.
     struct OutlinePoint {
         double t = 0.0;
@@ -702,6 +750,7 @@ std::vector<std::string_view> failed_checks(const Report& r) {
     std::vector<std::string_view> out;
     const std::pair<const Finding*, std::string_view> findings[] = {
         {&r.collisions, "collisions"},
+        {&r.clearance, "clearance"},
         {&r.unsupported, "unsupported"},
         {&r.limit_violations, "limit_violations"},
         {&r.out_of_range, "out_of_range"},
@@ -733,10 +782,10 @@ core::Result<Report> verify_program(std::string_view program_text,
                                     const VerifySettings& settings) {
     if (auto ok = machine::validate(profiles.machine); !ok) return std::unexpected(ok.error());
     if (auto ok = machine::validate(profiles.process); !ok) return std::unexpected(ok.error());
-    if (!(settings.voxel_mm >= 0.0) || !(settings.sample_mm >= 0.0) ||
-        !(settings.clearance_mm >= 0.0) || !(settings.max_voxels >= 1.0) ||
-        !std::isfinite(settings.voxel_mm) || !std::isfinite(settings.sample_mm) ||
-        !std::isfinite(settings.clearance_mm)) {
+    const double clearance = settings.clearance_mm.value_or(0.0);
+    if (!(settings.voxel_mm >= 0.0) || !(settings.sample_mm >= 0.0) || !(clearance >= 0.0) ||
+        !(settings.max_voxels >= 1.0) || !std::isfinite(settings.voxel_mm) ||
+        !std::isfinite(settings.sample_mm) || !std::isfinite(clearance)) {
         return core::fail(ErrorCode::kInvalidInput,
                           "verify settings: voxel, sample, clearance must be finite and >= 0",
                           "verify settings");

@@ -29,9 +29,12 @@ struct VerifySettings {
     /// Largest distance (mm) the tool tip, or the far end of the nozzle, moves between two
     /// checked poses; 0 = automatic: half a track, at most 1 mm, at least one voxel.
     double sample_mm = 0.0;
-    /// Gap below which the head counts as colliding with deposited material, mm. 0 = pure
-    /// contact (decision 0010); the profile's nozzle clearance_mm may be given here instead.
-    double clearance_mm = 0.0;
+    /// Gap (mm) the hardware (the nozzle cone above its standoff and the head body) must keep
+    /// from deposited material and the substrate; closer without touching is a clearance
+    /// violation. Unset = the profile's [machine.nozzle] clearance_mm (0 without that table);
+    /// 0 checks contact only. Contact of any part of the head (the powder stream too) is a
+    /// collision whatever this is (decision 0023).
+    std::optional<double> clearance_mm;
     /// The program's dialect; unset = the machine profile's.
     std::optional<ProgramDialect> dialect;
     /// Report::matches_part(): coverage at least this, [0, 1] ...
@@ -65,9 +68,14 @@ struct Report {
     double sample_mm = 0.0;
     std::size_t poses_checked = 0;  ///< sampled poses the nozzle was checked at
     bool default_nozzle = false;    ///< the profile has no [machine.nozzle]: defaults used
-    double clearance_mm = 0.0;
+    double clearance_mm = 0.0;  ///< the clearance checked (VerifySettings::clearance_mm)
 
-    Finding collisions;   ///< blocks where the head meets material of earlier blocks
+    /// Contact: blocks where the head (stream, nozzle or body) meets material of earlier
+    /// blocks or the substrate.
+    Finding collisions;
+    /// Clearance: blocks without contact where the nozzle above its standoff or the body
+    /// comes closer than clearance_mm to that material or the substrate.
+    Finding clearance;
     Finding unsupported;  ///< deposit blocks with a bead piece resting on nothing
     double unsupported_length_mm = 0.0;
     Finding limit_violations;  ///< blocks with a pose outside machine.axes
@@ -123,7 +131,7 @@ struct Report {
 
     /// passed() but for unsupported beads (what `maxslice slice --allow-overhangs` keeps).
     [[nodiscard]] bool passed_apart_from_support() const {
-        return collisions.count == 0 && limit_violations.count == 0 && out_of_range.count == 0 &&
+        return collisions.count == 0 && clearance.count == 0 && limit_violations.count == 0 && out_of_range.count == 0 &&
                unfinished.count == 0 && left_on.count == 0;
     }
 

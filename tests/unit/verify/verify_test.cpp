@@ -295,8 +295,8 @@ TEST(Verify, JsonReportParsesAndCarriesTheFindings) {
     EXPECT_FALSE(j.at("passed").get<bool>());
     EXPECT_EQ(j.at("limit_violations").at("count").get<int>(), 1);
     EXPECT_EQ(j.at("limit_violations").at("first").at("line").get<int>(), over);
-    EXPECT_EQ(j.at("collisions").at("count").get<int>(), 0);
-    EXPECT_FALSE(j.at("collisions").contains("first"));
+    EXPECT_EQ(j.at("contact").at("count").get<int>(), 0);
+    EXPECT_FALSE(j.at("contact").contains("first"));
     EXPECT_NEAR(j.at("coverage").get<double>(), r.coverage, 1e-6);
     EXPECT_NEAR(j.at("build_time_s").get<double>(), r.build_time_s, 1e-3);
     EXPECT_EQ(j.at("dialect").get<std::string>(), "gm");
