@@ -469,7 +469,6 @@ private:
     bool substrate_hit(const Vec3d& tip, const Vec3d& dir, double c, bool hardware_only,
                        Vec3d* hit) const {
         const Box& box = *substrate_;
-        const double c = settings_.clearance_mm;
         if (lowest_point(tip, dir).z >= box.hi.z + c) return false;
         // How far below its centre a circle of radius 1 about `dir` reaches.
         const double dip = std::sqrt(std::max(0.0, 1.0 - dir.z * dir.z));

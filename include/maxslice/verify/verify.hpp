@@ -131,8 +131,8 @@ struct Report {
 
     /// passed() but for unsupported beads (what `maxslice slice --allow-overhangs` keeps).
     [[nodiscard]] bool passed_apart_from_support() const {
-        return collisions.count == 0 && clearance.count == 0 && limit_violations.count == 0 && out_of_range.count == 0 &&
-               unfinished.count == 0 && left_on.count == 0;
+        return collisions.count == 0 && clearance.count == 0 && limit_violations.count == 0 &&
+               out_of_range.count == 0 && unfinished.count == 0 && left_on.count == 0;
     }
 
     /// The program lays no bead the voxel grid holds (no deposit, or beads finer than the
