@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -150,6 +151,13 @@ core::Result<void> check_corner(std::string_view corner, const Counts& counts, s
 }  // namespace
 
 core::Result<ObjScan> scan_obj(std::string_view text) {
+    // OBJ is text; assimp's parser writes through a wild pointer on a NUL byte inside an
+    // 'mtllib' name (found by fuzz/fuzz_obj, fuzz/corpus/fuzz_obj/crash-07342c0c...).
+    if (const std::size_t nul = text.find('\0'); nul != std::string_view::npos) {
+        const auto line = static_cast<std::size_t>(
+            1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(nul), '\n'));
+        return error_at(line, "a NUL byte: an OBJ file is text");
+    }
     ObjScan scan;
     Counts counts;
     {
