@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -194,5 +195,107 @@ TEST(Cli, EverySharedModelSlicesOrIsRefusedCleanly) {
     for (const auto& f : files) {
         const CliRun r = run_cli({"slice", f.string(), "--layer", "0.5"}, 300);
         expect_clean_outcome(r, f.string());
+    }
+}
+
+// Issue 23: `maxslice verify` exits 3 for a program that is unsafe or does not build the part
+// it is checked against, 2 for bad input (an unreadable program, a profile whose code
+// templates move the machine), 0 for a sound program; its errors quote program bytes
+// escaped, on one short line.
+TEST(Cli, VerifyRefusesUnsafeAndWrongProgramsWithExitThree) {
+    const fs::path dir = temp_dir("verify_exit_codes");
+    const fs::path gm_profile = kSource / "examples/profiles/reference_lmd.toml";
+    const fs::path lc_profile = kSource / "examples/profiles/linuxcnc_generic.toml";
+    const fs::path gm = dir / "p.gm", ngc = dir / "p.ngc";
+    ASSERT_EQ(
+        run_cli({"slice", kExample.string(), "--profile", gm_profile.string(), "-o", gm.string()})
+            .exit_code,
+        0);
+    ASSERT_EQ(
+        run_cli({"slice", kExample.string(), "--profile", lc_profile.string(), "-o", ngc.string()})
+            .exit_code,
+        0);
+    const auto write = [&](const std::string& name, const std::string& text) {
+        const fs::path f = dir / name;
+        std::ofstream(f, std::ios::binary) << text;
+        return f;
+    };
+    const auto verify = [&](const fs::path& program, const fs::path& profile,
+                            std::vector<std::string> extra = {}, const fs::path& model = kExample) {
+        std::vector<std::string> args = {"verify",       program.string(), "--model",
+                                         model.string(), "--profile",      profile.string()};
+        args.insert(args.end(), extra.begin(), extra.end());
+        return run_cli(args);
+    };
+    const auto refused = [&](const CliRun& r, const std::string& check) {
+        EXPECT_EQ(r.exit_code, 3) << check << "\n" << r.out << r.err;
+        EXPECT_NE(r.err.find("maxslice: error: verification failed"), std::string::npos) << r.err;
+        EXPECT_NE(r.err.find(check), std::string::npos) << r.err;
+        EXPECT_NE(r.out.find("verification    FAILED"), std::string::npos) << r.out;
+    };
+
+    const fs::path json = dir / "r.json";
+    const CliRun ok = verify(gm, gm_profile, {"--json", json.string()});
+    EXPECT_EQ(ok.exit_code, 0) << ok.out << ok.err;
+    EXPECT_TRUE(nlohmann::json::parse(slurp(json)).at("passed").get<bool>());
+    EXPECT_EQ(verify(ngc, lc_profile).exit_code, 0);
+
+    const std::string text = slurp(gm), lc_text = slurp(ngc);
+    // Cut in half, mid-line; the LinuxCNC program ending with the laser on and no M2.
+    refused(verify(write("cut.gm", text.substr(0, text.size() / 2 + 5)), gm_profile), "unfinished");
+    const std::size_t off = lc_text.rfind("\nM65 P0\nM68 E0 Q0\n");  // the last laser_off
+    ASSERT_NE(off, std::string::npos);
+    const CliRun on = verify(write("on.ngc", lc_text.substr(0, off + 1)), lc_profile);
+    refused(on, "left_on");
+    EXPECT_NE(on.err.find("unfinished"), std::string::npos) << on.err;
+    // Empty and comments-only programs.
+    refused(verify(write("empty.gm", ""), gm_profile), "nothing_deposited");
+    refused(verify(write("comments.ngc", "(nothing)\n; still nothing\n"), lc_profile),
+            "unfinished");
+    // Nothing deposited measurably: the model read in metres, a voxel coarser than the beads.
+    refused(verify(gm, gm_profile, {"--units", "m"}), "nothing_deposited");
+    refused(verify(gm, gm_profile, {"--voxel", "1e9"}), "nothing_deposited");
+    // -700 W, 800 g/min on a machine whose maximum is 30.
+    std::string negative = lc_text;
+    for (auto at = negative.find("M68 E0 Q700.00"); at != std::string::npos;
+         at = negative.find("M68 E0 Q700.00")) {
+        negative.replace(at, 14, "M68 E0 Q-700.00");
+    }
+    refused(verify(write("negative.ngc", negative), lc_profile), "out_of_range");
+    std::string powder = text;
+    const std::size_t col = powder.find("700.00 8.00 ");
+    ASSERT_NE(col, std::string::npos);
+    powder.replace(col, 12, "700.00 800.00 ");
+    refused(verify(write("powder.gm", powder), gm_profile), "out_of_range");
+    // The wrong part: safe but not this part's program; a stated threshold lets it pass.
+    const fs::path seat = kSource / "examples/parts/bearing_seat.stl";
+    refused(verify(gm, gm_profile, {}, seat), "coverage");
+    EXPECT_EQ(
+        verify(gm, gm_profile, {"--min-coverage", "0", "--max-excess", "1000"}, seat).exit_code, 0);
+
+    // A profile whose template moves the machine is refused by both commands, naming the key.
+    std::string moving = slurp(gm_profile);
+    const std::size_t codes = moving.find("[machine.codes]\n");
+    ASSERT_NE(codes, std::string::npos);
+    moving.insert(codes + 16, "program_end = [\"G0 X0 Y0 Z0\"]\n");
+    const fs::path bad_profile = write("moving.toml", moving);
+    for (const CliRun& r : {verify(gm, bad_profile),
+                            run_cli({"slice", kExample.string(), "--profile", bad_profile.string(),
+                                     "-o", (dir / "never.gm").string()})}) {
+        EXPECT_EQ(r.exit_code, 2) << r.err;
+        EXPECT_NE(r.err.find("machine.codes.program_end[0]"), std::string::npos) << r.err;
+        EXPECT_NE(r.err.find("moves the machine (G0)"), std::string::npos) << r.err;
+    }
+    EXPECT_FALSE(fs::exists(dir / "never.gm"));
+
+    // Escape sequences and a million-digit number: one short, escaped error line, exit 2.
+    for (const std::string& bad :
+         {std::string("0.00 0.00 G1 X\x1b[31mRED\n"),
+          "0.00 0.00 G21\n0.00 0.00 G1 X" + std::string(1000000, '9') + " F100\n"}) {
+        const CliRun r = verify(write("bad.gm", bad), gm_profile);
+        EXPECT_EQ(r.exit_code, 2) << r.err.substr(0, 300);
+        EXPECT_EQ(r.err.find('\x1b'), std::string::npos) << r.err.substr(0, 300);
+        EXPECT_LT(r.err.size(), 1200U) << r.err.substr(0, 300);
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err.substr(0, 300);
     }
 }
