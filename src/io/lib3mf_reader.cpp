@@ -312,6 +312,9 @@ private:
 };
 
 core::Result<RawImport> read_impl(const std::filesystem::path& path) {
+    if (auto ok = check_3mf_expansion(path, kMaxPlacedTriangles, kMaxComponentDepth); !ok) {
+        return std::unexpected(ok.error());
+    }
     Handle model;
     if (NMR::lib3mf_createmodel(model.out()) != LIB3MF_OK || model.get() == nullptr) {
         return invalid("lib3mf could not create a model");

@@ -96,6 +96,13 @@ private:
 /// in the model's unit.
 [[nodiscard]] core::Result<RawImport> read_3mf(const std::filesystem::path& path);
 
+/// Reads the model parts of a 3MF file (minizip and a tag scanner, no lib3mf) and refuses,
+/// before lib3mf reads it, a build whose components expand to more than `max_placed`
+/// triangles or object placements, or nest deeper than `max_depth` (kInvalidInput, naming
+/// the counts). What it cannot follow counts as nothing; a bad zip is left to lib3mf.
+[[nodiscard]] core::Result<void> check_3mf_expansion(const std::filesystem::path& path,
+                                                     std::uint64_t max_placed, int max_depth);
+
 /// STEP or IGES through Open CASCADE: solids only, tessellated with the options'
 /// deviations, in mm.
 [[nodiscard]] core::Result<RawImport> read_cad(const std::filesystem::path& path, Format format,

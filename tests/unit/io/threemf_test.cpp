@@ -115,9 +115,9 @@ std::string three_mf(std::string_view resources, std::string_view build) {
 // Object 1 is a unit tetrahedron (volume 1/6, outward); objects 2 .. levels + 1 each place
 // the one below twice, the second copy moved along x by twice the first's width, so that
 // no copies overlap. The build places the top once.
-std::string nested_tetrahedra(int levels) {
+std::string nested_tetrahedra(int levels, std::string_view leaf_type = "model") {
     std::string resources =
-        R"(<object id="1" type="model"><mesh><vertices>)"
+        fmt::format(R"(<object id="1" type="{}"><mesh><vertices>)", leaf_type) +
         R"(<vertex x="0" y="0" z="0"/><vertex x="1" y="0" z="0"/>)"
         R"(<vertex x="0" y="1" z="0"/><vertex x="0" y="0" z="1"/></vertices><triangles>)"
         R"(<triangle v1="0" v2="2" v3="1"/><triangle v1="0" v2="1" v3="3"/>)"
@@ -148,14 +148,14 @@ TEST(ThreeMf, NestedComponentsArePlacedOncePerPath) {
 }
 
 TEST(ThreeMf, ExponentialComponentTreeIsRefusedNamingTheCount) {
-    // 30 levels that each place the next twice: a file of about 2 KB that expands to 2^30
-    // tetrahedra. It is refused before anything is placed (the reader used to copy its
-    // growing soup once per placement, and lib3mf walks every path of the tree while it
-    // reads), with the expanded count and the limit.
+    // 30 levels that each place the next twice: a 6 KB file (stored, not compressed) that
+    // expands to 2^30 tetrahedra. It is refused before anything is placed and before lib3mf
+    // reads it (the reader used to copy its growing soup once per placement, and lib3mf
+    // walks every path of the tree while it reads), with the expanded count and the limit.
     ScratchDir dir;
     const int levels = 30;
     const std::string file = nested_tetrahedra(levels);
-    ASSERT_LT(file.size(), 4096u);
+    ASSERT_LT(file.size(), 8192u);
     auto r = read_mesh(dir.write("bomb.3mf", file));
     ASSERT_FALSE(r);
     EXPECT_EQ(r.error().code, core::ErrorCode::kInvalidInput);
@@ -164,6 +164,20 @@ TEST(ThreeMf, ExponentialComponentTreeIsRefusedNamingTheCount) {
         << r.error().describe();
     EXPECT_TRUE(contains(r.error().message, "components")) << r.error().describe();
     EXPECT_TRUE(contains(r.error().message, "at most 20000000")) << r.error().describe();
+}
+
+TEST(ThreeMf, ExponentialTreeOfObjectsThatAreNotPartsIsRefusedToo) {
+    // The same tree over a support object places no triangle, but reading it still walks
+    // 2^30 placements: the placement count is bounded as well.
+    ScratchDir dir;
+    auto r = read_mesh(dir.write("bomb.3mf", nested_tetrahedra(30, "support")));
+    ASSERT_FALSE(r);
+    EXPECT_EQ(r.error().code, core::ErrorCode::kInvalidInput);
+    EXPECT_TRUE(contains(r.error().message, "placements")) << r.error().describe();
+    // A small tree of support objects is read, and holds no part.
+    r = read_mesh(dir.write("small.3mf", nested_tetrahedra(3, "support")));
+    ASSERT_FALSE(r);
+    EXPECT_TRUE(contains(r.error().message, "no triangles")) << r.error().describe();
 }
 
 }  // namespace
