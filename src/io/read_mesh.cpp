@@ -6,6 +6,7 @@
 #include <cmath>
 #include <exception>
 
+#include "maxslice/core/files.hpp"
 #include "maxslice/core/tolerances.hpp"
 #include "readers.hpp"
 
@@ -14,6 +15,8 @@ namespace {
 
 // Enough to see any format's signature and the first line of an IGES file.
 constexpr std::size_t kSniffBytes = 4096;
+// The longest error or warning message read_mesh returns.
+constexpr std::size_t kMaxMessageChars = 600;
 
 // The end of the time-out message of the mesh readers that run in a child (assimp, lib3mf):
 // they do no tessellation, so no option makes them faster.
@@ -282,7 +285,14 @@ core::Result<ImportedMesh> read_mesh(const std::filesystem::path& path,
     const std::string context = "file " + path.string();
     try {
         auto result = read_impl(path, options);
-        if (!result) return std::unexpected(core::with_context(result.error(), context));
+        // Messages quote the file (tokens) and the libraries (which quote it too): each is
+        // one line, control bytes escaped, cut to a readable length.
+        if (!result) {
+            core::Error e = core::with_context(result.error(), context);
+            e.message = core::printable(e.message, kMaxMessageChars);
+            return std::unexpected(std::move(e));
+        }
+        for (std::string& w : result->warnings) w = core::printable(w, kMaxMessageChars);
         return result;
     } catch (const std::bad_alloc&) {
         return core::fail(core::ErrorCode::kIo, "not enough memory to read the file", context);
