@@ -288,25 +288,35 @@ int check_tracks(Printed& o, const machine::ProgramSummary& sum, double uncovere
 // written (skipped with --no-verify). Whether the verifier's report lets the program be
 // written (--allow-overhangs tolerates unsupported beads, nothing else):
 bool verifier_keeps(const verify::Report& report, const SliceOptions& so) {
-    return report.passed() || (so.allow_overhangs && report.collisions.count == 0 &&
-                               report.clearance.count == 0 &&
-                               report.limit_violations.count == 0);
+    return report.passed() || (so.allow_overhangs && report.passed_apart_from_support());
 }
 
-// "(2 collisions, 0 unsupported beads, 0 axis-limit violations)"; with `first`, the first
-// finding too ("...; first: program line L: what"): the part, the substrate or a limit.
+// "(2 collisions, 0 unsupported beads, 0 axis-limit violations, 0 closer than the 2.00 mm
+// clearance)", with the program's other findings when it has them (values out of range, a
+// cut end, the laser left on); with `first`, the first finding too ("...; first: program
+// line L: what").
 std::string verifier_counts(const verify::Report& report, bool first = false) {
     std::string what;
     for (const verify::Finding* f :
-         {&report.collisions, &report.unsupported, &report.limit_violations}) {
+         {&report.collisions, &report.clearance, &report.unsupported, &report.limit_violations,
+          &report.out_of_range, &report.unfinished, &report.left_on}) {
         if (first && f->first) {
-            what = fmt::format("; first: program line {}: {}", f->first->line, f->first->detail);
+            what = fmt::format("; first: program line {}: {}", f->first->line,
+                               core::printable(f->first->detail));
             break;
         }
     }
-    return fmt::format("({} collisions, {} unsupported beads, {} axis-limit violations{})",
-                       report.collisions.count, report.unsupported.count,
-                       report.limit_violations.count, what);
+    std::string others;
+    for (const auto& [f, name] : {std::pair{&report.out_of_range, "values out of range"},
+                                  std::pair{&report.unfinished, "unfinished"},
+                                  std::pair{&report.left_on, "laser or powder left on"}}) {
+        if (f->count > 0) others += fmt::format(", {} {}", f->count, name);
+    }
+    return fmt::format(
+        "({} collisions, {} unsupported beads, {} axis-limit violations, {} closer than the "
+        "{:.2f} mm clearance{}{})",
+        report.collisions.count, report.unsupported.count, report.limit_violations.count,
+        report.clearance.count, report.clearance_mm, others, what);
 }
 
 // Prints the verifier's report of a program it refused and the error.
@@ -367,10 +377,10 @@ void print_verification(Printed& o, const std::optional<verify::Report>& report,
         return;
     }
     o.print(
-        "verified        %zu collisions, %zu unsupported beads, %zu limit violations "
-        "(%zu poses, %.3f mm voxels)\n",
+        "verified        %zu collisions, %zu unsupported beads, %zu limit violations, %zu closer "
+        "than the %.2f mm clearance (%zu poses, %.3f mm voxels)\n",
         report->collisions.count, report->unsupported.count, report->limit_violations.count,
-        report->poses_checked, report->voxel_mm);
+        report->clearance.count, report->clearance_mm, report->poses_checked, report->voxel_mm);
     o.print("coverage        %.2f%% of the part, excess %.2f%%%s\n", 100.0 * report->coverage,
             100.0 * report->excess,
             report->model_open_columns > 0
