@@ -297,6 +297,9 @@ TEST(MultiAxisReplay, TheVerifierPassesTheProgram) {
     ASSERT_TRUE(report.has_value());
     EXPECT_TRUE(report->passed()) << verify::report_text(*report);
     EXPECT_EQ(report->collisions.count, 0u);
+    EXPECT_EQ(report->clearance.count, 0u);
+    ASSERT_TRUE(j.profiles.machine.nozzle.has_value());
+    EXPECT_EQ(report->clearance_mm, j.profiles.machine.nozzle->clearance_mm);
     EXPECT_EQ(report->unsupported.count, 0u);
     EXPECT_EQ(report->limit_violations.count, 0u);
     EXPECT_GE(report->coverage, 0.97);
@@ -336,6 +339,27 @@ TEST(MultiAxisReplay, TracksOverBareFeaturesBelowAreLeftOut) {
     EXPECT_EQ(j.report->collisions.count, 0u);
     // Only what stands over the bare fin is left out: the block is built.
     EXPECT_GT(j.report->coverage, 0.85);
+}
+
+// The portal of issue 23 upside down (beam on the plate, the columns rising from it) with the
+// LinuxCNC 5-axis cell, whose head body is 80 mm across and whose profile asks for 2 mm: while
+// the tip stands at the foot of one column the body's rim reaches over the other. The job's
+// order keeps the clearance from the body (the verifier, checking the profile's clearance,
+// finds neither contact nor a gap below 2 mm), where an order by column left 1.35 mm.
+TEST(MultiAxisReplay, ThePortalsProgramKeepsTheProfilesClearance) {
+    mesh::TriangleMesh part = test::tall_portal().mesh;
+    for (Vec3d& v : part.vertices) v = {v.x, -v.y, -v.z};  // a half turn about X
+    const Job j = run_job("linuxcnc_5axis_ac.toml", part, "tall_portal");
+    ASSERT_TRUE(j.report.has_value());
+    ASSERT_TRUE(j.profiles.machine.nozzle.has_value());
+    EXPECT_EQ(j.profiles.machine.nozzle->clearance_mm, 2.0);
+    EXPECT_EQ(j.report->clearance_mm, 2.0);
+    EXPECT_EQ(j.report->collisions.count, 0u) << verify::report_text(*j.report);
+    EXPECT_EQ(j.report->clearance.count, 0u) << verify::report_text(*j.report);
+    EXPECT_TRUE(j.report->passed()) << verify::report_text(*j.report);
+    ASSERT_TRUE(j.planned.order.has_value());
+    EXPECT_GE(j.planned.order->smallest_margin_mm(), 2.0);
+    EXPECT_GT(j.planned.order->collision_edges, 0);
 }
 
 }  // namespace
