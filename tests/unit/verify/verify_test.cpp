@@ -256,19 +256,35 @@ TEST(Verify, ToolCentrePointProgramBuildsTheBlockAtAnyC) {
 
 TEST(Verify, ClearanceWidensTheHead) {
     // A travel 4 mm beside the block's wall at half its height: the cone (30 deg) reaches the
-    // wall's radius 6.9 mm above the tip, above the block's top (3 mm up): clear for contact;
-    // the wall's top edge is 2 mm from the cone, so a 3 mm clearance meets it.
-    const machine::Profiles p = load("reference_lmd.toml");
+    // wall's radius 6.9 mm above the tip, above the block's top (3 mm up): no contact; the
+    // wall's top edge is 2 mm from the cone. With the nozzle's tip 1 mm above the melt pool
+    // that is hardware: a 3 mm clearance meets it (a clearance finding, not a contact), the
+    // profile's 1 mm does not. With the reference's 10 mm standoff it is the powder stream,
+    // which needs only to stay clear (decision 0023).
+    machine::Profiles p = load("reference_lmd.toml");
+    ASSERT_TRUE(p.machine.nozzle.has_value());
     ProgramText prog(p, ProgramDialect::kGm, false);
     const Vec3d c = plate_centre(p);
     zigzag_block(prog, p, c.x, c.y, kHalf, kLayers);
     prog.move(c.x + kHalf + 4.0, c.y - 30.0, 30.0, p.process.travel_feed_mm_min);
     prog.move(c.x + kHalf + 4.0, c.y - 30.0, 3.0, p.process.travel_feed_mm_min);
     prog.move(c.x + kHalf + 4.0, c.y + 30.0, 3.0, p.process.travel_feed_mm_min);
-    EXPECT_EQ(verified(prog.text(), p).collisions.count, 0U);
     VerifySettings s;
     s.clearance_mm = 3.0;
-    EXPECT_GE(verified(prog.text(), p, s).collisions.count, 1U);
+    const Report stream = verified(prog.text(), p, s);
+    EXPECT_EQ(stream.collisions.count, 0U) << report_text(stream);
+    EXPECT_EQ(stream.clearance.count, 0U) << report_text(stream);
+    p.machine.nozzle->standoff_mm = 1.0;
+    const Report profile = verified(prog.text(), p);
+    EXPECT_EQ(profile.clearance_mm, p.machine.nozzle->clearance_mm);
+    EXPECT_EQ(profile.collisions.count, 0U) << report_text(profile);
+    EXPECT_EQ(profile.clearance.count, 0U) << report_text(profile);
+    const Report wide = verified(prog.text(), p, s);
+    EXPECT_EQ(wide.collisions.count, 0U) << report_text(wide);
+    EXPECT_GE(wide.clearance.count, 1U) << report_text(wide);
+    EXPECT_FALSE(wide.passed());
+    EXPECT_NE(report_text(wide).find("\nclearance 3.00  "), std::string::npos) << report_text(wide);
+    EXPECT_NE(report_json(wide).find("\"clearance\": {\"count\": "), std::string::npos);
 }
 
 TEST(Verify, SameInputSameReportBytes) {
