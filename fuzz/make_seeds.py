@@ -73,10 +73,14 @@ def obj(v, f):
         "f %d %d %d\n" % tuple(i + 1 for i in t) for t in f)
 
 
+def model_xml(resources, build, unit="millimeter"):
+    return ('<?xml version="1.0" encoding="UTF-8"?>\n<model unit="%s" xml:lang="en-US" '
+            'xmlns="http://schemas.microsoft.com/3dmanufacturing/core/2015/02">\n'
+            '<resources>%s</resources>\n<build>%s</build>\n</model>\n' % (unit, resources, build))
+
+
 def model_3mf(resources, build, unit="millimeter"):
-    xml = ('<?xml version="1.0" encoding="UTF-8"?>\n<model unit="%s" xml:lang="en-US" '
-           'xmlns="http://schemas.microsoft.com/3dmanufacturing/core/2015/02">\n'
-           '<resources>%s</resources>\n<build>%s</build>\n</model>\n' % (unit, resources, build))
+    xml = model_xml(resources, build, unit)
     buf = io.BytesIO()
     with zipfile.ZipFile(buf, "w", zipfile.ZIP_DEFLATED) as z:
         z.writestr("[Content_Types].xml",
@@ -122,9 +126,11 @@ def main():
         "COFF\n3 1 0\n0 0 0 1 1 1 1\n1 0 0 1 1 1 1\n0 1 0 1 1 1 1\n3 0 1 2\n", prefix=1)
     tet = mesh_object(1, TETRA_V, TETRA_F)
     put("fuzz_3mf", "seed-tetra.3mf", model_3mf(tet, '<item objectid="1"/>'))
-    put("fuzz_3mf", "seed-inch.3mf",
-        model_3mf(tet, '<item objectid="1" transform="1 0 0 0 1 0 0 0 1 5 5 0"/>', "inch"))
-    put("fuzz_3mf", "seed-components.3mf", model_3mf(
+    # fuzz_3mf packs any input that is not a zip as the model XML of a 3MF.
+    put("fuzz_3mf", "seed-inch.model",
+        model_xml(tet, '<item objectid="1" transform="1 0 0 0 1 0 0 0 1 5 5 0"/>', "inch"))
+    put("fuzz_3mf", "seed-tetra.model", model_xml(tet, '<item objectid="1"/>'))
+    put("fuzz_3mf", "seed-components.model", model_xml(
         tet + '<object id="2" type="model"><components><component objectid="1"/>'
         '<component objectid="1" transform="0 1 0 -1 0 0 0 0 1 20 0 0"/></components></object>'
         '<object id="3" type="model"><components><component objectid="2"/><component '
