@@ -90,23 +90,25 @@ public:
                 if (c == '<') {
                     in_tag_ = true;
                     tag_.clear();
+                    last_ = before_last_ = 0;
                 }
                 continue;
             }
             if (quote_ != 0) {
                 if (c == quote_) quote_ = 0;
-                tag_.push_back(c);
-                continue;
+            } else {
+                const bool comment = tag_.starts_with("!--");
+                if ((c == '"' || c == '\'') && !tag_.starts_with("!")) quote_ = c;
+                if (c == '>' && (!comment || (last_ == '-' && before_last_ == '-'))) {
+                    in_tag_ = false;
+                    handle(tag_, last_ == '/');
+                    continue;
+                }
             }
-            const bool comment = tag_.starts_with("!--");
-            if (!comment && (c == '"' || c == '\'') && !tag_.starts_with("!")) quote_ = c;
-            if (c == '>' && (!comment || tag_.ends_with("--"))) {
-                in_tag_ = false;
-                handle(tag_);
-                continue;
-            }
-            // Only the start of a long tag matters (its name and attributes); the rest of a
-            // huge attribute value or comment is dropped.
+            before_last_ = last_;
+            last_ = c;
+            // Only the start of a tag matters (its name and attributes); the rest of a huge
+            // attribute value or comment is not kept.
             if (tag_.size() < 4096) tag_.push_back(c);
         }
     }
@@ -119,7 +121,7 @@ private:
         return (path.empty() ? part_ : normalised_part(path)) + "#" + std::string(id);
     }
 
-    void handle(std::string_view tag) {
+    void handle(std::string_view tag, bool self_closing) {
         if (tag.empty() || tag.front() == '?' || tag.front() == '!') return;
         const bool closing = tag.front() == '/';
         if (closing) tag.remove_prefix(1);
@@ -134,7 +136,7 @@ private:
                 return;
             }
             current_ = &objects_[key(attribute(tag, "id"), {})];
-            if (tag.ends_with("/")) current_ = nullptr;
+            if (self_closing) current_ = nullptr;
         } else if (closing) {
             return;
         } else if (name == "triangle" && current_ != nullptr) {
@@ -152,6 +154,8 @@ private:
     Object* current_ = nullptr;
     bool in_tag_ = false;
     char quote_ = 0;
+    char last_ = 0;  // the tag's last two characters, kept when the tag itself is cut
+    char before_last_ = 0;
     std::string tag_;
 };
 

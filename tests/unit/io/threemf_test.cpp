@@ -115,8 +115,10 @@ std::string three_mf(std::string_view resources, std::string_view build) {
 // Object 1 is a unit tetrahedron (volume 1/6, outward); objects 2 .. levels + 1 each place
 // the one below twice, the second copy moved along x by twice the first's width, so that
 // no copies overlap. The build places the top once.
-std::string nested_tetrahedra(int levels, std::string_view leaf_type = "model") {
+std::string nested_tetrahedra(int levels, std::string_view leaf_type = "model",
+                              std::string_view before = {}) {
     std::string resources =
+        std::string(before) +
         fmt::format(R"(<object id="1" type="{}"><mesh><vertices>)", leaf_type) +
         R"(<vertex x="0" y="0" z="0"/><vertex x="1" y="0" z="0"/>)"
         R"(<vertex x="0" y="1" z="0"/><vertex x="0" y="0" z="1"/></vertices><triangles>)"
@@ -164,6 +166,18 @@ TEST(ThreeMf, ExponentialComponentTreeIsRefusedNamingTheCount) {
         << r.error().describe();
     EXPECT_TRUE(contains(r.error().message, "components")) << r.error().describe();
     EXPECT_TRUE(contains(r.error().message, "at most 20000000")) << r.error().describe();
+}
+
+TEST(ThreeMf, ALongCommentDoesNotHideTheTree) {
+    // The check before lib3mf keeps only the start of a long tag; a comment longer than
+    // that, full of '>', must still end where it ends.
+    ScratchDir dir;
+    std::string comment = "<!-- ";
+    for (int i = 0; i < 5000; ++i) comment += "a> -";
+    comment += " -->";
+    auto r = read_mesh(dir.write("hidden.3mf", nested_tetrahedra(30, "model", comment)));
+    ASSERT_FALSE(r);
+    EXPECT_TRUE(contains(r.error().message, "4294967296 triangles")) << r.error().describe();
 }
 
 TEST(ThreeMf, ExponentialTreeOfObjectsThatAreNotPartsIsRefusedToo) {
