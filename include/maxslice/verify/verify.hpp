@@ -68,7 +68,7 @@ struct Report {
     double sample_mm = 0.0;
     std::size_t poses_checked = 0;  ///< sampled poses the nozzle was checked at
     bool default_nozzle = false;    ///< the profile has no [machine.nozzle]: defaults used
-    double clearance_mm = 0.0;  ///< the clearance checked (VerifySettings::clearance_mm)
+    double clearance_mm = 0.0;      ///< the clearance checked (VerifySettings::clearance_mm)
 
     /// Contact: blocks where the head (stream, nozzle or body) meets material of earlier
     /// blocks or the substrate.
@@ -157,9 +157,10 @@ struct Report {
     [[nodiscard]] bool accepted() const { return passed() && matches_part(); }
 };
 
-/// The names of the checks the report fails, in a fixed order: "collisions", "unsupported",
-/// "limit_violations", "out_of_range", "unfinished", "left_on" (passed()), then
-/// "nothing_deposited", "coverage", "excess" (matches_part()). Empty when accepted().
+/// The names of the checks the report fails, in a fixed order: "collisions" (contact),
+/// "clearance", "unsupported", "limit_violations", "out_of_range", "unfinished", "left_on"
+/// (passed()), then "nothing_deposited", "coverage", "excess" (matches_part()). Empty when
+/// accepted().
 [[nodiscard]] std::vector<std::string_view> failed_checks(const Report& report);
 
 /// The model placed as the job places a part on the plate (docs/program-dialects.md): rotated
