@@ -394,7 +394,7 @@ void print_verification(Printed& o, const std::optional<verify::Report>& report,
             "by hand\n",
             report->below_plate_mm, report->below_plate.count, report->below_plate.first->line);
     }
-    if (report->coverage < 0.97 && report->model_open_columns == 0) {
+    if (report->coverage < verify::kMinCoverage && report->model_open_columns == 0) {
         // The bundled fine-track profile (0.80 mm) is the hint while the track is wider.
         constexpr double kFineProfileTrackMm = 0.8;
         o.warn(
@@ -492,8 +492,9 @@ struct JobOutcome {
         if (report) {
             figures = fmt::format("{:.2f}% coverage, {:.2f}% excess", 100.0 * report->coverage,
                                   100.0 * report->excess);
-            track_limited = report->model_open_columns == 0 &&
-                            (report->coverage < 0.97 || report->excess >= 0.05);
+            track_limited =
+                report->model_open_columns == 0 &&
+                (report->coverage < verify::kMinCoverage || report->excess >= verify::kMaxExcess);
         } else {
             figures = fmt::format("{:.1f}% of the section area without a track", 100.0 * open);
             track_limited = open > 0.05;
