@@ -255,12 +255,19 @@ TEST(Toolpath, RandomShapesKeepTheInvariants) {
         }
         Paths2 loops{star};
         const int holes = static_cast<int>(next(0, 5));
+        // One draw per statement: the order of a call's arguments is unspecified (GCC takes
+        // them last to first, clang first to last), and the shapes must not depend on it.
         for (int k = 0; k < holes; ++k) {
-            loops.push_back(ngon(next(-0.5, 0.5) * r, next(-0.5, 0.5) * r, next(0.5, 0.2 * r),
-                                 5 + static_cast<int>(next(0, 30))));
+            const int sides = 5 + static_cast<int>(next(0, 30));
+            const double radius = next(0.5, 0.2 * r);
+            const double cy = next(-0.5, 0.5) * r;
+            const double cx = next(-0.5, 0.5) * r;
+            loops.push_back(ngon(cx, cy, radius, sides));
         }
         const geom2d::WireTree tree = region(loops);
-        PathSettings s = settings(next(0.5, 3.5), next(0, 0.6), static_cast<int>(next(0, 4)));
+        const int passes = static_cast<int>(next(0, 4));
+        const double overlap = next(0, 0.6);
+        PathSettings s = settings(next(0.5, 3.5), overlap, passes);
         if (next(0, 1) < 0.3) s.raster_angle_deg = next(0, 360);
         SCOPED_TRACE("case " + std::to_string(i));
         const Point2 start = pt(next(-50, 50), -80);
