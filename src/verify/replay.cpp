@@ -463,7 +463,8 @@ private:
             if (letter == 'G') {
                 if (!w.g.push(*v)) return too_many();
             } else if (letter == 'M') {
-                if (*v != std::floor(*v)) {
+                // A whole number in int range (M2.2e127 was undefined behaviour; fuzz_program).
+                if (*v != std::floor(*v) || !(std::abs(*v) <= 1e9)) {
                     return std::unexpected(
                         line_error(line_no, ErrorCode::kInvalidInput,
                                    fmt::format("malformed M code in '{}'", quote_block(s))));

@@ -206,6 +206,7 @@ TEST(Replay, MalformedOrUnknownLinesNameTheLine) {
          "more than 16 G codes"},
         {&xyz, ProgramDialect::kLinuxCnc, "G21\n" + repeat("M2 ", 17) + "\n", 2,
          "more than 16 M codes"},
+        {&xyz, ProgramDialect::kLinuxCnc, "G21\nM2.2e127\n", 2, "malformed M code"},
     };
     // Sixteen codes in one block are read (RS-274 has fewer modal groups than that).
     EXPECT_TRUE(
