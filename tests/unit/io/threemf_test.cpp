@@ -13,6 +13,7 @@
 #include "io_test_support.hpp"
 #include "maxslice/io/read_mesh.hpp"
 #include "maxslice/mesh/triangle_mesh.hpp"
+#include "support/three_mf_package.hpp"
 
 namespace maxslice::io {
 namespace {
@@ -21,95 +22,12 @@ using test::contains;
 using test::joined;
 using test::ScratchDir;
 
-std::uint32_t crc32(std::string_view bytes) {
-    std::uint32_t crc = 0xFFFFFFFFu;
-    for (const char ch : bytes) {
-        crc ^= static_cast<unsigned char>(ch);
-        for (int k = 0; k < 8; ++k) crc = (crc >> 1) ^ (0xEDB88320u & (0u - (crc & 1u)));
-    }
-    return ~crc;
-}
-
-void put16(std::string& out, std::uint32_t v) {
-    out.push_back(static_cast<char>(v & 0xFF));
-    out.push_back(static_cast<char>((v >> 8) & 0xFF));
-}
-void put32(std::string& out, std::uint32_t v) {
-    put16(out, v & 0xFFFF);
-    put16(out, v >> 16);
-}
-
-// A zip archive of stored entries (method 0), enough for lib3mf.
-std::string zip(const std::vector<std::pair<std::string, std::string>>& entries) {
-    std::string out;
-    std::string directory;
-    for (const auto& [name, data] : entries) {
-        const auto offset = static_cast<std::uint32_t>(out.size());
-        const std::uint32_t crc = crc32(data);
-        const auto size = static_cast<std::uint32_t>(data.size());
-        put32(out, 0x04034b50);
-        put16(out, 20);  // version needed
-        put16(out, 0);   // flags
-        put16(out, 0);   // stored
-        put32(out, 0);   // time, date
-        put32(out, crc);
-        put32(out, size);
-        put32(out, size);
-        put16(out, static_cast<std::uint32_t>(name.size()));
-        put16(out, 0);
-        out += name;
-        out += data;
-        put32(directory, 0x02014b50);
-        put16(directory, 20);
-        put16(directory, 20);
-        put16(directory, 0);
-        put16(directory, 0);
-        put32(directory, 0);
-        put32(directory, crc);
-        put32(directory, size);
-        put32(directory, size);
-        put16(directory, static_cast<std::uint32_t>(name.size()));
-        put16(directory, 0);  // extra
-        put16(directory, 0);  // comment
-        put16(directory, 0);  // disk
-        put16(directory, 0);  // internal attributes
-        put32(directory, 0);  // external attributes
-        put32(directory, offset);
-        directory += name;
-    }
-    const auto directory_at = static_cast<std::uint32_t>(out.size());
-    out += directory;
-    put32(out, 0x06054b50);
-    put16(out, 0);
-    put16(out, 0);
-    put16(out, static_cast<std::uint32_t>(entries.size()));
-    put16(out, static_cast<std::uint32_t>(entries.size()));
-    put32(out, static_cast<std::uint32_t>(directory.size()));
-    put32(out, directory_at);
-    put16(out, 0);
-    return out;
-}
-
 std::string three_mf(std::string_view resources, std::string_view build) {
-    const std::string types =
-        R"(<?xml version="1.0" encoding="UTF-8"?>)"
-        R"(<Types xmlns="http://schemas.openxmlformats.org/package/2006/content-types">)"
-        R"(<Default Extension="rels" )"
-        R"(ContentType="application/vnd.openxmlformats-package.relationships+xml"/>)"
-        R"(<Default Extension="model" )"
-        R"(ContentType="application/vnd.ms-package.3dmanufacturing-3dmodel+xml"/></Types>)";
-    const std::string rels =
-        R"(<?xml version="1.0" encoding="UTF-8"?>)"
-        R"(<Relationships xmlns="http://schemas.openxmlformats.org/package/2006/relationships">)"
-        R"(<Relationship Target="/3D/3dmodel.model" Id="rel0" )"
-        R"(Type="http://schemas.microsoft.com/3dmanufacturing/2013/01/3dmodel"/></Relationships>)";
-    const std::string model =
+    return maxslice::test::three_mf_package(
         fmt::format(R"(<?xml version="1.0" encoding="UTF-8"?><model unit="millimeter" )"
                     R"(xmlns="http://schemas.microsoft.com/3dmanufacturing/core/2015/02">)"
                     R"(<resources>{}</resources><build>{}</build></model>)",
-                    resources, build);
-    return zip(
-        {{"[Content_Types].xml", types}, {"_rels/.rels", rels}, {"3D/3dmodel.model", model}});
+                    resources, build));
 }
 
 // Object 1 is a unit tetrahedron (volume 1/6, outward); objects 2 .. levels + 1 each place
