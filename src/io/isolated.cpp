@@ -16,11 +16,18 @@
 // ends (PR_SET_PDEATHSIG; that thread waits for the child, so this is the parent's death),
 // and a parent that died between fork and prctl is caught by comparing getppid() with the
 // parent's pid. Otherwise a killed slicer would leave a reader running with no time limit.
+//
+// The child's memory is bounded too (kReaderMemoryShare of the machine's, by RLIMIT_AS): a
+// small compressed 3MF can inflate to gigabytes of XML, and a reader that runs out of its
+// share fails with std::bad_alloc, a refusal that names the cause, instead of pushing the
+// machine into swap or the kernel's OOM killer. AddressSanitizer reserves terabytes of
+// address space for its shadow memory, so sanitizer builds leave the bound out.
 
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
 #include <sys/prctl.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -29,12 +36,39 @@
 #include <cerrno>
 #include <chrono>
 #include <cstring>
+#include <new>
 #include <string>
 
 #include "readers.hpp"
 
 namespace maxslice::io::detail {
 namespace {
+
+#if defined(__SANITIZE_ADDRESS__)
+constexpr bool kAddressSanitizer = true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+constexpr bool kAddressSanitizer = true;
+#else
+constexpr bool kAddressSanitizer = false;
+#endif
+#else
+constexpr bool kAddressSanitizer = false;
+#endif
+
+// Lowers the child's address-space limit to its share of the machine's memory.
+void bound_memory() {
+    if (kAddressSanitizer) return;
+    const double bytes = kReaderMemoryShare * static_cast<double>(::sysconf(_SC_PHYS_PAGES)) *
+                         static_cast<double>(::sysconf(_SC_PAGESIZE));
+    struct rlimit lim {};
+    if (!(bytes > 0.0) || ::getrlimit(RLIMIT_AS, &lim) != 0) return;
+    const auto want = static_cast<rlim_t>(bytes);
+    if (lim.rlim_cur == RLIM_INFINITY || lim.rlim_cur > want) {
+        lim.rlim_cur = want;
+        ::setrlimit(RLIMIT_AS, &lim);
+    }
+}
 
 class Writer {
 public:
@@ -171,9 +205,17 @@ core::Result<RawImport> run_isolated(const std::function<core::Result<RawImport>
     if (pid == 0) {
         if (::prctl(PR_SET_PDEATHSIG, SIGKILL) != 0 || ::getppid() != parent) ::_exit(1);
         ::close(fds[0]);
+        bound_memory();
         std::string bytes;
         try {
             bytes = encode(reader());
+        } catch (const std::bad_alloc&) {
+            bytes = encode(core::fail(
+                core::ErrorCode::kInvalidInput,
+                fmt::format("{} ran out of the memory a part reader may use ({:.0f}% of the "
+                            "machine's) reading the file: it expands to more than that (a "
+                            "packed file that inflates enormously, or a damaged one)",
+                            library, 100.0 * kReaderMemoryShare)));
         } catch (...) {
             bytes = encode(core::fail(core::ErrorCode::kInvalidInput,
                                       fmt::format("{} failed to read the file", library)));

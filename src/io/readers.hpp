@@ -108,6 +108,10 @@ private:
 [[nodiscard]] core::Result<RawImport> read_cad(const std::filesystem::path& path, Format format,
                                                const ImportOptions& options);
 
+/// The share of the machine's memory a reader child may use (its address-space limit; not
+/// in sanitizer builds).
+inline constexpr double kReaderMemoryShare = 0.5;
+
 /// Runs a reader in a forked child process: a crash (signal) or a run longer than
 /// time_limit_s (<= 0: no limit) of the library behind it refuses the file (kInvalidInput)
 /// instead of ending or blocking the program; `slow_because` ends the time-out message

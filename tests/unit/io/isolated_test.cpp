@@ -9,6 +9,7 @@
 
 #include <chrono>
 #include <fstream>
+#include <memory>
 #include <string>
 #include <thread>
 
@@ -86,6 +87,35 @@ TEST(Isolated, TimeOutNamesTheReaderAndTheCause) {
                          "part reader and was stopped: the reader took too long on this file"))
         << r.error().describe();
     EXPECT_FALSE(contains(r.error().message, "chord")) << r.error().describe();
+}
+
+// A reader that needs more memory than its share (a 3MF that inflates to gigabytes) is
+// refused with that cause, not left to swap or the OOM killer. Only the allocation's first
+// page is touched: without the bound it succeeds (and the test fails) without using the
+// memory.
+TEST(Isolated, AReaderThatExceedsItsMemoryShareIsRefused) {
+#if defined(__SANITIZE_ADDRESS__)
+    GTEST_SKIP() << "AddressSanitizer needs the address space; the bound is left out there";
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+    GTEST_SKIP() << "AddressSanitizer needs the address space; the bound is left out there";
+#endif
+#endif
+    const double machine = static_cast<double>(::sysconf(_SC_PHYS_PAGES)) *
+                           static_cast<double>(::sysconf(_SC_PAGESIZE));
+    const auto too_much =
+        static_cast<std::size_t>(detail::kReaderMemoryShare * machine) + (std::size_t{1} << 30);
+    auto r = detail::run_isolated(
+        [too_much]() -> core::Result<detail::RawImport> {
+            std::unique_ptr<char[]> block(new char[too_much]);
+            volatile char* first = block.get();  // one page used: the allocation stays
+            *first = 1;
+            return detail::RawImport{};
+        },
+        60.0, "lib3mf", "test");
+    ASSERT_FALSE(r) << "a reader was given more than its share of the memory";
+    EXPECT_TRUE(contains(r.error().message, "lib3mf ran out of the memory a part reader may use"))
+        << r.error().describe();
 }
 
 }  // namespace
