@@ -99,6 +99,11 @@ TEST(Safety, AFailedWriteKeepsThePreviousProgram) {
 TEST(Safety, AFullDeviceOrStdoutIsAnError) {
     expect_refusal(run_cli({"slice", kExample.string(), "-o", "/dev/full"}),
                    "No space left on device", "-o /dev/full");
+    // Small previews too (they used to come out empty with exit 0).
+    expect_refusal(run_cli({"slice", kExample.string(), "--json", "/dev/full"}),
+                   "No space left on device", "--json /dev/full");
+    expect_refusal(run_cli({"slice", kExample.string(), "--contact-sheet", "/dev/full"}),
+                   "No space left on device", "--contact-sheet /dev/full");
     const std::string cmd = shell_quote(MAXSLICE_CLI) + " info " + shell_quote(kExample.string()) +
                             " >/dev/full 2>/dev/null";
     const int status = std::system(cmd.c_str());
