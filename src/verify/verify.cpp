@@ -748,7 +748,7 @@ private:
 std::vector<std::string_view> failed_checks(const Report& r) {
     std::vector<std::string_view> out;
     const std::pair<const Finding*, std::string_view> findings[] = {
-        {&r.collisions, "collisions"},
+        {&r.collisions, "contact"},
         {&r.clearance, "clearance"},
         {&r.unsupported, "unsupported"},
         {&r.limit_violations, "limit_violations"},

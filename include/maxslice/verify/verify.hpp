@@ -157,7 +157,7 @@ struct Report {
     [[nodiscard]] bool accepted() const { return passed() && matches_part(); }
 };
 
-/// The names of the checks the report fails, in a fixed order: "collisions" (contact),
+/// The names of the checks the report fails, in a fixed order: "contact" (collisions),
 /// "clearance", "unsupported", "limit_violations", "out_of_range", "unfinished", "left_on"
 /// (passed()), then "nothing_deposited", "coverage", "excess" (matches_part()). Empty when
 /// accepted().
