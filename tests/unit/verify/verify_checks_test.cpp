@@ -21,17 +21,12 @@ using testing::load;
 using testing::ProgramText;
 using testing::zigzag_block;
 
-constexpr double kHalf = 15.0;  // a 30 x 30 mm block ...
-constexpr int kLayers = 12;     // ... 6 mm high at 0.5 mm
-
-mesh::TriangleMesh placed(const machine::Profiles& p, mesh::TriangleMesh m) {
-    auto r = place_model(std::move(m), {0, 0, 1}, p.machine);
-    EXPECT_TRUE(r.has_value());
-    return r.value_or(mesh::TriangleMesh{});
-}
+using testing::kHalf;
+using testing::kLayers;
+using testing::placed;
 
 mesh::TriangleMesh block(const machine::Profiles& p) {
-    return placed(p, test::box({0, 0, 0}, {2 * kHalf, 2 * kHalf, kLayers * 0.5}));
+    return testing::placed_block(p);
 }
 
 Report verified(const std::string& text, const machine::Profiles& p,

@@ -3,6 +3,7 @@
 // zigzag block with correct layers and the blocks that plant faults into it.
 
 #include <fmt/format.h>
+#include <gtest/gtest.h>
 
 #include <array>
 #include <cmath>
@@ -12,6 +13,8 @@
 
 #include "maxslice/machine/profile.hpp"
 #include "maxslice/verify/replay.hpp"
+#include "maxslice/verify/verify.hpp"
+#include "support/fixtures.hpp"
 
 namespace maxslice::verify::testing {
 
@@ -140,6 +143,22 @@ inline double zigzag_block(ProgramText& prog, const machine::Profiles& p, double
         prog.laser(false);
     }
     return length;
+}
+
+/// The block the tests' programs build: 30 x 30 mm, 12 layers of 0.5 mm.
+inline constexpr double kHalf = 15.0;
+inline constexpr int kLayers = 12;
+
+/// A model placed on the plate as the job places a part standing along +Z.
+inline mesh::TriangleMesh placed(const machine::Profiles& p, mesh::TriangleMesh m) {
+    auto r = place_model(std::move(m), {0, 0, 1}, p.machine);
+    EXPECT_TRUE(r.has_value());
+    return r.value_or(mesh::TriangleMesh{});
+}
+
+/// The block (kHalf, kLayers), placed.
+inline mesh::TriangleMesh placed_block(const machine::Profiles& p) {
+    return placed(p, test::box({0, 0, 0}, {2 * kHalf, 2 * kHalf, kLayers * 0.5}));
 }
 
 }  // namespace maxslice::verify::testing

@@ -24,15 +24,9 @@ using testing::load;
 using testing::ProgramText;
 using testing::zigzag_block;
 
-constexpr double kHalf = 15.0;  // the block is 30 x 30 mm
-constexpr int kLayers = 12;     // 6 mm high at 0.5 mm
-
-mesh::TriangleMesh placed_block(const machine::Profiles& p) {
-    auto placed = place_model(test::box({0, 0, 0}, {2 * kHalf, 2 * kHalf, kLayers * 0.5}),
-                              {0, 0, 1}, p.machine);
-    EXPECT_TRUE(placed.has_value());
-    return placed.value_or(mesh::TriangleMesh{});
-}
+using testing::kHalf;
+using testing::kLayers;
+using testing::placed_block;
 
 Vec3d plate_centre(const machine::Profiles& p) {
     const mesh::TriangleMesh m = placed_block(p);
