@@ -61,7 +61,8 @@ inline CliRun run_cli(const std::vector<std::string>& args, int timeout_s = 300,
         "maxslice_cli_" + std::to_string(::getpid()) + "_" + std::to_string(counter++);
     const auto out_file = dir / (stem + ".out");
     const auto err_file = dir / (stem + ".err");
-    std::string cmd = shell_prefix + "timeout " + std::to_string(timeout_s) + " " + shell_quote(MAXSLICE_CLI);
+    std::string cmd =
+        shell_prefix + "timeout " + std::to_string(timeout_s) + " " + shell_quote(MAXSLICE_CLI);
     for (const auto& a : args) cmd += " " + shell_quote(a);
     cmd += " >" + shell_quote(out_file.string()) + " 2>" + shell_quote(err_file.string()) +
            " </dev/null";
