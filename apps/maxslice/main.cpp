@@ -223,20 +223,13 @@ core::Result<machine::Profiles> load_profiles(const SliceOptions& so) {
     return profiles;
 }
 
-// Refuses, before any work, an input that is not a regular file, and an output flag given an
-// empty path or the path of an input (the part or a profile): nothing a user had is
-// overwritten.
+// Refuses, before any work, an output flag given an empty path or the path of an input (the
+// part or a profile): nothing a user had is overwritten. (The part's reader and the profile
+// loader refuse an input that is not a regular file without blocking on it.)
 int check_outputs(const CLI::App& cmd, std::initializer_list<const char*> flags,
                   const std::string& part, const std::vector<std::string>& profiles) {
     std::vector<std::filesystem::path> inputs{part};
     inputs.insert(inputs.end(), profiles.begin(), profiles.end());
-    // A FIFO or a device given as an input would block the reader or feed it without end.
-    for (std::size_t i = 0; i < inputs.size(); ++i) {
-        if (auto ok = core::check_input_file(inputs[i], i == 0 ? "the part file" : "the profile");
-            !ok) {
-            return report_error(ok.error());
-        }
-    }
     for (const char* flag : flags) {
         const CLI::Option* o = cmd.get_option(flag);
         if (o->count() == 0) continue;
@@ -1205,10 +1198,7 @@ int run(int argc, char** argv) {
         threads.emplace(tbb::global_control::max_allowed_parallelism,
                         static_cast<std::size_t>(active.threads));
     }
-    if (info->parsed()) {
-        if (const int rc = check_outputs(*info, {}, info_opt.path, {}); rc != kExitOk) return rc;
-        return run_info(info_opt, info_json);
-    }
+    if (info->parsed()) return run_info(info_opt, info_json);
     if (plan_cmd->parsed()) return run_plan(plan_opt, po, plan_layer_opt->count() > 0);
     return run_slice(slice_opt, so);
 }

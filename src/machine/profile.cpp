@@ -1,5 +1,7 @@
 #include "maxslice/machine/profile.hpp"
 
+#include "maxslice/core/files.hpp"
+
 #include "maxslice/machine/speed_law.hpp"
 
 #include <fmt/format.h>
@@ -1181,6 +1183,10 @@ core::Result<ProfileFile> parse_profile(std::string_view toml_text, std::string_
 }
 
 core::Result<ProfileFile> read_profile(const std::filesystem::path& file) {
+    // A FIFO or a device would block the read or feed it without end.
+    if (auto ok = core::check_input_file(file, "the profile"); !ok) {
+        return std::unexpected(ok.error());
+    }
     std::ifstream in(file, std::ios::binary);
     if (!in) {
         return core::fail(ErrorCode::kIo, "cannot open the file", "profile " + file.string());

@@ -171,6 +171,6 @@ TEST(Safety, AnInputThatIsNotARegularFileIsRefusedAtOnce) {
     expect_refusal(run_cli({"slice", fifo.string(), "-o", out}, 30), "FIFO", "slice FIFO");
     expect_refusal(run_cli({"plan", kExample.string(), "--profile", fifo.string()}, 30), "FIFO",
                    "plan --profile FIFO");
-    expect_refusal(run_cli({"slice", "/dev/zero", "-o", out}, 30), "character device",
+    expect_refusal(run_cli({"slice", "/dev/zero", "-o", out}, 30), "not a regular file",
                    "slice /dev/zero");
 }
