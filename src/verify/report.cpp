@@ -1,6 +1,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <cmath>
 #include <iterator>
 #include <string>
 #include <string_view>
@@ -75,7 +76,40 @@ std::string match_text(const Report& r) {
         out += fmt::format("{}excess {:.2f}% not under {:.2f}%", out.empty() ? "" : "; ",
                            100.0 * r.excess, 100.0 * r.max_excess);
     }
+    if (r.finished_given && r.finished_low()) {
+        out +=
+            fmt::format("{}finished part {:.2f}% inside beads, below {:.2f}%",
+                        out.empty() ? "" : "; ", 100.0 * r.finished_inside, 100.0 * r.min_coverage);
+    }
     return out;
+}
+
+}  // namespace
+
+std::string finished_text(const Report& r) {
+    return fmt::format("{:.2f}% inside beads, smallest stock {:.2f} mm", 100.0 * r.finished_inside,
+                       r.smallest_stock_mm);
+}
+
+namespace {
+
+// What the smallest stock's figure means where it needs saying: "" for a stock found within
+// the search; else where the part reaches out of the beads, or that the stock is at least the
+// search's limit.
+std::string stock_note(const Report& r) {
+    if (r.finished_volume_mm3 <= 0.0) return "";
+    const auto& p = r.smallest_stock_at_mm;
+    const bool at_limit =
+        r.stock_limit_mm > 0.0 && std::abs(r.smallest_stock_mm) >= r.stock_limit_mm - 1e-9;
+    if (r.smallest_stock_mm < 0.0) {
+        return fmt::format(
+            " (the {} reaches {}{:.2f} mm out of the beads at ({:.3f}, {:.3f}, "
+            "{:.3f}))",
+            r.finished_given ? "finished part" : "model", at_limit ? "at least " : "",
+            -r.smallest_stock_mm, p.x, p.y, p.z);
+    }
+    if (at_limit) return fmt::format(" (at least: searched up to {:.2f} mm)", r.stock_limit_mm);
+    return fmt::format(" (at ({:.3f}, {:.3f}, {:.3f}))", p.x, p.y, p.z);
 }
 
 std::string checks_json(const std::vector<std::string_view>& checks) {
@@ -131,6 +165,20 @@ std::string report_json(const Report& r) {
     field("coverage_judged", r.coverage_judged() ? "true" : "false");
     field("min_coverage", num(r.min_coverage, 6));
     field("max_excess", num(r.max_excess, 6));
+    field("finished_given", r.finished_given ? "true" : "false");
+    field("finished_volume_mm3", num(r.finished_volume_mm3, 3));
+    field("finished_inside_volume_mm3", num(r.finished_inside_volume_mm3, 3));
+    field("finished_inside", num(r.finished_inside, 6));
+    field("finished_inside_target", num(kFinishedInsideTarget, 6));
+    field("smallest_stock_mm", num(r.smallest_stock_mm, 4));
+    field("smallest_stock_at_mm",
+          fmt::format("[{}, {}, {}]", num(r.smallest_stock_at_mm.x, 3),
+                      num(r.smallest_stock_at_mm.y, 3), num(r.smallest_stock_at_mm.z, 3)));
+    field("stock_limit_mm", num(r.stock_limit_mm, 4));
+    field("finished_open_columns", std::to_string(r.finished_open_columns));
+    field("finished_columns", std::to_string(r.finished_columns));
+    field("finished_inverted_columns", std::to_string(r.finished_inverted_columns));
+    field("finished_judged", r.finished_judged() ? "true" : "false");
     field("deposition_length_mm", num(r.deposition_length_mm, 3));
     field("idle_length_mm", num(r.idle_length_mm, 3));
     field("rotary_travel_deg", num(r.rotary_travel_deg, 3));
@@ -182,6 +230,13 @@ std::string report_text(const Report& r) {
     fmt::format_to(it,
                    "excess          {:.2f}% ({:.1f} mm3 of {:.1f} mm3 deposited lies outside)\n",
                    100.0 * r.excess, r.excess_volume_mm3, r.deposited_volume_mm3);
+    fmt::format_to(it, "finished part   {}{}\n", finished_text(r), stock_note(r));
+    if (r.finished_given && !r.finished_judged()) {
+        fmt::format_to(it,
+                       "finished part   not closed or inside out in {} of {} voxel columns: "
+                       "its share inside beads is an estimate\n",
+                       r.finished_open_columns + r.finished_inverted_columns, r.finished_columns);
+    }
     if (r.model_open_columns > 0) {
         fmt::format_to(it,
                        "model           not closed: {} of {} voxel columns cross its surface "

@@ -20,6 +20,7 @@
 #include "maxslice/machine/speed_law.hpp"
 #include "model_voxels.hpp"
 #include "region_query.hpp"
+#include "stock_distance.hpp"
 #include "voxel_grid.hpp"
 
 namespace maxslice::verify {
@@ -55,6 +56,13 @@ constexpr double kLimitToleranceMmOrDeg = 1e-6;
 constexpr double kMaxSamples = 1.0e5;
 /// Subdivisions used to estimate the path of a move that turns the table.
 constexpr int kArcProbe = 16;
+/// The machining stock is searched this far (mm) from the finished part's surface, and at
+/// least kStockSearchVoxels voxels; stocks from practice are 0.5 - 3 mm (decision 0026).
+constexpr double kStockSearchMm = 5.0;
+constexpr int kStockSearchVoxels = 8;
+/// The distance search's planes stay within this many bytes (a finer grid searches fewer
+/// voxels out).
+constexpr std::size_t kStockSearchBytes = std::size_t{256} << 20;
 
 double lerp(double a, double b, double t) {
     return a + (b - a) * t;
@@ -95,7 +103,8 @@ public:
         }
     }
 
-    core::Result<Report> run(const Replay& replay, const mesh::TriangleMesh& model) {
+    core::Result<Report> run(const Replay& replay, const mesh::TriangleMesh& model,
+                             const mesh::TriangleMesh* finished) {
         Report rep;
         rep.dialect = std::string(dialect_name(replay.dialect));
         rep.machine_kinematics =
@@ -106,12 +115,19 @@ public:
         rep.min_coverage = settings_.min_coverage;
         rep.max_excess = settings_.max_excess;
         note_program_faults(replay, rep);
-        if (auto ok = setup_grid(replay, model, rep); !ok) return std::unexpected(ok.error());
-        // The model's voxels are needed only for the volumes at the end: they are made on
-        // another core while the program is replayed.
+        if (auto ok = setup_grid(replay, model, finished, rep); !ok) {
+            return std::unexpected(ok.error());
+        }
+        // The model's (and the finished part's) voxels are needed only for the volumes at the
+        // end: they are made on other cores while the program is replayed.
         tbb::task_group model_task;
         model_task.run(
             [&] { model_ = detail::voxelize_model(model, origin_, voxel_, nx_, ny_, nz_); });
+        if (finished != nullptr) {
+            model_task.run([&] {
+                finished_ = detail::voxelize_model(*finished, origin_, voxel_, nx_, ny_, nz_);
+            });
+        }
         build_regions();
 
         double hmin = std::numeric_limits<double>::infinity(), hmax = 0.0;
@@ -193,6 +209,8 @@ public:
         rep.unsupported_length_mm = unsupported_length_;
         model_task.wait();
         measure_volumes(rep);
+        measure_finished(rep, finished != nullptr ? finished_ : model_);
+        rep.finished_given = finished != nullptr;
         return rep;
     }
 
@@ -224,8 +242,15 @@ private:
     }
 
     core::Result<void> setup_grid(const Replay& replay, const mesh::TriangleMesh& model,
-                                  Report& rep) {
+                                  const mesh::TriangleMesh* finished, Report& rep) {
         core::Box3d box = mesh::bounding_box(model);
+        if (finished != nullptr) {
+            const core::Box3d f = mesh::bounding_box(*finished);
+            if (!f.empty()) {
+                box.add(f.min);
+                box.add(f.max);
+            }
+        }
         double reach = 0.0;
         for (const ReplayBlock& b : replay.blocks) {
             if (b.kind != ReplayBlock::Kind::kMove || !b.laser_on || !b.pose_known) continue;
@@ -700,6 +725,40 @@ private:
             n_model > 0 ? static_cast<double>(n_dep - n_both) / static_cast<double>(n_model) : 0.0;
     }
 
+    // The finished part's share inside beads and its smallest stock (decision 0026): the
+    // distances are searched on the voxels, one voxel being their resolution.
+    void measure_finished(Report& rep, const detail::ModelVoxels& fin) const {
+        const auto& dep = grid_.fine().words();
+        const auto& f = fin.grid.words();
+        std::size_t n_fin = 0, n_in = 0;
+        for (std::size_t i = 0; i < dep.size(); ++i) {
+            n_fin += static_cast<std::size_t>(std::popcount(f[i]));
+            n_in += static_cast<std::size_t>(std::popcount(f[i] & dep[i]));
+        }
+        const double v3 = voxel_ * voxel_ * voxel_;
+        rep.finished_volume_mm3 = static_cast<double>(n_fin) * v3;
+        rep.finished_inside_volume_mm3 = static_cast<double>(n_in) * v3;
+        rep.finished_inside =
+            n_fin > 0 ? static_cast<double>(n_in) / static_cast<double>(n_fin) : 0.0;
+        rep.finished_columns = fin.columns;
+        rep.finished_open_columns = fin.open_columns;
+        rep.finished_inverted_columns = fin.inverted_columns;
+        const int want =
+            std::max(kStockSearchVoxels, static_cast<int>(std::ceil(kStockSearchMm / voxel_)) + 1);
+        const int limit = detail::stock_limit_within(want, nx_, ny_, kStockSearchBytes);
+        const double limit_mm = (limit - 1) * voxel_;
+        rep.stock_limit_mm = limit_mm;
+        const detail::StockDistance s = detail::smallest_stock(grid_.fine(), fin.grid, limit);
+        if (s.empty) return;
+        // Inside: centre to centre, less the half voxel each surface lies beyond its last
+        // centre on average. Sticking out: the finished voxel's centre to the nearest bead
+        // voxel's centre (the two half voxels cancel).
+        rep.smallest_stock_mm = s.inside ? std::min((s.distance - 1.0) * voxel_, limit_mm)
+                                         : -std::min(s.distance * voxel_, limit_mm);
+        rep.smallest_stock_at_mm =
+            origin_ + Vec3d{(s.i + 0.5) * voxel_, (s.j + 0.5) * voxel_, (s.k + 0.5) * voxel_};
+    }
+
     const machine::Profiles& profiles_;
     const machine::ProcessProfile& process_;
     const machine::MachineKinematics& kin_;
@@ -712,6 +771,7 @@ private:
     int nx_ = 0, ny_ = 0, nz_ = 0;
     OccupancyPyramid grid_;
     detail::ModelVoxels model_;
+    detail::ModelVoxels finished_;  // the finished part, when given
     Region nozzle_region_;
     Region hardware_region_;  // the nozzle above its tip and the body
     double clearance_ = 0.0;  // the gap the hardware keeps (mm; 0: contact only)
@@ -761,6 +821,7 @@ std::vector<std::string_view> failed_checks(const Report& r) {
     if (r.deposits_nothing()) out.push_back("nothing_deposited");
     if (r.coverage_low()) out.push_back("coverage");
     if (r.excess_high()) out.push_back("excess");
+    if (r.finished_given && r.finished_low()) out.push_back("finished_inside");
     return out;
 }
 
@@ -775,10 +836,31 @@ core::Result<mesh::TriangleMesh> place_model(mesh::TriangleMesh model,
     return mesh::placed_on_plate(std::move(model), base_direction, machine::plate_center(machine));
 }
 
+core::Result<mesh::TriangleMesh> place_like(mesh::TriangleMesh other,
+                                            const mesh::TriangleMesh& model,
+                                            const core::Vec3d& base_direction,
+                                            const machine::MachineProfile& machine) {
+    if (other.empty()) {
+        return core::fail(ErrorCode::kInvalidInput, "the finished part has no triangles");
+    }
+    auto placed = place_model(model, base_direction, machine);
+    if (!placed) return std::unexpected(placed.error());
+    // Both together take one rotation and a shift; the model's own vertices then tell the
+    // shift that separates that placement from the model's.
+    const std::size_t first = other.vertices.size();
+    mesh::append(other, model);
+    other = mesh::placed_on_plate(std::move(other), base_direction, machine::plate_center(machine));
+    const Vec3d shift = placed->vertices.front() - other.vertices[first];
+    other.vertices.resize(first);
+    for (Vec3d& v : other.vertices) v = v + shift;
+    return other;
+}
+
 core::Result<Report> verify_program(std::string_view program_text,
                                     const mesh::TriangleMesh& placed_model,
                                     const machine::Profiles& profiles,
-                                    const VerifySettings& settings) {
+                                    const VerifySettings& settings,
+                                    const mesh::TriangleMesh* placed_finished) {
     if (auto ok = machine::validate(profiles.machine); !ok) return std::unexpected(ok.error());
     if (auto ok = machine::validate(profiles.process); !ok) return std::unexpected(ok.error());
     const double clearance = settings.clearance_mm.value_or(0.0);
@@ -812,7 +894,7 @@ core::Result<Report> verify_program(std::string_view program_text,
     const machine::NozzleProfile nozzle =
         profiles.machine.nozzle.value_or(machine::NozzleProfile{});
     Verifier v(profiles, *kin, settings, nozzle);
-    auto report = v.run(*replay, placed_model);
+    auto report = v.run(*replay, placed_model, placed_finished);
     if (report) {
         report->default_nozzle = !profiles.machine.nozzle.has_value();
         report->substrate = profiles.machine.substrate.has_value();

@@ -18,6 +18,9 @@ namespace maxslice::verify {
 /// figures `maxslice slice` builds to (docs/verifier.md, decision 0022).
 inline constexpr double kMinCoverage = 0.97;
 inline constexpr double kMaxExcess = 0.05;
+/// The share of the finished part a job's program is meant to hold inside its beads (issue 24,
+/// decision 0026): a goal the report shows, not a verdict (the verdict is kMinCoverage).
+inline constexpr double kFinishedInsideTarget = 0.995;
 
 /// How to verify a program (docs/verifier.md).
 struct VerifySettings {
@@ -112,6 +115,29 @@ struct Report {
     double min_coverage = kMinCoverage;  ///< the thresholds matches_part() applies
     double max_excess = kMaxExcess;
 
+    /// The finished part (decision 0026): the part after machining, which the deposited model
+    /// (a near-net shape: the finished part grown by a machining stock) must hold. Given to
+    /// verify_program, or (finished_given false) the model itself. The model's figures above
+    /// (coverage, excess) stay measured against the model.
+    bool finished_given = false;
+    double finished_volume_mm3 = 0.0;         ///< voxelized finished part
+    double finished_inside_volume_mm3 = 0.0;  ///< of it, inside beads
+    double finished_inside = 0.0;             ///< inside / finished volume, [0, 1]; goal 1
+    /// The smallest machining stock (mm): where every voxel of the finished part lies inside
+    /// beads, the smallest distance from its surface to the outside of the beads (>= 0); where
+    /// some does not, minus the farthest the finished part reaches out of the beads (< 0; 0 or
+    /// less whenever finished_inside < 1). Distances between voxel centres, Euclidean, less one
+    /// voxel inside (each surface lies half a voxel beyond the last centre on average): within
+    /// one voxel (voxel_mm) of the true figure. Searched up to stock_limit_mm either way; a
+    /// figure of +-stock_limit_mm means at least that far.
+    double smallest_stock_mm = 0.0;
+    core::Vec3d smallest_stock_at_mm;  ///< part frame: the finished part's voxel it was found at
+    double stock_limit_mm = 0.0;       ///< how far the stock was searched (mm)
+    /// As model_columns / model_open_columns / model_inverted_columns, for the finished part.
+    std::size_t finished_columns = 0;
+    std::size_t finished_open_columns = 0;
+    std::size_t finished_inverted_columns = 0;
+
     double deposition_length_mm = 0.0;  ///< tool tip path with the laser on (part frame)
     double idle_length_mm = 0.0;        ///< linear axes' path with the laser off (machine)
     double rotary_travel_deg = 0.0;     ///< sum of |dA|+|dC| (or B)
@@ -146,11 +172,21 @@ struct Report {
     }
     [[nodiscard]] bool coverage_low() const { return coverage_judged() && coverage < min_coverage; }
     [[nodiscard]] bool excess_high() const { return coverage_judged() && excess >= max_excess; }
+    /// finished_inside describes the finished part: it is closed, no body inside out.
+    [[nodiscard]] bool finished_judged() const {
+        return finished_open_columns == 0 && finished_inverted_columns == 0;
+    }
+    /// Less than min_coverage of the finished part inside beads (where judged): the program
+    /// does not build it, whatever the model's figures (decision 0026).
+    [[nodiscard]] bool finished_low() const {
+        return finished_judged() && finished_inside < min_coverage;
+    }
 
     /// The program builds the part it was checked against: it deposits, and (where judged)
-    /// covers at least min_coverage of the model with excess below max_excess.
+    /// covers at least min_coverage of the model with excess below max_excess, and holds at
+    /// least min_coverage of the finished part inside its beads.
     [[nodiscard]] bool matches_part() const {
-        return !deposits_nothing() && !coverage_low() && !excess_high();
+        return !deposits_nothing() && !coverage_low() && !excess_high() && !finished_low();
     }
 
     /// What `maxslice verify` accepts (exit 0): passed() and matches_part().
@@ -159,8 +195,8 @@ struct Report {
 
 /// The names of the checks the report fails, in a fixed order: "contact" (collisions),
 /// "clearance", "unsupported", "limit_violations", "out_of_range", "unfinished", "left_on"
-/// (passed()), then "nothing_deposited", "coverage", "excess" (matches_part()). Empty when
-/// accepted().
+/// (passed()), then "nothing_deposited", "coverage", "excess", "finished_inside" (the last
+/// only with a finished part given; matches_part()). Empty when accepted().
 [[nodiscard]] std::vector<std::string_view> failed_checks(const Report& report);
 
 /// The model placed as the job places a part on the plate (docs/program-dialects.md): rotated
@@ -172,20 +208,35 @@ struct Report {
                                                            const core::Vec3d& base_direction,
                                                            const machine::MachineProfile& machine);
 
+/// `other` (in the same file frame as `model`) moved as place_model moves `model`: the same
+/// rotation and the same shift, whatever other's own bounding box. Places the finished part
+/// with its near-net shape's placement. Errors as place_model's (also for an empty `other`).
+[[nodiscard]] core::Result<mesh::TriangleMesh> place_like(mesh::TriangleMesh other,
+                                                          const mesh::TriangleMesh& model,
+                                                          const core::Vec3d& base_direction,
+                                                          const machine::MachineProfile& machine);
+
 /// Verifies a program against the placed model (part frame) and the profiles: replays it
 /// (replay_program), lays beads in a voxel grid and checks collisions, support and axis limits
 /// and measures coverage, excess, lengths and time; notes out-of-range values and how the
-/// program ends. A program that fails the checks is a Report with passed() or matches_part()
-/// false, not an error. Errors: the program does not parse (context
-/// "line N"), invalid profiles or settings (min_coverage outside [0, 1], a negative
-/// max_excess), a grid too large for max_voxels.
-[[nodiscard]] core::Result<Report> verify_program(std::string_view program_text,
-                                                  const mesh::TriangleMesh& placed_model,
-                                                  const machine::Profiles& profiles,
-                                                  const VerifySettings& settings = {});
+/// program ends. `placed_finished`, when given, is the finished part placed as the model (the
+/// model being its near-net shape): the report's finished_inside and smallest_stock_mm are
+/// measured against it (otherwise against the model). A program that fails the checks is a
+/// Report with passed() or matches_part() false, not an error. Errors: the program does not
+/// parse (context "line N"), invalid profiles or settings (min_coverage outside [0, 1], a
+/// negative max_excess), a grid too large for max_voxels.
+[[nodiscard]] core::Result<Report> verify_program(
+    std::string_view program_text, const mesh::TriangleMesh& placed_model,
+    const machine::Profiles& profiles, const VerifySettings& settings = {},
+    const mesh::TriangleMesh* placed_finished = nullptr);
 
 /// The report as JSON (fixed key order and number formats: same report, same bytes).
 [[nodiscard]] std::string report_json(const Report& report);
+
+/// "99.87% inside beads, smallest stock 0.61 mm" (2 decimals; the stock negative where the
+/// finished part reaches out of the beads): the finished part's figures, as the verify report
+/// and the slice job's summary print them after "finished part" (scripts parse this line).
+[[nodiscard]] std::string finished_text(const Report& report);
 
 /// The report as text for a person, one finding per line.
 [[nodiscard]] std::string report_text(const Report& report);
