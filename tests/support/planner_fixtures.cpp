@@ -757,6 +757,167 @@ PlannerFixture slot(const SlotSpec& spec) {
                 });
 }
 
+// ---- 7. Parts as given, with the plate in the machine ------------------------------------
+
+PlannerFixture cross_hole_block(const CrossHoleBlockSpec& spec) {
+    const double s = spec.size;
+    const double r = 0.5 * spec.hole_diameter;
+    require(0.0 < r && 2.0 * r < s, "cross_hole_block: the hole must fit inside the block");
+    // In the (x, z) plane: the square with the hole, extruded along Y.
+    const CapPoint center{0.5 * s, 0.5 * s};
+    const std::vector<CapPoint> rim = ring_points(center, r, spec.segments);
+    const std::vector<CapPoint> outline{{0, 0}, {s, 0}, {s, s}, {0, s}};
+    const std::vector<std::vector<CapPoint>> holes{rim};
+    const Cap hole = fan_cap(center, rim);
+    return make("cross_hole_block",
+                "40 mm block with a horizontal 20 mm through-hole: the hole's roof bridges the two "
+                "sides",
+                extrude_xz(polygon_cap(outline, holes), 0.0, s),
+                s * (s * s - regular_polygon_area(r, spec.segments)), box_of({0, 0, 0}, {s, s, s}),
+                [=](double z) { return (z >= 0.0 && z < s) ? s * (s - cap_chord(hole, z)) : 0.0; });
+}
+
+PlannerFixture tab_with_hole(const TabWithHoleSpec& spec) {
+    const double l = spec.plate_length;
+    const double w = spec.plate_width;
+    const double t = spec.plate_thickness;
+    const double tw = spec.tab_width;
+    const double tt = spec.tab_thickness;
+    const double th = spec.tab_height;
+    const double r = 0.5 * spec.hole_diameter;
+    const double zh = t + spec.hole_height;
+    require(l > 0.0 && w > 0.0 && t > 0.0 && 0.0 < tw && tw < l && 0.0 < tt && tt < w && th > 0.0,
+            "tab_with_hole: bad sizes");
+    require(0.0 < r && 2.0 * r < tw && zh - r > t && zh + r < t + th,
+            "tab_with_hole: the hole must fit inside the tab");
+    // In the (x, z) plane: the plate's section in three rectangles (the tab's foot is the middle
+    // one's top, so the tab joins without T-junctions) and the tab with its hole; extruded along
+    // Y in three slabs, the middle one with the tab.
+    const double x0 = 0.5 * (l - tw);
+    const double x1 = x0 + tw;
+    const double y0 = 0.5 * (w - tt);
+    const double y1 = y0 + tt;
+    CapBuilder plate;
+    plate.add(rectangle_cap(0.0, 0.0, x0, t));
+    plate.add(rectangle_cap(x0, 0.0, x1, t));
+    plate.add(rectangle_cap(x1, 0.0, l, t));
+    const CapPoint center{0.5 * l, zh};
+    const std::vector<CapPoint> rim = ring_points(center, r, spec.segments);
+    const std::vector<CapPoint> tab_outline{{x0, t}, {x1, t}, {x1, t + th}, {x0, t + th}};
+    const std::vector<std::vector<CapPoint>> holes{rim};
+    CapBuilder middle;
+    middle.add(plate.cap());
+    middle.add(polygon_cap(tab_outline, holes));
+    const TriangleMesh pieces[] = {extrude_xz(plate.cap(), 0.0, y0),
+                                   extrude_xz(middle.cap(), y0, y1),
+                                   extrude_xz(plate.cap(), y1, w)};
+    const Cap hole = fan_cap(center, rim);
+    return make("tab_with_hole",
+                "plate with an upright tab holding a horizontal 10 mm hole: Z, the hole's roof "
+                "bridges the tab's two sides",
+                fused(pieces), l * w * t + tt * (tw * th - regular_polygon_area(r, spec.segments)),
+                box_of({0, 0, 0}, {l, w, t + th}), [=](double z) {
+                    if (z >= 0.0 && z < t) return l * w;
+                    return (z >= t && z < t + th) ? tt * (tw - cap_chord(hole, z)) : 0.0;
+                });
+}
+
+double helical_ring_ground_angle(const HelicalRingSpec& spec) {
+    return std::numbers::pi * spec.section / spec.pitch;
+}
+
+PlannerFixture helical_ring(const HelicalRingSpec& spec) {
+    const double a = spec.radius - 0.5 * spec.section;
+    const double b = spec.radius + 0.5 * spec.section;
+    const double half = 0.5 * spec.section;
+    const int n = spec.segments_per_turn;
+    const int steps = n * spec.turns;
+    require(a > 0.0 && spec.section > 0.0 && spec.pitch > spec.section && spec.turns >= 1 && n >= 8,
+            "helical_ring: bad sizes");
+    const double ground_steps = n * spec.section / (2.0 * spec.pitch);
+    require(ground_steps == std::floor(ground_steps),
+            "helical_ring: the ground end must end on a step");
+    // Ring k: the section's corners (a, bottom), (b, bottom), (b, top), (a, top) in the
+    // half-plane at theta_k; heights from k alone (pitch * k / n), so the ground end's bottom is
+    // exactly 0 and the top exactly turns * pitch + half.
+    TriangleMesh m;
+    for (int k = 0; k <= steps; ++k) {
+        const double theta = 2.0 * std::numbers::pi * k / n;
+        const double c = std::cos(theta);
+        const double s = std::sin(theta);
+        const double zc = spec.pitch * k / n;
+        const double bottom = std::max(0.0, zc - half);
+        const double top = zc + half;
+        m.vertices.push_back({a * c, a * s, bottom});
+        m.vertices.push_back({b * c, b * s, bottom});
+        m.vertices.push_back({b * c, b * s, top});
+        m.vertices.push_back({a * c, a * s, top});
+    }
+    auto at = [](int k, int corner) { return static_cast<std::uint32_t>(4 * k + corner % 4); };
+    // The corners run counter-clockwise in the (radius, z) plane, whose normal at theta is
+    // -d/dtheta: so the start cap faces backwards as listed and each side quad runs k -> k + 1
+    // before the next corner.
+    m.triangles.push_back({at(0, 0), at(0, 1), at(0, 2)});
+    m.triangles.push_back({at(0, 0), at(0, 2), at(0, 3)});
+    for (int k = 0; k < steps; ++k) {
+        for (int i = 0; i < 4; ++i) {
+            m.triangles.push_back({at(k, i), at(k + 1, i), at(k + 1, i + 1)});
+            m.triangles.push_back({at(k, i), at(k + 1, i + 1), at(k, i + 1)});
+        }
+    }
+    m.triangles.push_back({at(steps, 0), at(steps, 2), at(steps, 1)});
+    m.triangles.push_back({at(steps, 0), at(steps, 3), at(steps, 2)});
+    // A screw motion keeps volume as the radius weights it: the smooth sweep holds
+    // (b^2 - a^2) / 2 times the integral of the section's height over theta; the ground end
+    // loses the triangle below the plate, half * ground angle.
+    const double ground = helical_ring_ground_angle(spec);
+    const double sweep = 0.5 * (b * b - a * a) *
+                         (spec.section * 2.0 * std::numbers::pi * spec.turns - 0.5 * half * ground);
+    PlannerFixture f = make(
+        "helical_ring",
+        "square section wound two turns along a helix, standing on its ground end: the growth "
+        "turns, follow it with tilted layers as far as the tilt range allows, then a new base",
+        std::move(m), sweep, box_of({-b, -b, 0.0}, {b, b, spec.turns * spec.pitch + half}), {});
+    // The faceting, to leading order in the step d: the side walls are chords, which hold
+    // sin(d) / d of the arcs' volume; the top and bottom faces (helicoids, flat on the ground
+    // end) are each step a twisted quad cut along one diagonal, which adds or removes about half
+    // the tetrahedron between its two diagonals, (b - a)^2 rise sin(d) / 6 for the rise
+    // pitch / n of a step. 2.4e-3 with the default spec; measured 2e-4 (the two partly cancel).
+    const double d = 2.0 * std::numbers::pi / n;
+    const double sliver = (b - a) * (b - a) * (spec.pitch / n) * std::sin(d) / 6.0;
+    const double twisted = 2.0 * steps - ground_steps;
+    f.volume_accuracy = (1.0 - std::sin(d) / d) + 0.5 * sliver * twisted / sweep;
+    return f;
+}
+
+PlannerFixture wall_boss(const WallBossSpec& spec) {
+    const double l = spec.wall_length;
+    const double t = spec.wall_thickness;
+    const double h = spec.wall_height;
+    const double r = 0.5 * spec.boss_diameter;
+    const double bl = spec.boss_length;
+    require(l > 0.0 && t > 0.0 && h > 0.0 && bl > 0.0, "wall_boss: sizes must be positive");
+    require(0.0 < r && 2.0 * r < l && 2.0 * r < h, "wall_boss: the boss must fit the face");
+    // The wall's face y = t in the (x, z) plane: the rectangle around the boss's disc plus the
+    // disc, triangulated exactly as the boss's end so the two fuse into one body.
+    const CapPoint center{0.5 * l, 0.5 * h};
+    const std::vector<CapPoint> rim = ring_points(center, r, spec.segments);
+    const Cap disc = fan_cap(center, rim);
+    const std::vector<CapPoint> outline{{0, 0}, {l, 0}, {l, h}, {0, h}};
+    const std::vector<std::vector<CapPoint>> holes{rim};
+    CapBuilder face;
+    face.add(polygon_cap(outline, holes));
+    face.add(disc);
+    const TriangleMesh pieces[] = {extrude_xz(face.cap(), 0.0, t), extrude_xz(disc, t, t + bl)};
+    return make("wall_boss",
+                "vertical wall with a horizontal boss at mid-height: Z for the wall, sideways for "
+                "the boss",
+                fused(pieces), l * t * h + regular_polygon_area(r, spec.segments) * bl,
+                box_of({0, 0, 0}, {l, t + bl, h}), [=](double z) {
+                    return ((z >= 0.0 && z < h) ? l * t : 0.0) + bl * cap_chord(disc, z);
+                });
+}
+
 std::vector<PlannerFixture> all_planner_fixtures() {
     std::vector<PlannerFixture> out;
     out.push_back(vertical_prism());
@@ -771,6 +932,11 @@ std::vector<PlannerFixture> all_planner_fixtures() {
     out.push_back(arch());
     out.push_back(portal_frame());
     out.push_back(slot());
+    out.push_back(tall_portal());
+    out.push_back(cross_hole_block());
+    out.push_back(tab_with_hole());
+    out.push_back(helical_ring());
+    out.push_back(wall_boss());
     return out;
 }
 

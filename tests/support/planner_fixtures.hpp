@@ -9,9 +9,9 @@
 // fixture relies on the slicer's union of overlapping loops.
 //
 // Analytic values are those of the polygons actually built (a regular n-gon, not the circle
-// it approximates), so tests measure the code under test, not the faceting; the one
-// exception is the swept leaning column, whose volume is that of the smooth sweep (see
-// PlannerFixture::volume_accuracy). Sections "at z" are taken just above z, as in
+// it approximates), so tests measure the code under test, not the faceting; the exceptions
+// are the swept leaning column and helical ring, whose volumes are those of the smooth sweeps
+// (see PlannerFixture::volume_accuracy). Sections "at z" are taken just above z, as in
 // fixtures.hpp.
 #include <functional>
 #include <span>
@@ -247,9 +247,10 @@ struct PortalSpec {
     double depth = 15.0;          ///< mm, along Y
 };
 [[nodiscard]] PlannerFixture portal_frame(const PortalSpec& spec = {});
-/// The portal of issue 23: two 10 x 10 x 40 columns 50 mm apart (centre to centre) under a
-/// 60 x 10 x 8 beam. Built upside down (beam first), the 5-axis cells' head body (80 mm
-/// across) reaches over one column while the tip is at the other's foot.
+/// The portal of issues 23 and 24: two 10 x 10 x 40 columns 50 mm apart (centre to centre)
+/// under a 60 x 10 x 8 beam. Built upside down (beam first), the 5-axis cells' head body (80 mm
+/// across) reaches over one column while the tip is at the other's foot; as given, the beam
+/// must be closed from both columns (a bridge between bases).
 [[nodiscard]] PlannerFixture tall_portal();
 
 /// Two parallel walls with a deep narrow slot between them on a common base: in the (x, z)
@@ -265,6 +266,71 @@ struct SlotSpec {
     double depth = 20.0;           ///< mm, along Y
 };
 [[nodiscard]] PlannerFixture slot(const SlotSpec& spec = {});
+
+// ---- 7. Parts as given, with the plate in the machine (issue 24) --------------------------
+
+/// A cube [0, size]^3 with a horizontal through-hole along Y (regular `segments`-gon of
+/// diameter hole_diameter) centred at x = z = size / 2. Below the hole's top a section has two
+/// separate pieces; the hole's roof bridges them.
+struct CrossHoleBlockSpec {
+    double size = 40.0;           ///< mm
+    double hole_diameter = 20.0;  ///< mm, less than size
+    int segments = 32;            ///< a multiple of 4
+};
+[[nodiscard]] PlannerFixture cross_hole_block(const CrossHoleBlockSpec& spec = {});
+
+/// A plate [0, plate_length] x [0, plate_width] x [0, plate_thickness] with an upright tab
+/// (tab_width along X, tab_thickness along Y, tab_height high) standing on its middle; a
+/// horizontal hole (regular `segments`-gon of diameter hole_diameter) runs through the tab's
+/// thickness (along Y), its axis hole_height above the plate's top, centred in the tab's width.
+struct TabWithHoleSpec {
+    double plate_length = 60.0;    ///< mm, along X
+    double plate_width = 40.0;     ///< mm, along Y
+    double plate_thickness = 8.0;  ///< mm
+    double tab_width = 30.0;       ///< mm, along X, less than plate_length
+    double tab_thickness = 8.0;    ///< mm, along Y, less than plate_width
+    double tab_height = 35.0;      ///< mm, above the plate's top
+    double hole_diameter = 10.0;   ///< mm
+    double hole_height = 20.0;     ///< mm, of the hole's axis above the plate's top
+    int segments = 32;             ///< a multiple of 4
+};
+[[nodiscard]] PlannerFixture tab_with_hole(const TabWithHoleSpec& spec = {});
+
+/// A ring wound along a right-handed helix about the Z axis, as a coil spring with a ground
+/// end: the square section [radius - section / 2, radius + section / 2] in radius by `section`
+/// in height, in the vertical half-plane at angle theta from +X, is centred at height
+/// pitch * theta / 2 pi for theta in [0, 2 pi turns] and cut off by the plate z = 0. So the
+/// first (section / 2 / pitch) of a turn stands on the plate on a flat face (the ground end,
+/// the part's footing), and the rest hangs above it at the helix angle atan(pitch / (2 pi
+/// radius)) from horizontal. `segments_per_turn` equal steps of theta per turn (the ground end
+/// ends on a step); flat caps at both ends, in their half-planes. The volume is that of the
+/// smooth sweep; the chords make the mesh smaller by about (1 - sin(d) / d) for the step d,
+/// which is volume_accuracy.
+struct HelicalRingSpec {
+    double radius = 25.0;  ///< mm, of the section's centre
+    double pitch = 12.0;   ///< mm, rise per turn, more than section (turns stay apart)
+    double section = 6.0;  ///< mm, side of the square section, less than radius
+    int turns = 2;         ///< at least 1
+    /// at least 8; the ground end, segments_per_turn * section / (2 pitch) steps, a whole number
+    int segments_per_turn = 72;
+};
+[[nodiscard]] PlannerFixture helical_ring(const HelicalRingSpec& spec = {});
+/// Angle (radians) over which the helical ring's ground end stands on the plate.
+[[nodiscard]] double helical_ring_ground_angle(const HelicalRingSpec& spec = {});
+
+/// A wall [0, wall_length] x [0, wall_thickness] x [0, wall_height] standing on the plate with
+/// a horizontal cylindrical boss (regular `segments`-gon of diameter boss_diameter) on its face
+/// y = wall_thickness, along +Y over boss_length, its axis at x = wall_length / 2 and at
+/// mid-height. The boss hangs above the plate: only the wall touches it.
+struct WallBossSpec {
+    double wall_length = 60.0;     ///< mm, along X
+    double wall_thickness = 10.0;  ///< mm, along Y
+    double wall_height = 50.0;     ///< mm
+    double boss_diameter = 20.0;   ///< mm, less than wall_length and wall_height
+    double boss_length = 15.0;     ///< mm, how far the boss sticks out along +Y
+    int segments = 32;             ///< a multiple of 4
+};
+[[nodiscard]] PlannerFixture wall_boss(const WallBossSpec& spec = {});
 
 /// Every fixture above with its default spec.
 [[nodiscard]] std::vector<PlannerFixture> all_planner_fixtures();

@@ -211,7 +211,7 @@ TEST(PlannerFixtures, NamesAreUnique) {
     for (const PlannerFixture& f : fixtures()) names.push_back(f.name);
     std::ranges::sort(names);
     EXPECT_EQ(std::ranges::adjacent_find(names), names.end());
-    EXPECT_EQ(names.size(), 12u);
+    EXPECT_EQ(names.size(), 17u);
 }
 
 // ---- Construction helpers ----------------------------------------------------------------
@@ -564,6 +564,25 @@ TEST(PortalFrame, ColumnsCarryABeamThatBridgesTheOpening) {
     }
 }
 
+TEST(TallPortal, IsTheIssuesPortal) {
+    // Two 10 x 10 x 40 columns 50 mm apart centre to centre under a 60 x 10 x 8 beam.
+    const PlannerFixture f = tall_portal();
+    EXPECT_NEAR(f.volume_mm3, 2.0 * 10.0 * 10.0 * 40.0 + 60.0 * 10.0 * 8.0, 1e-9);
+    EXPECT_EQ(f.box.size(), (Vec3d{60.0, 10.0, 48.0}));
+    for (const Section& s : sections(f.mesh)) {
+        const std::vector<Range> pieces = outer_x_ranges(s.slice);
+        if (s.z < 40.0) {
+            ASSERT_EQ(pieces.size(), 2u) << "z " << s.z;
+            EXPECT_NEAR(pieces[0].max - pieces[0].min, 10.0, 1e-3);
+            EXPECT_NEAR(pieces[1].max - pieces[1].min, 10.0, 1e-3);
+            EXPECT_NEAR(0.5 * (pieces[1].min + pieces[1].max - pieces[0].min - pieces[0].max), 50.0,
+                        1e-3);
+        } else {
+            ASSERT_EQ(pieces.size(), 1u) << "z " << s.z;
+        }
+    }
+}
+
 TEST(Slot, WallsStandApartByTheSlotWidthAboveTheBase) {
     const SlotSpec spec{};
     const PlannerFixture f = slot(spec);
@@ -575,6 +594,134 @@ TEST(Slot, WallsStandApartByTheSlotWidthAboveTheBase) {
         } else {
             ASSERT_EQ(walls.size(), 2u) << "z " << s.z;
             EXPECT_NEAR(walls[1].min - walls[0].max, spec.slot_width, 1e-3) << "z " << s.z;
+        }
+    }
+}
+
+// ---- 7. Parts as given, with the plate in the machine ------------------------------------
+
+// Extent along y (mm) of a section.
+Range y_range(const slice::Slice& s) {
+    Range r;
+    for (const geom2d::WireNode& n : s.wires.nodes) {
+        if (n.is_hole) continue;
+        for (const geom2d::Point2& p : n.wire) {
+            r.min = std::min(r.min, static_cast<double>(p.y) / kUmPerMm);
+            r.max = std::max(r.max, static_cast<double>(p.y) / kUmPerMm);
+        }
+    }
+    return r;
+}
+
+TEST(CrossHoleBlock, TheHoleSplitsTheSectionsItCrosses) {
+    const CrossHoleBlockSpec spec{};
+    const PlannerFixture f = cross_hole_block(spec);
+    const double r = 0.5 * spec.hole_diameter;
+    const double zc = 0.5 * spec.size;
+    int split = 0;
+    for (const Section& s : sections(f.mesh)) {
+        const std::vector<Range> pieces = outer_x_ranges(s.slice);
+        EXPECT_EQ(s.slice.wires.hole_count(), 0u) << "the hole runs horizontally, z " << s.z;
+        if (std::abs(s.z - zc) < r - 0.1) {
+            ++split;
+            ASSERT_EQ(pieces.size(), 2u) << "z " << s.z;
+            EXPECT_NEAR(pieces[0].min, 0.0, 1e-3);
+            EXPECT_NEAR(pieces[1].max, spec.size, 1e-3);
+            EXPECT_NEAR(pieces[0].max + pieces[1].min, spec.size, 2e-3) << "centred, z " << s.z;
+        } else if (std::abs(s.z - zc) > r + 0.1) {
+            EXPECT_EQ(pieces.size(), 1u) << "z " << s.z;
+        }
+    }
+    EXPECT_GT(split, 30);
+}
+
+TEST(TabWithHole, TabStandsOnThePlateAndItsHoleIsHorizontal) {
+    const TabWithHoleSpec spec{};
+    const PlannerFixture f = tab_with_hole(spec);
+    const double top = spec.plate_thickness;
+    const double zh = top + spec.hole_height;
+    const double r = 0.5 * spec.hole_diameter;
+    int split = 0;
+    for (const Section& s : sections(f.mesh)) {
+        const std::vector<Range> pieces = outer_x_ranges(s.slice);
+        EXPECT_EQ(s.slice.wires.hole_count(), 0u) << "z " << s.z;
+        const Range y = y_range(s.slice);
+        if (s.z < top) {
+            ASSERT_EQ(pieces.size(), 1u) << "z " << s.z;
+            EXPECT_NEAR(pieces[0].max - pieces[0].min, spec.plate_length, 1e-3);
+            EXPECT_NEAR(y.max - y.min, spec.plate_width, 1e-3);
+            continue;
+        }
+        EXPECT_NEAR(y.max - y.min, spec.tab_thickness, 1e-3) << "z " << s.z;
+        EXPECT_NEAR(y.min + y.max, spec.plate_width, 2e-3) << "centred, z " << s.z;
+        if (std::abs(s.z - zh) < r - 0.1) {
+            ++split;
+            ASSERT_EQ(pieces.size(), 2u) << "z " << s.z;
+            EXPECT_NEAR(pieces[1].max - pieces[0].min, spec.tab_width, 1e-3);
+        } else if (std::abs(s.z - zh) > r + 0.1) {
+            ASSERT_EQ(pieces.size(), 1u) << "z " << s.z;
+            EXPECT_NEAR(pieces[0].max - pieces[0].min, spec.tab_width, 1e-3);
+        }
+    }
+    EXPECT_GT(split, 15);
+    // The hole's bottom lies above the plate: material of the tab under it.
+    EXPECT_GT(zh - r, top);
+}
+
+TEST(HelicalRing, StandsOnItsGroundEndAndItsSectionsTurnWithTheHelix) {
+    const HelicalRingSpec spec{};
+    const PlannerFixture f = helical_ring(spec);
+    const double a = spec.radius - 0.5 * spec.section;
+    const double b = spec.radius + 0.5 * spec.section;
+    // The footing: the ground end's chord polygon, a quarter turn with the default spec.
+    const double d = 2.0 * std::numbers::pi / spec.segments_per_turn;
+    const double ground = helical_ring_ground_angle(spec);
+    EXPECT_NEAR(ground, 0.5 * std::numbers::pi, 1e-12);
+    EXPECT_NEAR(footprint_mm2(f.mesh), 0.5 * (b * b - a * a) * std::sin(d) * std::round(ground / d),
+                1e-9 * footprint_mm2(f.mesh));
+    // Every horizontal section of the full-height part is one arc of the annulus, spanning
+    // section / pitch of a turn, centred on the angle where the helix's centre has that height:
+    // the chain of section centroids turns about the axis, pitch mm a turn.
+    const double half = 0.5 * spec.section;
+    const double arc = 2.0 * std::numbers::pi * spec.section / spec.pitch;
+    int checked = 0;
+    for (const Section& s : sections(f.mesh)) {
+        if (s.z < 2.0 * half || s.z > spec.turns * spec.pitch - half) continue;
+        ++checked;
+        SCOPED_TRACE("z " + std::to_string(s.z));
+        ASSERT_EQ(s.slice.wires.outer_count(), 1u);
+        EXPECT_EQ(s.slice.wires.hole_count(), 0u);
+        EXPECT_NEAR(s.slice.area_mm2(), 0.5 * (b * b - a * a) * arc, 0.01 * (b * b - a * a) * arc);
+        const geom2d::Centroid2 c = geom2d::centroid_um(s.slice.wires.paths());
+        const double expected = 2.0 * std::numbers::pi * s.z / spec.pitch;
+        const double got = std::atan2(c.y, c.x);
+        EXPECT_NEAR(std::remainder(got - expected, 2.0 * std::numbers::pi), 0.0, 0.02);
+    }
+    EXPECT_GE(checked, 25);
+}
+
+TEST(HelicalRing, ConstructionRejectsTurnsThatTouch) {
+    EXPECT_THROW((void)helical_ring({.pitch = 6.0}), std::invalid_argument);
+    EXPECT_THROW((void)helical_ring({.segments_per_turn = 70}), std::invalid_argument)
+        << "the ground end must end on a step";
+}
+
+TEST(WallBoss, BossHangsAboveThePlateAtMidHeight) {
+    const WallBossSpec spec{};
+    const PlannerFixture f = wall_boss(spec);
+    const double r = 0.5 * spec.boss_diameter;
+    const double boss_bottom =
+        lowest_where(f.mesh, [&](const Vec3d& p) { return p.y > spec.wall_thickness; });
+    EXPECT_NEAR(boss_bottom, 0.5 * spec.wall_height - r, 1e-9);
+    EXPECT_GT(boss_bottom, 0.0);
+    for (const Section& s : sections(f.mesh)) {
+        const Range y = y_range(s.slice);
+        EXPECT_EQ(s.slice.wires.outer_count(), 1u) << "z " << s.z;
+        EXPECT_NEAR(y.min, 0.0, 1e-3);
+        if (std::abs(s.z - 0.5 * spec.wall_height) < 0.9 * r) {
+            EXPECT_NEAR(y.max, spec.wall_thickness + spec.boss_length, 1e-3) << "z " << s.z;
+        } else if (std::abs(s.z - 0.5 * spec.wall_height) > r) {
+            EXPECT_NEAR(y.max, spec.wall_thickness, 1e-3) << "z " << s.z;
         }
     }
 }
