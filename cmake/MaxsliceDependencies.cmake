@@ -11,6 +11,15 @@ pkg_check_modules(LIB3MF REQUIRED IMPORTED_TARGET lib3MF)
 find_package(assimp REQUIRED)
 # Boost.Polygon's Voronoi diagram (header-only) for medial axes: src/geom2d/medial_axis.cpp.
 find_package(Boost 1.74 REQUIRED)
+# OpenVDB's narrow-band distance fields for the near-net shape (src/nearnet/, decision 0025).
+# Found by hand: Debian's FindOpenVDB.cmake (beside the library, off CMake's module path) also
+# demands the Boost.Iostreams headers, which only OpenVDB's delayed file loading uses.
+find_path(OPENVDB_INCLUDE_DIR openvdb/openvdb.h REQUIRED)
+find_library(OPENVDB_LIBRARY openvdb REQUIRED)
+find_package(Imath REQUIRED CONFIG)  # OpenVDB's half float
+add_library(maxslice_openvdb INTERFACE)
+target_include_directories(maxslice_openvdb SYSTEM INTERFACE ${OPENVDB_INCLUDE_DIR})
+target_link_libraries(maxslice_openvdb INTERFACE ${OPENVDB_LIBRARY} Imath::Imath TBB::tbb)
 
 # Open CASCADE: linked by toolkit name so that only the toolkits maxslice uses must be
 # installed (the package's CMake config also demands the visualization toolkits).

@@ -5,6 +5,7 @@ packages=(
   cmake ninja-build g++ pkg-config clang-format python3
   libpolyclipping-dev libeigen3-dev libtbb-dev libfmt-dev libcli11-dev nlohmann-json3-dev
   libtomlplusplus-dev libassimp-dev lib3mf-dev libboost-dev
+  libopenvdb-dev    # distance fields for the near-net shape (src/nearnet/, decision 0025)
   libminizip-dev    # the 3MF expansion check reads the model parts (src/io/threemf_prescan.cpp)
   libocct-foundation-dev libocct-modeling-data-dev libocct-modeling-algorithms-dev
   libocct-data-exchange-dev
