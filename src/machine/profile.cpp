@@ -16,6 +16,7 @@
 #include <fstream>
 #include <optional>
 #include <sstream>
+#include <tuple>
 
 namespace maxslice::machine {
 namespace {
@@ -108,6 +109,12 @@ constexpr Range kCatchEfficiencyRange{0.0, 1.0, true, false, ""};
 // Optional: the footing's height (decision 0017); a profile without it keeps the default.
 constexpr std::string_view kFootingKey = "footing_mm";
 constexpr Range kFootingRange{0.0, 50.0, false, false, "mm"};
+// Optional: the near-net shape (decision 0025); absent = 0 = off. [process] only: the
+// finer processes build the same near-net shape. The ranges are nearnet::NearNetSettings'.
+constexpr std::string_view kStockKey = "machining_stock_mm";
+constexpr Range kStockRange{0.0, 20.0, false, false, "mm"};
+constexpr std::string_view kFillKey = "fill_below_mm";
+constexpr Range kFillRange{0.0, 100.0, false, false, "mm"};
 // The speed law (METHOD.md section 10): measured (feed, track height) pairs.
 constexpr std::string_view kSpeedHeightKey = "speed_height";
 constexpr std::size_t kMaxSpeedPoints = 64;
@@ -535,7 +542,21 @@ core::Result<ProcessProfile> read_process(const toml::table& table, bool finer_a
     known.push_back(kCatchEfficiencyKey);
     known.push_back(kFootingKey);
     known.push_back(kSpeedHeightKey);
-    if (finer_allowed) known.push_back(kFinerKey);
+    if (finer_allowed) {
+        known.push_back(kFinerKey);
+        known.push_back(kStockKey);
+        known.push_back(kFillKey);
+    } else {
+        for (const std::string_view key : {kStockKey, kFillKey}) {
+            if (table.contains(key)) {
+                return core::fail(ErrorCode::kInvalidInput,
+                                  fmt::format("{} belongs to [process] only: the near-net shape "
+                                              "is the part's, and every finer process builds "
+                                              "the same one (remove it here)",
+                                              key));
+            }
+        }
+    }
     if (auto ok = reader.only(known); !ok) return pass(ok);
 
     ProcessProfile p;
@@ -554,6 +575,13 @@ core::Result<ProcessProfile> read_process(const toml::table& table, bool finer_a
     const auto footing = reader.optional_number(kFootingKey, kFootingRange);
     if (!footing) return pass(footing);
     if (*footing) p.footing_mm = **footing;
+    for (const auto& [key, range, member] :
+         {std::tuple{kStockKey, kStockRange, &ProcessProfile::machining_stock_mm},
+          std::tuple{kFillKey, kFillRange, &ProcessProfile::fill_below_mm}}) {
+        const auto value = reader.optional_number(key, range);
+        if (!value) return pass(value);
+        if (*value) p.*member = **value;
+    }
     auto law = read_speed_height(reader);
     if (!law) return pass(law);
     p.speed_height = std::move(*law);
@@ -581,6 +609,8 @@ core::Result<ProcessProfile> read_process(const toml::table& table, bool finer_a
                               where);
         }
         wider = f->track_width_mm;
+        f->machining_stock_mm = p.machining_stock_mm;
+        f->fill_below_mm = p.fill_below_mm;
         p.finer.push_back(std::move(*f));
     }
     return p;
@@ -989,6 +1019,13 @@ core::Result<void> validate(const ProcessProfile& p) {
         }
     }
     if (auto ok = check_range(key_path("process", kFootingKey), p.footing_mm, kFootingRange); !ok) {
+        return ok;
+    }
+    if (auto ok = check_range(key_path("process", kStockKey), p.machining_stock_mm, kStockRange);
+        !ok) {
+        return ok;
+    }
+    if (auto ok = check_range(key_path("process", kFillKey), p.fill_below_mm, kFillRange); !ok) {
         return ok;
     }
     if (p.h_min_mm > p.h_max_mm) {

@@ -38,6 +38,13 @@ struct ProcessProfile {
     /// Height above the plate within which the part's footprint is built straight up (a pad
     /// machined off with the plate; decision 0017), [0, 50]; 0 = off.
     double footing_mm = 1.0;
+    /// The near-net shape (decision 0025): the part file is the finished part, and the job
+    /// deposits it grown by this machining allowance per side, [0, 20]; 0 = off.
+    double machining_stock_mm = 0.0;
+    /// Holes, slots and inside corners narrower than this (mm) are filled and machined after
+    /// the build, [0, 100]; 0 = off. Both belong to the part: `[[process.finer]]` entries
+    /// inherit them from [process] and cannot set their own.
+    double fill_below_mm = 0.0;
     /// Share of the delivered powder that ends up in the bead, (0, 1]; unset = unknown, and
     /// the summary then reports only the powder delivered.
     std::optional<double> powder_catch_efficiency;

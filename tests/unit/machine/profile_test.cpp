@@ -199,6 +199,38 @@ TEST(Profile, FootingIsOptional) {
     expect_refused(base() + "footing_mm = 80\n", {"process.footing_mm = 80", "[0, 50] mm"});
 }
 
+// The near-net shape's keys (decision 0025): optional, 0 = off, ranges checked; the finer
+// processes inherit them and cannot set their own.
+TEST(Profile, NearNetKeysAreOptionalCheckedAndInherited) {
+    const auto dflt = parse_profile(base(), "test.toml");
+    ASSERT_TRUE(dflt.has_value()) << dflt.error().describe();
+    EXPECT_EQ(dflt->process->machining_stock_mm, 0.0);
+    EXPECT_EQ(dflt->process->fill_below_mm, 0.0);
+    std::string finer(kProcess);
+    finer = with(finer, "track_width_mm", "track_width_mm = 1.0");
+    finer = with(finer, "layer_height_mm", "layer_height_mm = 0.25");
+    finer = with(finer, "h_min_mm", "h_min_mm = 0.1");
+    finer.replace(finer.find("[process]"), 9, "[[process.finer]]");
+    const std::string on = base() + "machining_stock_mm = 1.5\nfill_below_mm = 8\n";
+    const auto r = parse_profile(on + finer, "test.toml");
+    ASSERT_TRUE(r.has_value()) << r.error().describe();
+    EXPECT_DOUBLE_EQ(r->process->machining_stock_mm, 1.5);
+    EXPECT_DOUBLE_EQ(r->process->fill_below_mm, 8.0);
+    ASSERT_EQ(r->process->finer.size(), 1u);
+    const auto fine = with_finer_process({*r->machine, *r->process}, 1);
+    ASSERT_TRUE(fine.has_value()) << fine.error().describe();
+    EXPECT_DOUBLE_EQ(fine->process.machining_stock_mm, 1.5);
+    EXPECT_DOUBLE_EQ(fine->process.fill_below_mm, 8.0);
+    expect_refused(base() + "machining_stock_mm = -1\n",
+                   {"process.machining_stock_mm = -1", "[0, 20] mm"});
+    expect_refused(base() + "machining_stock_mm = 25\n", {"process.machining_stock_mm = 25"});
+    expect_refused(base() + "fill_below_mm = 200\n", {"process.fill_below_mm = 200", "[0, 100]"});
+    const auto own = parse_profile(on + finer + "machining_stock_mm = 0.5\n", "test.toml");
+    ASSERT_FALSE(own.has_value());
+    EXPECT_NE(own.error().describe().find("belongs to [process] only"), std::string::npos)
+        << own.error().describe();
+}
+
 TEST(Profile, SpeedLawIsReadAndChecked) {
     const auto r = parse_profile(
         base() + "speed_height = [[250, 0.72], [381.0, 0.5], [650.0, 0.3]]\n", "test.toml");
