@@ -848,10 +848,12 @@ core::Result<mesh::TriangleMesh> place_like(mesh::TriangleMesh other,
     // Both together take one rotation and a shift; the model's own vertices then tell the
     // shift that separates that placement from the model's.
     const std::size_t first = other.vertices.size();
+    const std::size_t triangles = other.triangles.size();
     mesh::append(other, model);
     other = mesh::placed_on_plate(std::move(other), base_direction, machine::plate_center(machine));
     const Vec3d shift = placed->vertices.front() - other.vertices[first];
     other.vertices.resize(first);
+    other.triangles.resize(triangles);
     for (Vec3d& v : other.vertices) v = v + shift;
     return other;
 }

@@ -7,11 +7,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <random>
 #include <vector>
 
 #include "region_query.hpp"
+#include "stock_distance.hpp"
 #include "voxel_grid.hpp"
 
 namespace maxslice::verify::detail {
@@ -233,6 +235,101 @@ TEST(VoxelGrid, NothingAtOrAboveTheFloorIsNoHitEvenWithMaterialJustBelow) {
     EXPECT_TRUE(find_occupied(grid, kOrigin, kVoxel, {5.0, 5.0, 2.5}, up, cone, 1.0, &hit));
     // Pointing down into it, the floor test must not skip it either.
     EXPECT_TRUE(find_occupied(grid, kOrigin, kVoxel, {5.0, 5.0, 3.5}, {0, 0, -1}, cone, 0.0, &hit));
+}
+
+// The smallest stock against brute force over every pair of voxels: the squared distance it
+// finds is the smallest (finished part inside the beads) or largest (sticking out) over the
+// asked voxels of the squared distance to the nearest target voxel, exact below its limit
+// and "beyond" above it; the voxel it names is a finished one with that distance.
+TEST(VoxelGrid, SmallestStockAgreesWithBruteForce) {
+    std::mt19937 rng(2026);
+    constexpr int nx = 15, ny = 18, nz = 70;  // z spans a 64-bit word boundary
+    std::uniform_int_distribution<int> ci(0, nx - 1), cj(0, ny - 1), ck(0, nz - 1);
+    int inside_cases = 0, outside_cases = 0, beyond_cases = 0;
+    for (int trial = 0; trial < 60; ++trial) {
+        BitGrid beads(nx, ny, nz), blob(nx, ny, nz);
+        const auto random_boxes = [&](BitGrid& g, int count, int grow) {
+            for (int b = 0; b < count; ++b) {
+                const int i = ci(rng), j = cj(rng), k = ck(rng);
+                const int di = std::uniform_int_distribution<int>(0, grow)(rng);
+                const int dj = std::uniform_int_distribution<int>(0, grow)(rng);
+                const int dk = std::uniform_int_distribution<int>(0, 2 * grow)(rng);
+                g.set_rect(std::max(0, i - di), std::min(nx - 1, i + di), std::max(0, j - dj),
+                           std::min(ny - 1, j + dj), std::max(0, k - dk), std::min(nz - 1, k + dk));
+            }
+        };
+        random_boxes(beads, 6, 6);
+        random_boxes(blob, 3, 4);
+        // Half the trials: the finished part is the blob's part inside the beads.
+        const bool within = trial % 2 == 0;
+        BitGrid finished(nx, ny, nz);
+        for (int i = 0; i < nx; ++i) {
+            for (int j = 0; j < ny; ++j) {
+                for (int k = 0; k < nz; ++k) {
+                    if (blob.get(i, j, k) && (!within || beads.get(i, j, k))) {
+                        finished.set_run(i, j, k, k);
+                    }
+                }
+            }
+        }
+        if (finished.count() == 0 || beads.count() == std::size_t{nx} * ny * nz) continue;
+        const int limit = trial % 3 == 0 ? 3 : 12;
+        // Brute force.
+        bool sticks_out = false;
+        for (std::size_t w = 0; w < finished.words().size(); ++w) {
+            if ((finished.words()[w] & ~beads.words()[w]) != 0) sticks_out = true;
+        }
+        const auto nearest_target = [&](int i, int j, int k) {
+            long best = std::numeric_limits<long>::max();
+            for (int a = 0; a < nx; ++a) {
+                for (int b = 0; b < ny; ++b) {
+                    for (int c = 0; c < nz; ++c) {
+                        if (beads.get(a, b, c) == sticks_out) {
+                            const long d2 = long{a - i} * (a - i) + long{b - j} * (b - j) +
+                                            long{c - k} * (c - k);
+                            best = std::min(best, d2);
+                        }
+                    }
+                }
+            }
+            return best;
+        };
+        long want = sticks_out ? -1 : std::numeric_limits<long>::max();
+        for (int i = 0; i < nx; ++i) {
+            for (int j = 0; j < ny; ++j) {
+                for (int k = 0; k < nz; ++k) {
+                    if (!finished.get(i, j, k) || (sticks_out && beads.get(i, j, k))) continue;
+                    const long d2 = nearest_target(i, j, k);
+                    want = sticks_out ? std::max(want, d2) : std::min(want, d2);
+                }
+            }
+        }
+        const StockDistance got = smallest_stock(beads, finished, limit);
+        SCOPED_TRACE(trial);
+        ASSERT_FALSE(got.empty);
+        EXPECT_EQ(got.inside, !sticks_out);
+        const long lim2 = long{limit} * limit;
+        EXPECT_EQ(got.beyond, want > lim2);
+        if (want <= lim2) {
+            EXPECT_DOUBLE_EQ(got.distance, std::sqrt(static_cast<double>(want)));
+            ASSERT_TRUE(finished.get(got.i, got.j, got.k));
+            EXPECT_EQ(nearest_target(got.i, got.j, got.k), want);
+        } else {
+            EXPECT_DOUBLE_EQ(got.distance, limit);
+            ++beyond_cases;
+        }
+        ++(sticks_out ? outside_cases : inside_cases);
+    }
+    // Both modes and the limit were exercised.
+    EXPECT_GT(inside_cases, 5);
+    EXPECT_GT(outside_cases, 5);
+    EXPECT_GT(beyond_cases, 0);
+}
+
+TEST(VoxelGrid, SmallestStockOfNoFinishedVoxelIsEmpty) {
+    BitGrid beads(8, 8, 8), finished(8, 8, 8);
+    beads.set_rect(0, 7, 0, 7, 0, 3);
+    EXPECT_TRUE(smallest_stock(beads, finished, 4).empty);
 }
 
 }  // namespace
