@@ -1,0 +1,146 @@
+// What the neighbour analysis of a layer pair asks of the walk (docs/method.md sections 3
+// and 5): each new section U is compared with the layer L below it and with the layer a
+// track's height below; a piece over beta, or one that touches nothing, splits the region
+// (split.cpp); a piece over alpha is recorded as a wanted tilt; a floating piece that no
+// sideways direction reaches is recorded and left in its layer.
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <utility>
+
+#include "maxslice/core/units.hpp"
+#include "planner_state.hpp"
+
+namespace maxslice::plan::detail {
+namespace {
+
+using geom2d::Paths2;
+
+// Rounding room (mm) when following grounded islands up through planar layers.
+constexpr double kGroundSlackMm = 0.02;
+
+}  // namespace
+
+// Splits for U above `lower` (and above the look-back layer): nullopt when U may be
+// added, else the walk's result after the split.
+core::Result<std::optional<bool>> Planner::check_splits(int rid, int lower, const Paths2& u,
+                                                        const slice::Slice& s) {
+    std::vector<int> refs{lower};
+    const Region& rr = plan_.regions[static_cast<std::size_t>(rid)];
+    const auto k = static_cast<std::size_t>(look_back_);
+    if (k > 1 && rr.layers.size() >= k) refs.push_back(rr.layers[rr.layers.size() - k]);
+    for (const int ref : refs) {
+        const Layer& l = plan_.layers[static_cast<std::size_t>(ref)];
+        auto a = analyse_neighbours(l.wires.paths(), l.plane, u, s.plane, analysis_);
+        if (!a) {
+            return std::unexpected(core::with_context(
+                a.error(), fmt::format("region {}, height {:.3f} mm", rid, s.span.cut)));
+        }
+        for (const OverhangPiece& p : a->pieces) {
+            // A piece that does not touch the look-back layer may stand on the layers in
+            // between, grown out of it (a rail on the roof of an undercut built since):
+            // then it is an overhang by its angle, not a floating piece.
+            if (ref != lower && !p.touches_lower && p.ang_deg <= s_.beta_deg &&
+                grounded_between(rid, ref, p)) {
+                continue;
+            }
+            if (!p.touches_lower && !has_sideways(ref, p)) {
+                // Nothing can reach it: it stays in its layer and rests on nothing there
+                // (the plan says so; a refusal of this base, not of the whole plan).
+                record_unreachable(rid, ref, s, p);
+                continue;
+            }
+            if (p.ang_deg > s_.beta_deg || !p.touches_lower) {
+                if (retry_footing(rid, ref)) return std::optional<bool>(true);
+                roll_back(rid, ref);
+                auto again = split(rid, ref, s, p);
+                if (!again) return std::unexpected(again.error());
+                return std::optional<bool>(*again);
+            }
+        }
+        for (const OverhangPiece& p : a->pieces) {
+            if (p.ang_deg > s_.alpha_deg) {
+                record_tilt(rid, ref, s, p);
+                break;
+            }
+        }
+    }
+    return std::optional<bool>();
+}
+
+// Whether piece p (in the frame of layer `ref`, a track's height below the region's last
+// layer) rests on material of the layers after ref that grew out of ref: from ref up,
+// each layer's islands that meet the grounded part of the layer before (grown by the
+// self-supporting allowance) are grounded. A piece over an island that floats in those
+// layers (a thin feature starting in the air, narrower than a track at first) is not.
+// Planar layers of one direction only (their frames share the in-plane axes); false
+// otherwise.
+bool Planner::grounded_between(int rid, int ref, const OverhangPiece& p) const {
+    const Region& rr = plan_.regions[static_cast<std::size_t>(rid)];
+    const Layer& base = plan_.layers[static_cast<std::size_t>(ref)];
+    const auto from = std::find(rr.layers.begin(), rr.layers.end(), ref);
+    if (from == rr.layers.end()) return false;
+    const auto grow = core::mm_to_um(
+        s_.layer_mm * std::tan(s_.self_supporting_deg * std::numbers::pi / 180.0) + kGroundSlackMm);
+    Paths2 grounded = base.wires.paths();
+    for (auto it = from + 1; it != rr.layers.end(); ++it) {
+        const Layer& l = plan_.layers[static_cast<std::size_t>(*it)];
+        if (l.tilted || base.tilted || !(l.plane.normal == base.plane.normal) ||
+            !(l.plane.u == base.plane.u) || !(l.plane.v == base.plane.v)) {
+            return false;
+        }
+        const Paths2 reach = geom2d::offset_of(grounded, grow);
+        Paths2 next;
+        for (Paths2& island : l.wires.islands()) {
+            if (!geom2d::intersection_of(island, reach).empty()) {
+                next.insert(next.end(), island.begin(), island.end());
+            }
+        }
+        grounded = std::move(next);
+    }
+    return !geom2d::intersection_of(p.region, geom2d::offset_of(grounded, grow)).empty();
+}
+
+void Planner::record_unreachable(int rid, int lower, const slice::Slice& s,
+                                 const OverhangPiece& p) {
+    for (const Decision& e : plan_.decisions) {  // seen from the look-back layer too
+        if (e.kind == Decision::Kind::kUnreachable && e.region == rid &&
+            e.height_mm == s.span.cut && core::norm(e.piece.C - p.C) < 1e-9) {
+            return;
+        }
+    }
+    record_piece(Decision::Kind::kUnreachable, rid, lower, s, p,
+                 fmt::format("above layer L{} at {:.3f} mm: a piece of {:.1f} mm2 at ({:.3f}, "
+                             "{:.3f}, {:.3f}) floats straight above the layer below: no "
+                             "sideways build direction reaches it; left in its layer, where "
+                             "it rests on nothing",
+                             lower, s.span.cut, p.area_mm2, p.C.x, p.C.y, p.C.z));
+}
+
+void Planner::record_tilt(int rid, int lower, const slice::Slice& s, const OverhangPiece& p) {
+    record_piece(
+        Decision::Kind::kTiltWanted, rid, lower, s, p,
+        fmt::format("layer above L{} at {:.3f} mm: overhang piece of {:.1f} mm2 with Ang = "
+                    "{:.1f} deg in (alpha {:.0f}, beta {:.0f}]: a tilted layer is wanted; "
+                    "layers tilt only where the chain of centroids leans, so this one "
+                    "may stay planar",
+                    lower, s.span.cut, p.area_mm2, p.ang_deg, s_.alpha_deg, s_.beta_deg));
+}
+
+// A decision about piece p of the slice s above layer `lower` of region rid.
+void Planner::record_piece(Decision::Kind kind, int rid, int lower, const slice::Slice& s,
+                           const OverhangPiece& p, std::string reason) {
+    Decision d;
+    d.kind = kind;
+    d.region = rid;
+    d.layer = lower;
+    d.height_mm = s.span.cut;
+    d.piece = p;
+    d.reason = std::move(reason);
+    plan_.decisions.push_back(std::move(d));
+}
+
+}  // namespace maxslice::plan::detail

@@ -1,0 +1,118 @@
+// The split plane and the sideways region (docs/method.md section 5): a piece over beta, or
+// one that touches nothing, is built along the part of its V_i across the lower layer's
+// normal, from a split plane through the centre of its contact line; what lies on the near
+// side carries on along the old direction.
+
+#include <fmt/format.h>
+
+#include <string>
+#include <utility>
+
+#include "planner_state.hpp"
+
+namespace maxslice::plan::detail {
+namespace {
+
+// A sideways direction N_s shorter than this (V_i almost along N_b) cannot be normalised.
+constexpr double kMinSidewaysNorm = 1e-6;
+
+}  // namespace
+
+// The part of V_i across L's normal: the direction a region split for piece p above
+// layer `lower` is built along (METHOD.md section 5), before it is normalised.
+core::Vec3d Planner::sideways_of(int lower, const OverhangPiece& p) const {
+    const core::Vec3d n = plan_.layers[static_cast<std::size_t>(lower)].top.normal;
+    return p.V - n * core::dot(p.V, n);
+}
+
+// Whether piece p has a sideways direction to be built from (V_i not along L's normal).
+bool Planner::has_sideways(int lower, const OverhangPiece& p) const {
+    return core::norm(sideways_of(lower, p)) >= kMinSidewaysNorm;
+}
+
+// Splits region rid above its layer `lower` for piece p (METHOD.md section 5). Returns
+// true when rid had no layer yet: its own cell was narrowed to the near side and it
+// must be walked again; false when rid ends at `lower` and a continuation region
+// carries on.
+core::Result<bool> Planner::split(int rid, int lower, const slice::Slice& s,
+                                  const OverhangPiece& p) {
+    const Region parent = plan_.regions[static_cast<std::size_t>(rid)];
+    const core::Vec3d n = plan_.layers[static_cast<std::size_t>(lower)].top.normal;
+    const core::Vec3d sideways = sideways_of(lower, p);
+    const std::string context = fmt::format("region {}, height {:.3f} mm", rid, s.span.cut);
+    if (!has_sideways(lower, p)) {
+        return invalid(fmt::format("an overhang piece of {:.1f} mm2 at ({:.3f}, {:.3f}, "
+                                   "{:.3f}) floats straight above the layer below: no "
+                                   "sideways build direction reaches it",
+                                   p.area_mm2, p.C.x, p.C.y, p.C.z),
+                       context);
+    }
+    if (static_cast<int>(plan_.regions.size()) + 2 > s_.max_regions) {
+        return invalid(fmt::format("the part needs more than {} regions (max_regions); is it "
+                                   "a lattice or a scan with many small overhangs?",
+                                   s_.max_regions),
+                       context);
+    }
+    const core::Vec3d ns = core::normalized(sideways);
+    const Layer& l = plan_.layers[static_cast<std::size_t>(lower)];
+    const HalfSpace above{l.top.origin, n};
+    const HalfSpace beyond{p.contact_center, ns};
+    const HalfSpace near{p.contact_center, -ns};
+
+    Region child;
+    child.id = static_cast<int>(plan_.regions.size());
+    child.parent = rid;
+    child.direction = ns;
+    child.base = slice::PlaneFrame::from_normal(p.contact_center, ns);
+    child.cell = parent.cell;
+    child.cell.push_back(above);
+    child.cell.push_back(beyond);
+
+    Decision d;
+    d.kind = p.touches_lower ? Decision::Kind::kSplit : Decision::Kind::kFloating;
+    d.region = rid;
+    d.layer = lower;
+    d.height_mm = s.span.cut;
+    d.piece = p;
+    d.new_region = child.id;
+    d.split_plane = beyond;
+    d.reason = fmt::format(
+        "above layer L{}: overhang piece of {:.1f} mm2 with Ang = {:.1f} deg {}: split plane "
+        "through ({:.3f}, {:.3f}, {:.3f}) with normal ({:.4f}, {:.4f}, {:.4f}); region {} is "
+        "built along it",
+        lower, p.area_mm2, p.ang_deg,
+        p.touches_lower ? fmt::format("> beta {:.0f}", s_.beta_deg)
+                        : std::string("(does not touch the layer below)"),
+        p.contact_center.x, p.contact_center.y, p.contact_center.z, ns.x, ns.y, ns.z, child.id);
+    child.reason = fmt::format("split from region {}: {}", rid, d.reason);
+    plan_.regions.push_back(child);
+    jobs_.push_back({child.id, {}});
+
+    Region& r = plan_.regions[static_cast<std::size_t>(rid)];
+    if (r.layers.empty()) {
+        // The region had not started: it becomes the near side and is walked again.
+        r.cell.push_back(near);
+        d.continuation = rid;
+        plan_.decisions.push_back(std::move(d));
+        return true;
+    }
+    Region cont;
+    cont.id = static_cast<int>(plan_.regions.size());
+    cont.parent = rid;
+    cont.direction = n;
+    cont.base = l.top;
+    cont.cell = parent.cell;
+    cont.cell.push_back(above);
+    cont.cell.push_back(near);
+    cont.reason = fmt::format(
+        "carries on along region {}'s direction above layer L{}, on "
+        "the near side of the split plane of region {}",
+        rid, lower, child.id);
+    d.continuation = cont.id;
+    plan_.decisions.push_back(std::move(d));
+    plan_.regions.push_back(cont);
+    jobs_.push_back({cont.id, {lower}});
+    return false;
+}
+
+}  // namespace maxslice::plan::detail
