@@ -1,16 +1,18 @@
-// The near-net shape on a narrow-band signed distance field (OpenVDB). This file is the only
+// The near-net shape on narrow-band signed distance fields (OpenVDB). This file is the only
 // place that includes OpenVDB (docs/decisions/0025-near-net-shape.md).
 //
 // With X the finished part, r = fill_below_mm / 2 and s = stock_mm, the deposit is the closing
-// of X by a ball of radius r, grown by s. On distance fields, with D the signed distance of X
-// (negative inside):
-//   Y = {D <= r} is X dilated by r; D1 is Y's own signed distance (a rebuild: where the
-//   dilated surfaces of two walls merge, D - r is no longer a distance);
-//   the deposit is {D1 <= s - r}.
-// For s <= r that is Y eroded by r - s: the closing by r grown by s, and inside corners of
-// the closing rounded with radius up to r - s (more material there, never less). For s >= r
-// it is X dilated by s: a hole narrower than 2 s is filled by the stock alone, and the
-// closing adds nothing. Without fill (r = 0) it is {D <= s}, without a rebuild.
+// of X by a ball of radius r, grown by s: dilate(close(X, r), s).
+// 1. The closing, on a coarse grid (voxel ~ r / 2: it only has to find what is narrower than
+//    2 r): with D the signed distance of X (negative inside), Y = {D <= r} is X dilated by r;
+//    D1 is Y's own signed distance (a rebuild: where the dilated surfaces of two walls merge,
+//    D - r is no longer a distance); C = {D1 <= -r} is Y eroded by r. C's surface is only as
+//    good as the coarse grid, so the deposit keeps X itself too: X u C.
+// 2. The growth, on the fine grid (voxel ~ s / 2): the union's distance is the smaller of X's
+//    and C's (exact outside, which is all the isovalue s > 0 needs), meshed at s.
+// The closing adds nothing when r <= s (a hole narrower than 2 s is filled by the stock alone:
+// dilate(close(X, r), s) = dilate(X, s) then), and is skipped.
+
 #include "maxslice/nearnet/near_net.hpp"
 
 #include <fmt/format.h>
@@ -23,6 +25,7 @@
 #include <vector>
 
 #include <openvdb/openvdb.h>
+#include <openvdb/tools/Composite.h>
 #include <openvdb/tools/LevelSetRebuild.h>
 #include <openvdb/tools/MeshToVolume.h>
 #include <openvdb/tools/VolumeToMesh.h>
@@ -35,19 +38,28 @@ namespace {
 
 using core::ErrorCode;
 
-// Voxels across the smaller of the stock and the fill radius: the distance field resolves the
-// stock to a small fraction of itself, and a fillet of the closing to a few facets.
-constexpr double kVoxelsPerFeature = 2.0;
-// The coarsest voxel still used: the stock (or fill radius) spans at least this many voxels.
-// Below it the field would cut the grown surface into the finished part at sharp edges.
-constexpr double kMinVoxelsPerFeature = 1.5;
+// The fine voxel is this share of the stock (the fill radius without stock): the field resolves
+// the grown surface to a small fraction of the stock.
+constexpr double kVoxelsPerStock = 2.0;
+// The closing's voxel is this share of the fill radius: enough to tell a hole of diameter
+// 2 r from a wider one; its surface is not kept where X's own is outside it.
+constexpr double kVoxelsPerFillRadius = 2.0;
 // A finer voxel is never needed: the machine takes off stock, it does not deposit to 20 um.
 constexpr double kMinVoxelMm = 0.05;
-// Bound on the narrow band's voxels (floats, ~6 bytes each with the tree): ~200 MB and a few
-// seconds on two cores. A larger part gets a coarser voxel down to kMinVoxelsPerFeature.
-constexpr double kMaxBandVoxels = 3.0e7;
+// Bound on the fine grid's voxels at the surface (its band is a few voxels deep): a larger
+// part gets a coarser voxel, so that the work, the memory (~100 MB) and the mesh (~2 triangles
+// a surface voxel before simplification) stay bounded whatever the part.
+constexpr double kMaxSurfaceVoxels = 2.5e5;
+// The coarsest fine voxel accepted, in stocks. The field is exact at the voxels, and the
+// surface between them cuts chords of the rounded stock around convex edges, about h^2 / (4 s)
+// deep (half the stock at this bound; flat faces keep the whole stock). Beyond it the field
+// cannot resolve the stock, and the part is refused rather than given less stock than asked.
+constexpr double kMaxVoxelsInStock = 2.0;
 // Voxels of band beyond what the isovalues need (interpolation at the surface).
 constexpr double kBandMarginVoxels = 2.0;
+// volumeToMesh's adaptivity: facets merged where the surface is flat to this share of a voxel;
+// the mesh stays closed and the deviation far below the stock.
+constexpr double kAdaptivity = 0.05;
 
 // Our mesh as OpenVDB's mesh adapter wants it: corners in the grid's index space (relative to
 // the part's lower corner, in voxels), read on the fly in double.
@@ -82,41 +94,12 @@ private:
     const core::Progress* progress_;
 };
 
-// The voxel edge for a part of surface `area_mm2` and the settings: kVoxelsPerFeature across
-// the smaller non-zero of stock and fill radius, coarsened while the band's estimated voxels
-// exceed the bound. 0 when even the coarsest allowed voxel exceeds it.
-struct VoxelChoice {
-    double voxel_mm = 0.0;
-    double estimated_voxels = 0.0;
-    double coarsest_mm = 0.0;
-};
-
-double band_voxels(double area_mm2, double voxel, double band_mm) {
-    // Surface voxels times the band's thickness in voxels, both sides.
-    return area_mm2 / (voxel * voxel) * (band_mm / voxel + 2.0 * kBandMarginVoxels);
-}
-
-VoxelChoice choose_voxel(double area_mm2, double stock, double radius) {
-    const double feature =
-        stock > 0.0 && radius > 0.0 ? std::min(stock, radius) : std::max(stock, radius);
-    // The widest band the field needs: dilation by r (and the stock beyond it).
-    const double band_mm = std::max(stock, radius) + std::abs(stock - radius);
-    VoxelChoice c;
-    c.coarsest_mm = feature / kMinVoxelsPerFeature;
-    double voxel = std::max(feature / kVoxelsPerFeature, kMinVoxelMm);
-    // Voxels fall with the square of the edge (and the band's depth with the edge): coarsen by
-    // the cube root of the excess, then check.
-    for (int i = 0; i < 8; ++i) {
-        c.estimated_voxels = band_voxels(area_mm2, voxel, band_mm);
-        if (c.estimated_voxels <= kMaxBandVoxels) break;
-        voxel *= std::max(1.01, std::cbrt(c.estimated_voxels / kMaxBandVoxels));
-    }
-    if (voxel > c.coarsest_mm) {
-        voxel = c.coarsest_mm;
-        c.estimated_voxels = band_voxels(area_mm2, voxel, band_mm);
-    }
-    if (c.estimated_voxels <= kMaxBandVoxels) c.voxel_mm = voxel;
-    return c;
+// The fine voxel for a part of surface `area_mm2`: a share of the stock (or of the fill radius
+// without stock), coarsened to keep the surface voxels under the bound.
+double fine_voxel(double area_mm2, double stock, double radius) {
+    const double feature = stock > 0.0 ? stock : radius;
+    return std::max(
+        {feature / kVoxelsPerStock, std::sqrt(area_mm2 / kMaxSurfaceVoxels), kMinVoxelMm});
 }
 
 // volumeToMesh's points and polygons as our mesh: quads split along a fixed diagonal, points
@@ -137,13 +120,58 @@ mesh::TriangleMesh to_mesh(const std::vector<openvdb::Vec3s>& points,
     out.triangles.reserve(triangles.size() + 2 * quads.size());
     // OpenVDB winds its polygons clockwise seen from outside a level set (normals point
     // into the negative region): reversed here to the mesh's counter-clockwise rule.
-    for (const openvdb::Vec3I& t : triangles) {
-        out.triangles.push_back({vertex(t[0]), vertex(t[2]), vertex(t[1])});
-    }
+    // The adaptive mesher collapses corners of some polygons into one point: a triangle with a
+    // repeated corner has no area, and its two other edges are one edge both ways, so leaving it
+    // out keeps the surface closed.
+    const auto add = [&](unsigned a, unsigned b, unsigned c) {
+        if (a == b || b == c || c == a) return;
+        out.triangles.push_back({vertex(a), vertex(b), vertex(c)});
+    };
+    for (const openvdb::Vec3I& t : triangles) add(t[0], t[2], t[1]);
     for (const openvdb::Vec4I& q : quads) {
-        const auto a = vertex(q[0]), b = vertex(q[1]), c = vertex(q[2]), d = vertex(q[3]);
-        out.triangles.push_back({a, c, b});
-        out.triangles.push_back({a, d, c});
+        add(q[0], q[2], q[1]);
+        add(q[0], q[3], q[2]);
+    }
+    return out;
+}
+
+// Points and polygons of a mesh made by volumeToMesh, in another grid's index space.
+struct IndexPolygons {
+    std::vector<openvdb::Vec3s> points;
+    std::vector<openvdb::Vec4I> polygons;  // triangles with index 3 = INVALID_IDX
+};
+
+core::Result<IndexPolygons> closing(const mesh::TriangleMesh& finished, const core::Vec3d& origin,
+                                    double radius, double voxel, double fine_voxel,
+                                    Interrupter& interrupter, std::size_t& active) {
+    const openvdb::math::Transform::Ptr xform =
+        openvdb::math::Transform::createLinearTransform(voxel);
+    const IndexSpaceMesh adapter(finished, origin, voxel);
+    const float margin = static_cast<float>(kBandMarginVoxels);
+    openvdb::FloatGrid::Ptr field = openvdb::tools::meshToVolume<openvdb::FloatGrid>(
+        interrupter, adapter, *xform, static_cast<float>(radius / voxel) + margin, margin);
+    if (interrupter.wasInterrupted()) {
+        return core::fail(ErrorCode::kCancelled, "cancelled", "near-net shape");
+    }
+    active = std::max(active, static_cast<std::size_t>(field->activeVoxelCount()));
+    field = openvdb::tools::levelSetRebuild(*field, static_cast<float>(radius), margin,
+                                            static_cast<float>(radius / voxel) + margin,
+                                            xform.get(), &interrupter);
+    if (interrupter.wasInterrupted()) {
+        return core::fail(ErrorCode::kCancelled, "cancelled", "near-net shape");
+    }
+    active = std::max(active, static_cast<std::size_t>(field->activeVoxelCount()));
+    std::vector<openvdb::Vec3s> points;
+    std::vector<openvdb::Vec3I> triangles;
+    std::vector<openvdb::Vec4I> quads;
+    openvdb::tools::volumeToMesh(*field, points, triangles, quads, -radius, 0.0, true);
+    IndexPolygons out;
+    const float scale = static_cast<float>(1.0 / fine_voxel);
+    out.points.reserve(points.size());
+    for (const openvdb::Vec3s& p : points) out.points.push_back(p * scale);
+    out.polygons = std::move(quads);
+    for (const openvdb::Vec3I& t : triangles) {
+        out.polygons.emplace_back(t[0], t[1], t[2], openvdb::util::INVALID_IDX);
     }
     return out;
 }
@@ -158,61 +186,59 @@ core::Result<NearNet> compute(const mesh::TriangleMesh& finished, const NearNetS
     }
     const double stock = settings.stock_mm;
     const double radius = 0.5 * settings.fill_below_mm;
-    const VoxelChoice choice = choose_voxel(report.area_mm2, stock, radius);
-    if (choice.voxel_mm <= 0.0) {
+    const double voxel = fine_voxel(report.area_mm2, stock, radius);
+    if (stock > 0.0 && voxel > kMaxVoxelsInStock * stock) {
         return core::fail(
             ErrorCode::kInvalidInput,
-            fmt::format("the part's {:.0f} mm2 of surface would need about {:.2g} voxels of "
-                        "{:.3f} mm for a {} mm stock and {} mm fill (bound {:.2g}): a larger "
-                        "stock or fill threshold, or a part in other units (--units), helps",
-                        report.area_mm2, choice.estimated_voxels, choice.coarsest_mm, stock,
-                        settings.fill_below_mm, kMaxBandVoxels),
+            fmt::format("the part's {:.0f} mm2 of surface needs {:.3f} mm voxels to stay within "
+                        "the bound of {:.2g} voxels, coarser than the {} mm stock can be resolved "
+                        "with: a larger stock, or a part in other units (--units), helps",
+                        report.area_mm2, voxel, kMaxSurfaceVoxels, stock),
             "near-net shape");
     }
-    const double voxel = choice.voxel_mm;
-    // The grid's index space starts at the part's lower corner: small index coordinates keep
-    // the float precision of the field and of the extracted points.
+    // The grids' index space starts at the part's lower corner: small index coordinates keep
+    // the float precision of the fields and of the extracted points.
     const core::Vec3d origin = report.bounding_box.min;
     openvdb::initialize();
-    const openvdb::math::Transform::Ptr xform =
-        openvdb::math::Transform::createLinearTransform(voxel);
     Interrupter interrupter(progress);
-    const IndexSpaceMesh adapter(finished, origin, voxel);
     NearNet out;
     out.report.voxel_mm = voxel;
     out.report.finished_volume_mm3 = report.volume_mm3;
+    const float margin = static_cast<float>(kBandMarginVoxels);
+    const float ex_band = static_cast<float>(stock / voxel) + margin;
+    const openvdb::math::Transform::Ptr xform =
+        openvdb::math::Transform::createLinearTransform(voxel);
 
-    const float in_band = static_cast<float>(kBandMarginVoxels);
-    const float first_ex =
-        static_cast<float>((radius > 0.0 ? radius : stock) / voxel + kBandMarginVoxels);
     if (progress != nullptr) progress->report("near-net", 0.0);
+    const IndexSpaceMesh adapter(finished, origin, voxel);
     openvdb::FloatGrid::Ptr field = openvdb::tools::meshToVolume<openvdb::FloatGrid>(
-        interrupter, adapter, *xform, first_ex, in_band);
-    if (interrupter.wasInterrupted(0)) {
+        interrupter, adapter, *xform, ex_band, margin);
+    if (interrupter.wasInterrupted()) {
         return core::fail(ErrorCode::kCancelled, "cancelled", "near-net shape");
     }
     out.report.active_voxels = static_cast<std::size_t>(field->activeVoxelCount());
-    double isovalue = stock;
-    if (radius > 0.0) {
-        if (progress != nullptr) progress->report("near-net", 0.4);
-        const float ex =
-            static_cast<float>(std::max(stock - radius, 0.0) / voxel + kBandMarginVoxels);
-        const float in =
-            static_cast<float>(std::max(radius - stock, 0.0) / voxel + kBandMarginVoxels);
-        field = openvdb::tools::levelSetRebuild(*field, static_cast<float>(radius), ex, in,
-                                                xform.get(), &interrupter);
-        if (interrupter.wasInterrupted(0)) {
+    if (radius > stock) {
+        if (progress != nullptr) progress->report("near-net", 0.3);
+        const double coarse = std::max(radius / kVoxelsPerFillRadius, voxel);
+        auto closed =
+            closing(finished, origin, radius, coarse, voxel, interrupter, out.report.active_voxels);
+        if (!closed) return std::unexpected(closed.error());
+        const openvdb::tools::QuadAndTriangleDataAdapter<openvdb::Vec3s, openvdb::Vec4I> c(
+            closed->points, closed->polygons);
+        openvdb::FloatGrid::Ptr grown = openvdb::tools::meshToVolume<openvdb::FloatGrid>(
+            interrupter, c, *xform, ex_band, margin);
+        if (interrupter.wasInterrupted()) {
             return core::fail(ErrorCode::kCancelled, "cancelled", "near-net shape");
         }
+        openvdb::tools::csgUnion(*field, *grown);
         out.report.active_voxels =
             std::max(out.report.active_voxels, static_cast<std::size_t>(field->activeVoxelCount()));
-        isovalue = stock - radius;
     }
     if (progress != nullptr) progress->report("near-net", 0.7);
     std::vector<openvdb::Vec3s> points;
     std::vector<openvdb::Vec3I> triangles;
     std::vector<openvdb::Vec4I> quads;
-    openvdb::tools::volumeToMesh(*field, points, triangles, quads, isovalue, 0.0, true);
+    openvdb::tools::volumeToMesh(*field, points, triangles, quads, stock, kAdaptivity, true);
     field.reset();
     out.mesh = to_mesh(points, triangles, quads, origin);
     if (out.mesh.triangles.empty()) {

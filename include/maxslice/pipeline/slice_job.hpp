@@ -19,6 +19,7 @@ namespace maxslice::pipeline {
 struct StageTimes {
     double load_s = 0.0;      ///< read and weld
     double validate_s = 0.0;  ///< validation (and repair)
+    double near_net_s = 0.0;  ///< the near-net shape (when the process asks for one)
     double slice_s = 0.0;     ///< layer heights, cutting and wire trees
     double paths_s = 0.0;     ///< toolpaths and the move list (program jobs only)
     double write_s = 0.0;     ///< program text and its file (program jobs only)
