@@ -363,6 +363,19 @@ core::Result<std::string> write_and_verify(Written<Planned>& w, const core::Vec3
                   : "the verifier refused its program " + verifier_counts(*w.report, true);
 }
 
+// Why beads miss part of a part, and what builds it: "features narrower than the 2.50 mm track
+// get no material: a narrower track builds them, e.g. examples/profiles/fine_5axis_ac.toml".
+std::string narrow_features_hint(double track_width_mm) {
+    // The bundled fine-track profile (0.80 mm) is the hint while the track is wider.
+    constexpr double kFineProfileTrackMm = 0.8;
+    return fmt::format(
+        "features narrower than the {:.2f} mm track get no material: {}", track_width_mm,
+        track_width_mm > kFineProfileTrackMm + 1e-9
+            ? "a narrower track builds them, e.g. examples/profiles/fine_5axis_ac.toml"
+            : "a narrower track (process.track_width_mm) builds them; or is the part in other "
+              "units (--units)?");
+}
+
 void print_verification(Printed& o, const std::optional<verify::Report>& report,
                         double track_width_mm) {
     if (!report) {
@@ -379,6 +392,10 @@ void print_verification(Printed& o, const std::optional<verify::Report>& report,
             report->model_open_columns > 0
                 ? " (estimates: the mesh is not closed, the verifier cannot tell its inside)"
                 : "");
+    // "finished part   99.87% inside beads, smallest stock 0.61 mm" (scripts parse it): the
+    // finished part, or without a near-net shape the part itself (decision 0026).
+    o.print("finished part   %s%s\n", verify::finished_text(*report).c_str(),
+            report->finished_judged() ? "" : " (estimates: the mesh is not closed)");
     if (report->below_plate.count > 0) {
         o.warn(
             "maxslice: warning: the head reaches up to %.1f mm below the plate's level "
@@ -387,18 +404,15 @@ void print_verification(Printed& o, const std::optional<verify::Report>& report,
             "by hand\n",
             report->below_plate_mm, report->below_plate.count, report->below_plate.first->line);
     }
-    if (report->coverage < verify::kMinCoverage && report->model_open_columns == 0) {
-        // The bundled fine-track profile (0.80 mm) is the hint while the track is wider.
-        constexpr double kFineProfileTrackMm = 0.8;
+    // A program that leaves the finished part under the figure is not written (JobOutcome);
+    // one that holds it with the near-net shape's coverage low is, with a warning.
+    if (report->coverage < verify::kMinCoverage && report->model_open_columns == 0 &&
+        report->finished_given && !report->finished_low()) {
         o.warn(
-            "maxslice: warning: the beads cover %.1f%% of the part's volume (features "
-            "narrower than the %.2f mm track get no material: %s)\n",
-            100.0 * report->coverage, track_width_mm,
-            track_width_mm > kFineProfileTrackMm + 1e-9
-                ? "a narrower track builds them, e.g. "
-                  "examples/profiles/fine_5axis_ac.toml"
-                : "a narrower track (process.track_width_mm) builds them; or is the "
-                  "part in other units (--units)?");
+            "maxslice: warning: the beads cover %.1f%% of the near-net shape's volume, and "
+            "hold %.2f%% of the finished part (%s)\n",
+            100.0 * report->coverage, 100.0 * report->finished_inside,
+            narrow_features_hint(track_width_mm).c_str());
     }
     o.print("build time      %.1f min (deposit %.1f, idle %.1f, dwell %.1f; verifier)\n",
             report->build_time_s / 60.0, report->deposit_time_s / 60.0, report->idle_time_s / 60.0,
@@ -462,6 +476,8 @@ void print_orientation(Printed& o, const std::vector<pipeline::OrientTry>& tries
 // kExitOk), the previews to write, and whether the track was what failed the part
 // (decision 0019): no track fits where the part stands or anywhere, or the program misses
 // the coverage target (97 %) or the excess bound (5 %), so that a finer process may do better.
+// A program that holds less than 97 % of the finished part inside its beads is not written
+// (decision 0026): the job is refused with that figure unless a finer process does better.
 struct JobOutcome {
     int rc = kExitOk;
     Printed printed;
@@ -469,25 +485,47 @@ struct JobOutcome {
     std::function<core::Result<void>()> files;  // previews and JSON, when asked for
     bool track_limited = false;
     std::string figures;  // "90.77% coverage, 0.05% excess", or why nothing was written
+    std::optional<core::Error> short_of_part;  // the kept program leaves the finished part short
 
     JobOutcome done(int code) {
         rc = code;
+        if (rc == kExitOk && short_of_part) rc = printed.error(*short_of_part);
         // The refusal's own words, for the note of a job that falls back.
         if (figures.empty() && rc != kExitOk) figures = "refused: " + printed.refusal;
         return std::move(*this);
     }
 
     // A kept program's figures: whether it misses the target, by the verifier (a closed
-    // model) or, without its report, by the share of the section area without a track.
+    // model) or, without its report, by the share of the section area without a track; and
+    // whether it may be written at all: under 97 % of the finished part (of the part without a
+    // near-net shape) inside its beads, where the verifier can tell, it may not.
     void note_figures(const std::optional<verify::Report>& report, double uncovered_mm2,
-                      double area_mm2) {
+                      double area_mm2, double track_width_mm) {
         const double open = area_mm2 > 0.0 ? uncovered_mm2 / area_mm2 : 0.0;
+        short_of_part.reset();
         if (report) {
             figures = fmt::format("{:.2f}% coverage, {:.2f}% excess", 100.0 * report->coverage,
                                   100.0 * report->excess);
+            if (report->finished_given) {
+                figures += fmt::format(", {:.2f}% of the finished part inside beads",
+                                       100.0 * report->finished_inside);
+            }
             track_limited =
-                report->model_open_columns == 0 &&
-                (report->coverage < verify::kMinCoverage || report->excess >= verify::kMaxExcess);
+                (report->model_open_columns == 0 && (report->coverage < verify::kMinCoverage ||
+                                                     report->excess >= verify::kMaxExcess)) ||
+                report->finished_low();
+            if (report->finished_low()) {
+                short_of_part = core::Error{
+                    core::ErrorCode::kInvalidInput,
+                    fmt::format("the program holds {:.2f}% of the {} inside its beads (smallest "
+                                "stock {:.2f} mm), under the {:.0f}% a written program must "
+                                "({}); nothing written",
+                                100.0 * report->finished_inside,
+                                report->finished_given ? "finished part" : "part",
+                                report->smallest_stock_mm, 100.0 * verify::kMinCoverage,
+                                narrow_features_hint(track_width_mm)),
+                    "verifying the program"};
+            }
         } else {
             figures = fmt::format("{:.1f}% of the section area without a track", 100.0 * open);
             track_limited = open > 0.05;
@@ -600,7 +638,7 @@ JobOutcome run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
     if (!w.kept) return done(refuse_unverified(o, *w.report, so));
     const std::optional<verify::Report>& report = w.report;
     r.program = std::move(w.text);
-    r.note_figures(report, p->uncovered_mm2, p->region_area_mm2);
+    r.note_figures(report, p->uncovered_mm2, p->region_area_mm2, profiles.process.track_width_mm);
 
     const auto& sum = p->summary;
     o.print("regions         %zu (%d splits), %zu layers (%d tilted)\n", plan.regions.size(),
@@ -822,7 +860,8 @@ JobOutcome run_planar_slice(const PartOptions& opt, const SliceOptions& so,
         }
         if (!w.kept) return done(refuse_unverified(o, *w.report, so));
         r.program = std::move(w.text);
-        r.note_figures(w.report, p.uncovered_mm2, p.region_area_mm2);
+        r.note_figures(w.report, p.uncovered_mm2, p.region_area_mm2,
+                       profiles->process.track_width_mm);
         report = std::move(w.report);
         planned = std::move(*w.program);
     }

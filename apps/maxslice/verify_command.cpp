@@ -148,8 +148,13 @@ CLI::App* add_verify_command(CLI::App& app, VerifyCommandOptions& opts) {
         "deposited material, support, axis limits; measure coverage and excess");
     cmd->add_option("PROGRAM", opts.program, "Program file (gm, linuxcnc, fanuc or siemens)")
         ->required();
-    cmd->add_option("--model", opts.model, "The part the program builds (placed as the job does)")
+    cmd->add_option("--model", opts.model,
+                    "The shape the program deposits: the part, or its near-net shape (placed as "
+                    "the job does)")
         ->required();
+    cmd->add_option("--finished", opts.finished,
+                    "The finished part, when --model is its near-net shape (same file frame; "
+                    "placed as --model is): its share inside beads and the smallest stock");
     cmd->add_option("--profile", opts.profiles, "Machine/process profile TOML file(s)")->required();
     cmd->add_option("--json", opts.json_file, "Write the report as JSON to this file");
     cmd->add_option("--dialect", opts.dialect,
@@ -195,6 +200,7 @@ int run_verify(const VerifyCommandOptions& opts) {
         std::vector<std::filesystem::path> inputs(files.begin(), files.end());
         inputs.emplace_back(opts.program);
         inputs.emplace_back(opts.model);
+        if (!opts.finished.empty()) inputs.emplace_back(opts.finished);
         if (auto ok = core::check_output_not_input(opts.json_file, "--json", inputs); !ok) {
             return report_error(ok.error());
         }
@@ -230,6 +236,19 @@ int run_verify(const VerifyCommandOptions& opts) {
                      "what its surface encloses, which leaves that material out\n",
                      why.c_str());
     }
+    std::optional<mesh::TriangleMesh> finished;
+    if (!opts.finished.empty()) {
+        auto f = io::read_mesh(opts.finished, import);
+        if (!f) return report_error(core::with_context(f.error(), "--finished"));
+        if (const std::string why = misoriented_model(mesh::validate(f->mesh)); !why.empty()) {
+            std::fprintf(stderr,
+                         "maxslice: warning: the finished part %s: its share inside beads is "
+                         "measured against what its surface encloses, which leaves that "
+                         "material out\n",
+                         why.c_str());
+        }
+        finished = std::move(f->mesh);
+    }
     auto text = read_text(opts.program);
     if (!text) return report_error(text.error());
     if (auto chosen = process_of_program(*text, opts.finer, settings, *profiles); !chosen) {
@@ -245,9 +264,18 @@ int run_verify(const VerifyCommandOptions& opts) {
         std::printf("placement       the model stands along %s, as the program's header says\n",
                     fmt::format("{},{},{}", d->x, d->y, d->z).c_str());
     }
+    // The finished part moves with the model: the job places what it deposits (decision 0026).
+    std::optional<mesh::TriangleMesh> placed_finished;
+    if (finished) {
+        auto f =
+            verify::place_like(std::move(*finished), model->mesh, direction, profiles->machine);
+        if (!f) return report_error(core::with_context(f.error(), "--finished"));
+        placed_finished = std::move(*f);
+    }
     auto placed = verify::place_model(std::move(model->mesh), direction, profiles->machine);
     if (!placed) return report_error(placed.error());
-    auto report = verify::verify_program(*text, *placed, *profiles, settings);
+    auto report = verify::verify_program(*text, *placed, *profiles, settings,
+                                         placed_finished ? &*placed_finished : nullptr);
     if (!report) return report_error(core::with_context(report.error(), "file " + opts.program));
 
     std::fputs(verify::report_text(*report).c_str(), stdout);

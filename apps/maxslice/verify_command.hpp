@@ -1,4 +1,5 @@
-// `maxslice verify PROGRAM --model PART --profile FILE...`: the independent verifier
+// `maxslice verify PROGRAM --model PART [--finished PART] --profile FILE...`: the independent
+// verifier
 // (docs/verifier.md).
 #pragma once
 
@@ -17,6 +18,7 @@ namespace maxslice::app {
 struct VerifyCommandOptions {
     std::string program;
     std::string model;
+    std::string finished;  ///< --finished: the finished part (empty: the model is it)
     std::vector<std::string> profiles;
     std::string json_file;
     std::string dialect;

@@ -254,8 +254,11 @@ std::string report_text(const Report& r) {
     } else if (!r.coverage_judged()) {
         out += "part match      not judged: the verifier cannot tell the model's inside\n";
     } else {
-        fmt::format_to(it, "part match      yes (coverage >= {:.2f}%, excess < {:.2f}%)\n",
-                       100.0 * r.min_coverage, 100.0 * r.max_excess);
+        fmt::format_to(it, "part match      yes (coverage >= {:.2f}%, excess < {:.2f}%{})\n",
+                       100.0 * r.min_coverage, 100.0 * r.max_excess,
+                       r.finished_given ? fmt::format(", finished part >= {:.2f}% inside beads",
+                                                      100.0 * r.min_coverage)
+                                        : "");
     }
     fmt::format_to(it, "deposition      {:.1f} mm, bead height {:.3f} - {:.3f} mm\n",
                    r.deposition_length_mm, r.bead_height_min_mm, r.bead_height_max_mm);

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -298,4 +299,91 @@ TEST(Cli, VerifyRefusesUnsafeAndWrongProgramsWithExitThree) {
         EXPECT_LT(r.err.size(), 1200U) << r.err.substr(0, 300);
         EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err.substr(0, 300);
     }
+}
+
+namespace {
+
+// An axis-aligned box as ASCII STL, outward-facing triangles.
+std::string box_stl(const std::array<double, 3>& lo, const std::array<double, 3>& hi) {
+    std::string out = "solid box\n";
+    const auto v = [&](int corner) {
+        return std::array<double, 3>{corner & 1 ? hi[0] : lo[0], corner & 2 ? hi[1] : lo[1],
+                                     corner & 4 ? hi[2] : lo[2]};
+    };
+    // Each face as two counter-clockwise triangles seen from outside.
+    const int faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                             {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+    for (const auto& f : faces) {
+        for (const auto& t : {std::array{f[0], f[1], f[2]}, std::array{f[0], f[2], f[3]}}) {
+            out += " facet normal 0 0 0\n  outer loop\n";
+            for (const int c : t) {
+                const auto p = v(c);
+                out += "   vertex " + std::to_string(p[0]) + " " + std::to_string(p[1]) + " " +
+                       std::to_string(p[2]) + "\n";
+            }
+            out += "  endloop\n endfacet\n";
+        }
+    }
+    return out + "endsolid box\n";
+}
+
+}  // namespace
+
+// `maxslice verify --model NEARNET --finished PART` (decision 0026): the finished part is
+// placed as the model is (its own placement would drop it onto the plate, leaving no stock
+// under it), reported with its share inside beads and the smallest stock, and a finished part
+// that reaches out of the beads fails the check `finished_inside`.
+TEST(Cli, VerifyMeasuresTheFinishedPartInsideTheNearNetShape) {
+    const fs::path dir = temp_dir("verify_finished");
+    const fs::path profile = kSource / "examples/profiles/reference_lmd.toml";
+    const auto write = [&](const std::string& name, const std::string& text) {
+        const fs::path f = dir / name;
+        std::ofstream(f, std::ios::binary) << text;
+        return f;
+    };
+    // The near-net block and a finished block 1 mm above its bottom, 2 mm inside its sides and
+    // top; one reaching 1 mm out of its sides.
+    const fs::path near = write("near.stl", box_stl({0, 0, 0}, {40, 30, 8}));
+    const fs::path inside = write("inside.stl", box_stl({2, 2, 1}, {38, 28, 6}));
+    const fs::path out = write("out.stl", box_stl({-1, 2, 1}, {41, 28, 6}));
+    const fs::path program = dir / "p.gm";
+    ASSERT_EQ(
+        run_cli({"slice", near.string(), "--profile", profile.string(), "-o", program.string()})
+            .exit_code,
+        0);
+    const fs::path json = dir / "r.json";
+    const auto verify = [&](const fs::path& finished) {
+        fs::remove(json);
+        std::vector<std::string> args = {"verify",    program.string(), "--model", near.string(),
+                                         "--profile", profile.string(), "--json",  json.string()};
+        if (!finished.empty()) args.insert(args.end(), {"--finished", finished.string()});
+        return run_cli(args);
+    };
+    const CliRun ok = verify(inside);
+    EXPECT_EQ(ok.exit_code, 0) << ok.out << ok.err;
+    nlohmann::json r = nlohmann::json::parse(slurp(json));
+    const double voxel = r.at("voxel_mm").get<double>();
+    EXPECT_TRUE(r.at("finished_given").get<bool>());
+    EXPECT_GE(r.at("finished_inside").get<double>(), 0.995) << ok.out;
+    // The thinnest stock is the 1 mm under the part, within a voxel (and the beads' own edge).
+    EXPECT_GT(r.at("smallest_stock_mm").get<double>(), 1.0 - 2.0 * voxel) << ok.out;
+    EXPECT_LT(r.at("smallest_stock_mm").get<double>(), 1.0 + voxel) << ok.out;
+    EXPECT_NE(ok.out.find("finished part   "), std::string::npos) << ok.out;
+
+    const CliRun short_of = verify(out);
+    EXPECT_EQ(short_of.exit_code, 3) << short_of.out << short_of.err;
+    r = nlohmann::json::parse(slurp(json));
+    EXPECT_LT(r.at("finished_inside").get<double>(), 0.97) << short_of.out;
+    EXPECT_LT(r.at("smallest_stock_mm").get<double>(), 0.0) << short_of.out;
+    const auto failed = r.at("failed_checks").get<std::vector<std::string>>();
+    EXPECT_NE(std::find(failed.begin(), failed.end(), "finished_inside"), failed.end());
+    EXPECT_NE(short_of.out.find("part match      no: finished part"), std::string::npos)
+        << short_of.out;
+
+    // Without --finished the model is the finished part: its share inside is the coverage.
+    const CliRun plain = verify({});
+    EXPECT_EQ(plain.exit_code, 0) << plain.out << plain.err;
+    r = nlohmann::json::parse(slurp(json));
+    EXPECT_FALSE(r.at("finished_given").get<bool>());
+    EXPECT_EQ(r.at("finished_inside"), r.at("coverage"));
 }

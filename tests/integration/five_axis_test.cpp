@@ -61,6 +61,10 @@ struct Figures {
     long limit_violations = -1;
     double coverage_pct = NAN;
     double excess_pct = NAN;
+    // finished part   X% inside beads, smallest stock S mm
+    bool finished_line = false;
+    double finished_pct = NAN;
+    double stock_mm = NAN;
 };
 
 Figures read_figures(const std::string& out);
@@ -70,6 +74,9 @@ Figures read_figures(const std::string& out);
 void expect_clean(const Figures& f, const std::string& out) {
     ASSERT_TRUE(f.verified) << out;
     ASSERT_TRUE(f.coverage_line) << out;
+    ASSERT_TRUE(f.finished_line) << out;
+    // No program is written with under 97 % of the finished part inside beads (decision 0026).
+    EXPECT_GE(f.finished_pct, 97.0) << out;
     EXPECT_EQ(f.collisions, 0) << out;
     EXPECT_EQ(f.unsupported, 0) << out;
     EXPECT_EQ(f.limit_violations, 0) << out;
@@ -93,7 +100,24 @@ Figures read_figures(const std::string& out) {
         f.coverage_pct = std::stod(m[1].str());
         f.excess_pct = std::stod(m[2].str());
     }
+    static const std::regex finished(
+        R"((?:^|\n)finished part   ([0-9.]+)% inside beads, smallest stock (-?[0-9.]+) mm)");
+    if (std::regex_search(out, m, finished)) {
+        f.finished_line = true;
+        f.finished_pct = std::stod(m[1].str());
+        f.stock_mm = std::stod(m[2].str());
+    }
     return f;
+}
+
+// A job refused for leaving the part short (decision 0026): the error names the share of the
+// part inside beads, under 97 %, and the smallest stock.
+void expect_short_of_part(const std::string& err) {
+    static const std::regex short_of(
+        R"(maxslice: error: verifying the program: the program holds ([0-9.]+)% of the (finished )?part inside its beads \(smallest stock -?[0-9.]+ mm\), under the 97% a written program must)");
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(err, m, short_of)) << err;
+    EXPECT_LT(std::stod(m[1].str()), 97.0) << err;
 }
 
 // `maxslice verify PROGRAM --model PART --profile PROFILE --json R` and its JSON report.
@@ -298,15 +322,15 @@ TEST(FiveAxis, PartsTooFineForTheReferenceTrackBuildCleanWithTheFineTrack) {
           "prusaslicer/M3x10_screw.stl", "netgen/part1.stl"}) {
         expect_clean_job(kTestData / "meshes" / part, fine, dir, "gm");
     }
-    // At the reference track alone (--finer off) the job says why the coverage is low and
-    // what builds the part.
+    // At the reference track alone (--finer off) the beads hold under 97 % of the part: no
+    // program is written (decision 0026), and the job says the figure, why it is low and what
+    // builds the part.
     const fs::path gear = kTestData / "meshes/stl-models/gearwheel.bin.stl";
     const CliRun r = run_cli({"slice", gear.string(), "--profile", kReference5.string(), "-o",
                               (dir / "g.gm").string(), "--finer", "off"});
-    ASSERT_EQ(r.exit_code, 0) << r.err;
-    const Figures f = read_figures(r.out);
-    expect_clean(f, r.out);
-    EXPECT_LT(f.coverage_pct, 97.0) << r.out;
+    EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+    EXPECT_FALSE(fs::exists(dir / "g.gm"));
+    expect_short_of_part(r.err);
     EXPECT_NE(r.err.find("narrower than the 2.50 mm track"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("fine_5axis_ac.toml"), std::string::npos) << r.err;
     // With the fine track already, the hint is the units: the angle block is in inches
@@ -314,8 +338,9 @@ TEST(FiveAxis, PartsTooFineForTheReferenceTrackBuildCleanWithTheFineTrack) {
     const fs::path block = kTestData / "meshes/trimesh/angle_block.STL";
     const CliRun small = run_cli({"slice", block.string(), "--repair", "--profile", fine.string(),
                                   "-o", (dir / "b.gm").string()});
-    ASSERT_EQ(small.exit_code, 0) << small.err;
-    EXPECT_LT(read_figures(small.out).coverage_pct, 97.0) << small.out;
+    EXPECT_EQ(small.exit_code, 2) << small.out << small.err;
+    EXPECT_FALSE(fs::exists(dir / "b.gm"));
+    expect_short_of_part(small.err);
     EXPECT_NE(small.err.find("narrower than the 0.80 mm track"), std::string::npos) << small.err;
     EXPECT_NE(small.err.find("--units"), std::string::npos) << small.err;
     EXPECT_EQ(small.err.find("fine_5axis_ac.toml"), std::string::npos) << small.err;
@@ -449,8 +474,10 @@ TEST(FiveAxis, APlanarJobFallsBackToTheFinerTrackToo) {
     const fs::path program = dir / "p.gm";
     const CliRun off = run_cli({"slice", part1.string(), "--profile", profile.string(), "-o",
                                 program.string(), "--finer", "off"});
-    ASSERT_EQ(off.exit_code, 0) << off.err;
-    EXPECT_LT(read_figures(off.out).coverage_pct, 97.0) << off.out;
+    // The main track alone leaves the part under 97 %: nothing written (decision 0026).
+    EXPECT_EQ(off.exit_code, 2) << off.out << off.err;
+    EXPECT_FALSE(fs::exists(program));
+    expect_short_of_part(off.err);
     const CliRun r =
         run_cli({"slice", part1.string(), "--profile", profile.string(), "-o", program.string()});
     ASSERT_EQ(r.exit_code, 0) << r.err;
