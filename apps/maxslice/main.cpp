@@ -29,6 +29,7 @@
 #include "maxslice/machine/machine_moves.hpp"
 #include "maxslice/machine/profile.hpp"
 #include "maxslice/machine/writer.hpp"
+#include "maxslice/pipeline/near_net_job.hpp"
 #include "maxslice/pipeline/orient_job.hpp"
 #include "maxslice/pipeline/plan_job.hpp"
 #include "maxslice/pipeline/previews.hpp"
@@ -98,6 +99,7 @@ std::string timings_text(const pipeline::StageTimes& t, bool program = false) {
     std::string out =
         fmt::format("timing load {:.4f}\ntiming validate {:.4f}\ntiming slice {:.4f}\n", t.load_s,
                     t.validate_s, t.slice_s);
+    if (t.near_net_s > 0.0) out += fmt::format("timing near-net {:.4f}\n", t.near_net_s);
     if (program)
         out += fmt::format("timing paths {:.4f}\ntiming write {:.4f}\n", t.paths_s, t.write_s);
     if (t.verify_s > 0.0) out += fmt::format("timing verify {:.4f}\n", t.verify_s);
@@ -336,13 +338,16 @@ struct Written {
 // Writes w.program's text, naming the part file's `direction` it builds upwards, and replays
 // it in the verifier (unless --no-verify); "" when it is kept, else the verifier's refusal
 // for the orientation search. A program without any track is "kept": check_tracks refuses it
-// whatever the orientation.
+// whatever the orientation. `placed` is what the program deposits; `finished` (file frame),
+// when the job deposits a near-net shape, the finished part: the verifier gets it placed as
+// `built` (the deposited part in the file frame) is placed.
 template <class Planned>
 core::Result<std::string> write_and_verify(Written<Planned>& w, const core::Vec3d& direction,
                                            const mesh::TriangleMesh& placed,
                                            const machine::Profiles& profiles,
-                                           const SliceOptions& so,
-                                           const machine::WriteOptions& wo) {
+                                           const SliceOptions& so, const machine::WriteOptions& wo,
+                                           const mesh::TriangleMesh* finished = nullptr,
+                                           const mesh::TriangleMesh* built = nullptr) {
     w.program->program.base_direction = direction;
     w.kept = w.program->summary.laser_on_count == 0;
     if (w.kept) return std::string();
@@ -354,7 +359,14 @@ core::Result<std::string> write_and_verify(Written<Planned>& w, const core::Vec3
     w.kept = so.no_verify;
     if (w.kept) return std::string();
     t = std::chrono::steady_clock::now();
-    auto r = verify::verify_program(w.text, placed, profiles);
+    std::optional<mesh::TriangleMesh> placed_finished;
+    if (finished != nullptr) {
+        auto f = verify::place_like(*finished, *built, direction, profiles.machine);
+        if (!f) return std::unexpected(core::with_context(f.error(), "placing the finished part"));
+        placed_finished = std::move(*f);
+    }
+    auto r = verify::verify_program(w.text, placed, profiles, {},
+                                    placed_finished ? &*placed_finished : nullptr);
     if (!r) return std::unexpected(core::with_context(r.error(), "verifying the program"));
     w.verify_s = seconds_since(t);
     w.report = std::move(*r);
@@ -535,11 +547,13 @@ struct JobOutcome {
 
 // A table-tilt machine: plan the placed part (regions, tilts, splits), order its layers with
 // the nozzle check, turn them into moves and make the 5-axis program. `finer`: which of the
-// profile's finer processes `profiles` holds (0: the main one).
+// profile's finer processes `profiles` holds (0: the main one). `part` is what is deposited;
+// `finished`, when that is a near-net shape, the finished part (file frame).
 JobOutcome run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
                                const mesh::TriangleMesh& part, const machine::Profiles& profiles,
                                pipeline::StageTimes& times, const core::Vec3d& given,
-                               pipeline::OrientPolicy policy, int finer) {
+                               pipeline::OrientPolicy policy, int finer,
+                               const mesh::TriangleMesh* finished) {
     JobOutcome r;
     Printed& o = r.printed;
     const auto done = [&](int rc) { return r.done(rc); };
@@ -558,7 +572,7 @@ JobOutcome run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
         w.paths_s = seconds_since(start);
         machine::WriteOptions wo;
         wo.clear_z_mm = machine::clear_height_mm(profiles.machine, placed.vertices);
-        auto refusal = write_and_verify(w, direction, placed, profiles, so, wo);
+        auto refusal = write_and_verify(w, direction, placed, profiles, so, wo, finished, &part);
         checks_s += seconds_since(start);
         return refusal;
     };
@@ -755,13 +769,14 @@ int finish_job(JobOutcome job, const SliceOptions& so) {
 }
 
 // Slices the part along one direction: the slices' previews and summary, and with a 3-axis
-// profile and -o the planar program (the part standing on the plate). `finer` as for
-// run_multiaxis_slice.
+// profile and -o the planar program (the part standing on the plate). `finer` and `finished`
+// as for run_multiaxis_slice.
 JobOutcome run_planar_slice(const PartOptions& opt, const SliceOptions& so,
                             pipeline::PreparedPart part, const pipeline::SliceSettings& ss,
                             const std::optional<machine::Profiles>& profiles,
                             pipeline::StageTimes& times, const core::Vec3d& given,
-                            pipeline::OrientPolicy policy, int finer) {
+                            pipeline::OrientPolicy policy, int finer,
+                            const mesh::TriangleMesh* finished) {
     JobOutcome r;
     Printed& o = r.printed;
     const auto done = [&](int rc) { return r.done(rc); };
@@ -776,6 +791,10 @@ JobOutcome run_planar_slice(const PartOptions& opt, const SliceOptions& so,
     const std::string name = std::filesystem::path(opt.path).filename().string();
     Written<pipeline::PlannedProgram> w;
     core::Vec3d built_along = ss.direction;  // the file's direction the program builds upwards
+    // The deposited part in the file frame, for placing the finished part alike (the job's
+    // own copy is replaced by the placed one).
+    const std::optional<mesh::TriangleMesh> built =
+        finished != nullptr ? std::optional(part.imported.mesh) : std::nullopt;
     const auto write_stack = [&](const core::Vec3d& direction, const mesh::TriangleMesh& placed,
                                  const pipeline::SliceStack& s) -> core::Result<std::string> {
         w = {};
@@ -784,7 +803,8 @@ JobOutcome run_planar_slice(const PartOptions& opt, const SliceOptions& so,
         if (!p) return std::unexpected(p.error());
         w.program = std::move(*p);
         w.paths_s = seconds_since(start);
-        return write_and_verify(w, direction, placed, *profiles, so, machine::WriteOptions{});
+        return write_and_verify(w, direction, placed, *profiles, so, machine::WriteOptions{},
+                                finished, built ? &*built : nullptr);
     };
     if (program_mode) {
         // A 3-axis machine builds every layer along one direction: the part stands on the
@@ -970,11 +990,27 @@ int run_slice(const PartOptions& opt, const SliceOptions& so) {
     auto part = pipeline::prepare_part(opt.path, *settings, &times);
     if (!part) return report_error(part.error());
     print_warnings(*part);
+    // The part read is the finished part; with the process's machining stock or fill the job
+    // deposits its near-net shape and keeps the finished part for the verifier (decision 0025).
+    std::optional<mesh::TriangleMesh> finished;
+    std::string near_net_line;
+    if (profiles) {
+        const auto progress = make_progress();
+        auto near = pipeline::near_net_part(*part, profiles->process, progress.get(), &times);
+        if (!near) return report_error(core::with_context(near.error(), opt.path));
+        if (*near) {
+            near_net_line = pipeline::near_net_line(**near);
+            finished = std::move((*near)->finished);
+            *part = std::move((*near)->built);
+        }
+    }
+    const mesh::TriangleMesh* finished_part = finished ? &*finished : nullptr;
     const core::Vec3d given = ss.direction;
     if (!program_mode) {
-        return finish_job(
-            run_planar_slice(opt, so, std::move(*part), ss, profiles, times, given, *policy, 0),
-            so);
+        JobOutcome job = run_planar_slice(opt, so, std::move(*part), ss, profiles, times, given,
+                                          *policy, 0, finished_part);
+        job.printed.out = near_net_line + job.printed.out;
+        return finish_job(std::move(job), so);
     }
     const bool table_tilt = machine::is_table_tilt(profiles->machine.kinematics);
     if (table_tilt && so.adaptive) {
@@ -990,15 +1026,16 @@ int run_slice(const PartOptions& opt, const SliceOptions& so) {
     const auto attempt = [&](const machine::Profiles& p, int finer) {
         if (table_tilt) {
             return run_multiaxis_slice(opt, so, part->imported.mesh, p, times, given, *policy,
-                                       finer);
+                                       finer, finished_part);
         }
         pipeline::SliceSettings pss = ss;
         layers_of_process(pss, p.process, so);
         return run_planar_slice(opt, so, may_retry ? *part : std::move(*part), pss, p, times, given,
-                                *policy, finer);
+                                *policy, finer, finished_part);
     };
     auto job = with_finer_processes(*profiles, so, attempt);
     if (!job) return report_error(job.error());
+    job->printed.out = near_net_line + job->printed.out;
     return finish_job(std::move(*job), so);
 }
 
@@ -1045,6 +1082,14 @@ int run_plan(const PartOptions& opt, const PlanOptions& po, bool layer_given) {
     if (!part) return report_error(part.error());
     print_warnings(*part);
     const auto progress = make_progress();
+    // The plan of what a program job deposits: the near-net shape when the process asks for it.
+    std::string near_net_line;
+    auto near = pipeline::near_net_part(*part, profiles->process, progress.get(), &times);
+    if (!near) return report_error(core::with_context(near.error(), opt.path));
+    if (*near) {
+        near_net_line = pipeline::near_net_line(**near);
+        *part = std::move((*near)->built);
+    }
     auto planned = pipeline::plan_mesh(part->imported.mesh, ps, progress.get());
     if (!planned) return report_error(planned.error());
     std::string nozzle_source;
@@ -1090,7 +1135,8 @@ int run_plan(const PartOptions& opt, const PlanOptions& po, bool layer_given) {
             return report_error(ok.error());
         }
     }
-    if (const int rc = print_out(pipeline::plan_summary(*planned, part->final_report()));
+    if (const int rc =
+            print_out(near_net_line + pipeline::plan_summary(*planned, part->final_report()));
         rc != kExitOk) {
         return rc;
     }

@@ -38,12 +38,12 @@ namespace {
 
 using core::ErrorCode;
 
-// The fine voxel is this share of the stock (the fill radius without stock): the field resolves
-// the grown surface to a small fraction of the stock.
+// The fine voxel is this share of the stock: the field resolves the grown surface to a small
+// fraction of the stock. (Without stock it is the closing's voxel.)
 constexpr double kVoxelsPerStock = 2.0;
 // The closing's voxel is this share of the fill radius: enough to tell a hole of diameter
 // 2 r from a wider one; its surface is not kept where X's own is outside it.
-constexpr double kVoxelsPerFillRadius = 2.0;
+constexpr double kVoxelsPerFillRadius = 4.0;
 // A finer voxel is never needed: the machine takes off stock, it does not deposit to 20 um.
 constexpr double kMinVoxelMm = 0.05;
 // Bound on the fine grid's voxels at the surface (its band is a few voxels deep): a larger
@@ -97,9 +97,8 @@ private:
 // The fine voxel for a part of surface `area_mm2`: a share of the stock (or of the fill radius
 // without stock), coarsened to keep the surface voxels under the bound.
 double fine_voxel(double area_mm2, double stock, double radius) {
-    const double feature = stock > 0.0 ? stock : radius;
-    return std::max(
-        {feature / kVoxelsPerStock, std::sqrt(area_mm2 / kMaxSurfaceVoxels), kMinVoxelMm});
+    const double share = stock > 0.0 ? stock / kVoxelsPerStock : radius / kVoxelsPerFillRadius;
+    return std::max({share, std::sqrt(area_mm2 / kMaxSurfaceVoxels), kMinVoxelMm});
 }
 
 // volumeToMesh's points and polygons as our mesh: quads split along a fixed diagonal, points
