@@ -1,5 +1,7 @@
 #include "stock_distance.hpp"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -53,6 +55,12 @@ private:
     std::vector<double> z_;
 };
 
+/// Planes transformed at once (in parallel) beyond the 2 reach + 1 a voxel asked about needs.
+constexpr int kPlaneBatch = 16;
+/// Up to this reach the second pass takes the minimum over the window directly (vectorized,
+/// 2 reach row passes); beyond, the lower envelope (a few operations a voxel, not vectorized).
+constexpr int kWindowReach = 16;
+
 struct IndexBox {
     int lo[3] = {std::numeric_limits<int>::max(), std::numeric_limits<int>::max(),
                  std::numeric_limits<int>::max()};
@@ -65,8 +73,11 @@ int stock_limit_within(int want, int nx, int ny, std::size_t budget_bytes) {
     const std::size_t plane = static_cast<std::size_t>(std::max(nx, 1)) *
                               static_cast<std::size_t>(std::max(ny, 1)) * sizeof(std::uint16_t);
     const std::size_t planes = budget_bytes / plane;
+    const std::size_t fixed = 1 + kPlaneBatch;
     const int fit =
-        planes >= 3 ? static_cast<int>(std::min<std::size_t>((planes - 1) / 2, kMaxStockLimit)) : 1;
+        planes >= fixed + 2
+            ? static_cast<int>(std::min<std::size_t>((planes - fixed) / 2, kMaxStockLimit))
+            : 1;
     return std::clamp(std::min(want, fit), 1, kMaxStockLimit);
 }
 
@@ -77,30 +88,33 @@ StockDistance smallest_stock(const BitGrid& beads, const BitGrid& finished, int 
     const std::vector<std::uint64_t>& fw = finished.words();
     const std::vector<std::uint64_t>& bw = beads.words();
     const std::size_t plane = static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny);
-    IndexBox box;
-    bool sticks_out = false;
-    for (std::size_t w = 0; w < fw.size(); ++w) {
-        if (fw[w] == 0) continue;
-        if ((fw[w] & ~bw[w]) != 0) sticks_out = true;
+    // The boxes of the finished voxels and of those outside the beads.
+    IndexBox all, outside;
+    const auto extend = [&](IndexBox& box, std::size_t w, std::uint64_t bits) {
         const int band = static_cast<int>(w / plane);
         const std::size_t rem = w % plane;
         const int c[3] = {static_cast<int>(rem / static_cast<std::size_t>(ny)),
                           static_cast<int>(rem % static_cast<std::size_t>(ny)),
-                          band * 64 + std::countr_zero(fw[w])};
-        const int top = band * 64 + 63 - std::countl_zero(fw[w]);
+                          band * 64 + std::countr_zero(bits)};
+        const int top = band * 64 + 63 - std::countl_zero(bits);
         for (int a = 0; a < 3; ++a) {
             box.lo[a] = std::min(box.lo[a], c[a]);
             box.hi[a] = std::max(box.hi[a], a == 2 ? top : c[a]);
         }
+    };
+    for (std::size_t w = 0; w < fw.size(); ++w) {
+        if (fw[w] == 0) continue;
+        extend(all, w, fw[w]);
+        if ((fw[w] & ~bw[w]) != 0) extend(outside, w, fw[w] & ~bw[w]);
     }
-    if (box.hi[0] < 0) return out;
+    if (all.hi[0] < 0) return out;
     out.empty = false;
-    out.inside = !sticks_out;
+    out.inside = outside.hi[0] < 0;
+    const IndexBox& box = out.inside ? all : outside;  // the voxels asked about lie in it
     // Inside: the distance to the nearest voxel outside the beads, asked at the finished
     // part's boundary voxels (the nearest pair has its finished end there: a voxel with all six
     // neighbours finished has one a step closer). Sticking out: the distance to the nearest
     // bead voxel, asked at every finished voxel outside the beads.
-    const auto target = [&](int i, int j, int k) { return beads.get(i, j, k) != out.inside; };
     const auto finished_at = [&](int i, int j, int k) {
         return i >= 0 && j >= 0 && k >= 0 && i < nx && j < ny && k < nz && finished.get(i, j, k);
     };
@@ -111,79 +125,141 @@ StockDistance smallest_stock(const BitGrid& beads, const BitGrid& finished, int 
                !finished_at(i, j - 1, k) || !finished_at(i, j + 1, k) ||
                !finished_at(i, j, k - 1) || !finished_at(i, j, k + 1);
     };
-    int lo[3], hi[3];
-    const int n[3] = {nx, ny, nz};
-    for (int a = 0; a < 3; ++a) {
-        lo[a] = std::max(0, box.lo[a] - limit);
-        hi[a] = std::min(n[a] - 1, box.hi[a] + limit);
-    }
-    const int bx = hi[0] - lo[0] + 1, by = hi[1] - lo[1] + 1, bz = hi[2] - lo[2] + 1;
-    const int ring = std::min(2 * limit + 1, bz);
-    const std::int64_t cap = static_cast<std::int64_t>(limit + 1) * (limit + 1);
-    const std::size_t bplane = static_cast<std::size_t>(bx) * static_cast<std::size_t>(by);
-    std::vector<std::uint16_t> planes(static_cast<std::size_t>(ring) * bplane);
-    const auto at = [&](int i, int j, int k) -> std::uint16_t& {
-        return planes[static_cast<std::size_t>((k - lo[2]) % ring) * bplane +
-                      static_cast<std::size_t>(i - lo[0]) * static_cast<std::size_t>(by) +
-                      static_cast<std::size_t>(j - lo[1])];
-    };
-    std::vector<std::int64_t> f, d;
-    LineTransform line;
-    // The squared in-plane distance to the nearest target of plane k, capped at (limit+1)^2:
-    // along j by two scans, then across i by the lower envelope. A capped value stands for
-    // one at least as large, so any result below the cap is exact.
-    const auto transform_plane = [&](int k) {
-        for (int i = lo[0]; i <= hi[0]; ++i) {
-            int last = -(limit + 2);
-            for (int j = lo[1]; j <= hi[1]; ++j) {
-                if (target(i, j, k)) last = j;
-                at(i, j, k) =
-                    static_cast<std::uint16_t>(std::min<std::int64_t>(j - last, limit + 1));
-            }
-            last = std::numeric_limits<int>::max() / 2;
-            for (int j = hi[1]; j >= lo[1]; --j) {
-                if (target(i, j, k)) last = j;
-                const std::int64_t s = std::min<std::int64_t>({at(i, j, k), last - j, limit + 1});
-                at(i, j, k) = static_cast<std::uint16_t>(s * s);
-            }
+    std::vector<std::uint16_t> planes;
+    // The best squared distance within `reach` voxels, or one above reach^2 when there is none
+    // (or, sticking out, when some voxel asked about has none).
+    const auto search = [&](int reach) {
+        int lo[3], hi[3];
+        const int n[3] = {nx, ny, nz};
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = std::max(0, box.lo[a] - reach);
+            hi[a] = std::min(n[a] - 1, box.hi[a] + reach);
         }
-        f.resize(static_cast<std::size_t>(bx));
-        for (int j = lo[1]; j <= hi[1]; ++j) {
-            for (int i = lo[0]; i <= hi[0]; ++i)
-                f[static_cast<std::size_t>(i - lo[0])] = at(i, j, k);
-            line.run(f, d);
+        const int bx = hi[0] - lo[0] + 1, by = hi[1] - lo[1] + 1, bz = hi[2] - lo[2] + 1;
+        const int ring = std::min(2 * reach + 1 + kPlaneBatch, bz);
+        const std::int64_t cap = static_cast<std::int64_t>(reach + 1) * (reach + 1);
+        const std::size_t bplane = static_cast<std::size_t>(bx) * static_cast<std::size_t>(by);
+        planes.assign(static_cast<std::size_t>(ring) * bplane, 0);
+        const auto at = [&](int i, int j, int k) -> std::uint16_t& {
+            return planes[static_cast<std::size_t>((k - lo[2]) % ring) * bplane +
+                          static_cast<std::size_t>(i - lo[0]) * static_cast<std::size_t>(by) +
+                          static_cast<std::size_t>(j - lo[1])];
+        };
+        // The squared in-plane distance to the nearest target of plane k, capped at
+        // (reach+1)^2: along j by two scans, then across i by the lower envelope (a line all
+        // at 0 or all at the cap stays so). A capped value stands for one at least as large,
+        // so any result below the cap is exact.
+        const auto slot = [&](int k) {
+            return planes.data() + static_cast<std::size_t>((k - lo[2]) % ring) * bplane;
+        };
+        const std::uint64_t flip = out.inside ? ~std::uint64_t{0} : 0;  // target: bit ^ flip
+        const auto transform_plane = [&](int k) {
+            std::uint16_t* g = slot(k);
+            const std::uint64_t* band = bw.data() + static_cast<std::size_t>(k >> 6) * plane;
+            const int bit = k & 63;
             for (int i = lo[0]; i <= hi[0]; ++i) {
-                at(i, j, k) = static_cast<std::uint16_t>(
-                    std::min(d[static_cast<std::size_t>(i - lo[0])], cap));
-            }
-        }
-    };
-    std::int64_t best = out.inside ? std::numeric_limits<std::int64_t>::max() : -1;
-    const auto ask_plane = [&](int q) {
-        const int k0 = std::max(lo[2], q - limit), k1 = std::min(hi[2], q + limit);
-        for (int i = box.lo[0]; i <= box.hi[0]; ++i) {
-            for (int j = box.lo[1]; j <= box.hi[1]; ++j) {
-                if (!asked(i, j, q)) continue;
-                std::int64_t d2 = at(i, j, q);
-                for (int dz = 1; static_cast<std::int64_t>(dz) * dz < d2; ++dz) {
-                    const std::int64_t dz2 = static_cast<std::int64_t>(dz) * dz;
-                    if (q - dz >= k0) d2 = std::min<std::int64_t>(d2, at(i, j, q - dz) + dz2);
-                    if (q + dz <= k1) d2 = std::min<std::int64_t>(d2, at(i, j, q + dz) + dz2);
+                const std::uint64_t* row =
+                    band + static_cast<std::size_t>(i) * static_cast<std::size_t>(ny);
+                std::uint16_t* out_row = g + static_cast<std::size_t>(i - lo[0]) * by;
+                int last = -(reach + 2);
+                for (int j = lo[1]; j <= hi[1]; ++j) {
+                    if (((row[j] ^ flip) >> bit & 1U) != 0) last = j;
+                    out_row[j - lo[1]] = static_cast<std::uint16_t>(std::min(j - last, reach + 1));
                 }
-                d2 = std::min(d2, cap);
-                if (out.inside ? d2 < best : d2 > best) {
-                    best = d2;
-                    out.i = i;
-                    out.j = j;
-                    out.k = q;
+                last = std::numeric_limits<int>::max() / 2;
+                for (int j = hi[1]; j >= lo[1]; --j) {
+                    if (((row[j] ^ flip) >> bit & 1U) != 0) last = j;
+                    const std::int64_t s =
+                        std::min<std::int64_t>({out_row[j - lo[1]], last - j, reach + 1});
+                    out_row[j - lo[1]] = static_cast<std::uint16_t>(s * s);
                 }
             }
+            if (reach <= kWindowReach) {
+                // Across i within the reach only: a nearer target than reach + 1 lies within
+                // it, and each offset is one pass over whole rows of 16-bit values (the sums
+                // stay below 2 (reach + 1)^2 < 2^16).
+                const std::vector<std::uint16_t> pass1(g, g + bplane);
+                for (int off = 1; off <= reach; ++off) {
+                    const auto o2 = static_cast<std::uint16_t>(off * off);
+                    for (int i = 0; i < bx; ++i) {
+                        std::uint16_t* row = g + static_cast<std::size_t>(i) * by;
+                        for (const int from : {i - off, i + off}) {
+                            if (from < 0 || from >= bx) continue;
+                            const std::uint16_t* src =
+                                pass1.data() + static_cast<std::size_t>(from) * by;
+                            for (int j = 0; j < by; ++j) {
+                                row[j] = std::min(row[j], static_cast<std::uint16_t>(src[j] + o2));
+                            }
+                        }
+                    }
+                }
+                const auto c16 = static_cast<std::uint16_t>(cap);
+                for (std::size_t v = 0; v < bplane; ++v) g[v] = std::min(g[v], c16);
+                return;
+            }
+            std::vector<std::int64_t> f(static_cast<std::size_t>(bx)), d;
+            LineTransform line;
+            for (int j = 0; j < by; ++j) {
+                const std::int64_t first = g[j];
+                bool flat = first == 0 || first == cap;
+                for (int i = 0; i < bx; ++i) {
+                    const std::int64_t v = g[static_cast<std::size_t>(i) * by + j];
+                    f[static_cast<std::size_t>(i)] = v;
+                    flat = flat && v == first;
+                }
+                if (flat) continue;
+                line.run(f, d);
+                for (int i = 0; i < bx; ++i) {
+                    g[static_cast<std::size_t>(i) * by + j] =
+                        static_cast<std::uint16_t>(std::min(d[static_cast<std::size_t>(i)], cap));
+                }
+            }
+        };
+        std::int64_t best = out.inside ? std::numeric_limits<std::int64_t>::max() : -1;
+        const auto ask_plane = [&](int q) {
+            const int k0 = std::max(lo[2], q - reach), k1 = std::min(hi[2], q + reach);
+            for (int i = box.lo[0]; i <= box.hi[0]; ++i) {
+                for (int j = box.lo[1]; j <= box.hi[1]; ++j) {
+                    if (!asked(i, j, q)) continue;
+                    std::int64_t d2 = at(i, j, q);
+                    for (int dz = 1; static_cast<std::int64_t>(dz) * dz < d2; ++dz) {
+                        const std::int64_t dz2 = static_cast<std::int64_t>(dz) * dz;
+                        if (q - dz >= k0) d2 = std::min<std::int64_t>(d2, at(i, j, q - dz) + dz2);
+                        if (q + dz <= k1) d2 = std::min<std::int64_t>(d2, at(i, j, q + dz) + dz2);
+                    }
+                    d2 = std::min(d2, cap);
+                    if (out.inside ? d2 < best : d2 > best) {
+                        best = d2;
+                        out.i = i;
+                        out.j = j;
+                        out.k = q;
+                    }
+                }
+            }
+        };
+        // Planes are transformed a batch at a time, in parallel (each into its own slot of the
+        // ring), and asked about in order: the same answer whatever the thread count. The
+        // ring keeps the planes from q - reach to q + reach + kPlaneBatch.
+        int computed = lo[2] - 1;
+        for (int q = box.lo[2]; q <= box.hi[2]; ++q) {
+            if (std::min(hi[2], q + reach) > computed) {
+                const int end = std::min(hi[2], q + reach + kPlaneBatch);
+                tbb::parallel_for(computed + 1, end + 1, [&](int k) { transform_plane(k); });
+                computed = end;
+            }
+            ask_plane(q);
         }
+        return best;
     };
-    for (int k = lo[2]; k <= hi[2] + limit; ++k) {
-        if (k <= hi[2]) transform_plane(k);
-        const int q = k - limit;
-        if (q >= box.lo[2] && q <= box.hi[2]) ask_plane(q);
+    // Stocks are mostly a few voxels: the search starts near and reaches farther only while
+    // it finds nothing, four times as far each time (the work grows with the reach; the last
+    // search decides).
+    constexpr int kFirstReach = 8;
+    int reach = std::min(limit, kFirstReach);
+    std::int64_t best = search(reach);
+    while (best > static_cast<std::int64_t>(reach) * reach && reach < limit) {
+        reach = std::min(limit, 4 * reach);
+        best = search(reach);
     }
     const std::int64_t lim2 = static_cast<std::int64_t>(limit) * limit;
     out.beyond = best > lim2;

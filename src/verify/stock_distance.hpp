@@ -22,12 +22,14 @@ struct StockDistance {
     bool empty = true;        ///< the finished part has no voxel
 };
 
-/// The stock of `finished` inside `beads` (grids of one size). Work: the finished part's
-/// bounding box grown by `limit` voxels, twice (a 2D squared distance transform of each plane,
-/// Felzenszwalb and Huttenlocher's lower envelope of parabolas, then a scan of at most
-/// 2 limit + 1 planes at each voxel asked about); memory: 2 limit + 1 planes of that box, 16
-/// bits a voxel (the caller bounds limit so that it fits, limit <= kMaxStockLimit). Single
-/// threaded and exact in integers: the same grids give the same answer.
+/// The stock of `finished` inside `beads` (grids of one size). Work: the box of the voxels
+/// asked about (the finished part's, or of its voxels outside the beads) grown by the reach,
+/// once per reach tried (8 voxels, times 4 up to `limit` while nothing is found): a 2D squared
+/// distance transform of each plane (two scans, then Felzenszwalb and Huttenlocher's lower
+/// envelope of parabolas) and a scan of at most 2 reach + 1 planes at each voxel asked about;
+/// memory: 2 reach + 17 planes of that box, 16 bits a voxel (the caller bounds limit so that it
+/// fits, limit <= kMaxStockLimit). Planes are transformed in parallel and asked about in order,
+/// exact in integers: the same grids give the same answer whatever the thread count.
 inline constexpr int kMaxStockLimit = 180;
 [[nodiscard]] StockDistance smallest_stock(const BitGrid& beads, const BitGrid& finished,
                                            int limit);

@@ -245,8 +245,8 @@ TEST(VoxelGrid, SmallestStockAgreesWithBruteForce) {
     std::mt19937 rng(2026);
     constexpr int nx = 15, ny = 18, nz = 70;  // z spans a 64-bit word boundary
     std::uniform_int_distribution<int> ci(0, nx - 1), cj(0, ny - 1), ck(0, nz - 1);
-    int inside_cases = 0, outside_cases = 0, beyond_cases = 0;
-    for (int trial = 0; trial < 60; ++trial) {
+    int inside_cases = 0, outside_cases = 0, beyond_cases = 0, far_cases = 0;
+    for (int trial = 0; trial < 90; ++trial) {
         BitGrid beads(nx, ny, nz), blob(nx, ny, nz);
         const auto random_boxes = [&](BitGrid& g, int count, int grow) {
             for (int b = 0; b < count; ++b) {
@@ -273,7 +273,9 @@ TEST(VoxelGrid, SmallestStockAgreesWithBruteForce) {
             }
         }
         if (finished.count() == 0 || beads.count() == std::size_t{nx} * ny * nz) continue;
-        const int limit = trial % 3 == 0 ? 3 : 12;
+        // Reaches of 3 and 12 take the window's second pass, 40 (past the first reach of 8)
+        // the lower envelope.
+        const int limit = trial % 3 == 0 ? 3 : (trial % 3 == 1 ? 12 : 40);
         // Brute force.
         bool sticks_out = false;
         for (std::size_t w = 0; w < finished.words().size(); ++w) {
@@ -310,6 +312,7 @@ TEST(VoxelGrid, SmallestStockAgreesWithBruteForce) {
         EXPECT_EQ(got.inside, !sticks_out);
         const long lim2 = long{limit} * limit;
         EXPECT_EQ(got.beyond, want > lim2);
+        if (limit > 16 && want > 16 * 16 && want <= lim2) ++far_cases;
         if (want <= lim2) {
             EXPECT_DOUBLE_EQ(got.distance, std::sqrt(static_cast<double>(want)));
             ASSERT_TRUE(finished.get(got.i, got.j, got.k));
@@ -324,6 +327,7 @@ TEST(VoxelGrid, SmallestStockAgreesWithBruteForce) {
     EXPECT_GT(inside_cases, 5);
     EXPECT_GT(outside_cases, 5);
     EXPECT_GT(beyond_cases, 0);
+    EXPECT_GT(far_cases, 0);
 }
 
 TEST(VoxelGrid, SmallestStockOfNoFinishedVoxelIsEmpty) {
