@@ -334,12 +334,25 @@ TEST(PlanCli, VerifyWarnsWhenTheModelHasAnInsideOutBody) {
 // A wedge standing on a strip 0.5 mm wide passes the planar overhang check (its face leans 30
 // degrees) but no track fits on the strip, so the tracks above it rest on nothing: the
 // verifier refuses that program, and the 3-axis job stands the wedge on a face instead (it
-// used to fail with the verifier's refusal). --orient given still refuses.
+// used to fail with the verifier's refusal). --orient given still refuses. The wedge is 40
+// mm high and deep: at 20 mm its sharp edge, which no 2.5 mm track fills, leaves under 97 %
+// of it inside the beads, and that program is not written either (decision 0026).
 TEST(PlanCli, ThreeAxisPartOnAStripIsStoodOnAFace) {
     const fs::path dir = temp_dir("strip");
     maxslice::test::RampSpec spec;
     spec.base_length = 0.5;
     spec.lean_deg = 30.0;
+    const fs::path small = fixture_stl(dir, "small", maxslice::test::ramp_45(spec).mesh);
+    const CliRun short_of = run_cli({"slice", small.string(), "-o", (dir / "small.gm").string()});
+    EXPECT_EQ(short_of.exit_code, 2) << short_of.out << short_of.err;
+    EXPECT_NE(short_of.err.find("maxslice: error: verifying the program: the program holds "),
+              std::string::npos)
+        << short_of.err;
+    EXPECT_NE(short_of.err.find("% of the part inside its beads"), std::string::npos)
+        << short_of.err;
+    EXPECT_FALSE(fs::exists(dir / "small.gm"));
+    spec.height = 40.0;
+    spec.depth = 40.0;
     const fs::path wedge = fixture_stl(dir, "wedge", maxslice::test::ramp_45(spec).mesh);
     const fs::path out = dir / "wedge.gm";
     const CliRun turned = run_cli({"slice", wedge.string(), "-o", out.string()});
