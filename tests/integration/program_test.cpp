@@ -118,9 +118,11 @@ TEST(Program, LinuxCncProgramsOfEverySharedMeshPassRs274) {
         const CliRun r = run_cli({"slice", e.path().string(), "--profile", kLinuxCnc.string(),
                                   "--repair", "-o", ngc.string()},
                                  300);
-        // Parts bigger than the gantry, too small for a 2.5 mm bead (no track fits), or whose
-        // program the verifier refuses are refused with a reason; everything written must be
-        // accepted by the controller's interpreter.
+        // Parts bigger than the gantry, too small for a 2.5 mm bead (no track fits), whose
+        // program the verifier refuses, or with features so fine that the 2.5 mm beads hold
+        // under 97 % of them (decision 0026: the gear, the screw, part1, the circuit) are
+        // refused with a reason; everything written must be accepted by the controller's
+        // interpreter.
         ASSERT_TRUE(r.exit_code == 0 || r.exit_code == 2) << e.path() << "\n" << r.err;
         if (r.exit_code != 0) {
             EXPECT_FALSE(fs::exists(ngc)) << "no program is written when the job fails";
@@ -133,7 +135,7 @@ TEST(Program, LinuxCncProgramsOfEverySharedMeshPassRs274) {
         EXPECT_NE(run->canon.find("PROGRAM_END"), std::string::npos);
         fs::remove(ngc);
     }
-    EXPECT_GE(written, 6);
+    EXPECT_GE(written, 4);
 }
 
 TEST(Program, BadProfilesExitTwoNamingTheKey) {
