@@ -22,6 +22,7 @@
 #include "maxslice/machine/profile.hpp"
 #include "maxslice/machine/writer.hpp"
 #include "maxslice/mesh/validation.hpp"
+#include "maxslice/pipeline/near_net_job.hpp"
 #include "maxslice/verify/verify.hpp"
 
 namespace maxslice::app {
@@ -263,6 +264,22 @@ int run_verify(const VerifyCommandOptions& opts) {
         direction = *d;
         std::printf("placement       the model stands along %s, as the program's header says\n",
                     fmt::format("{},{},{}", d->x, d->y, d->z).c_str());
+    }
+    // A profile with a machining stock or fill: the job deposited the near-net shape of the part
+    // it read (decision 0025). Without --finished, --model is that part, and the replay is
+    // against its near-net shape, made as the job makes it (the same bytes).
+    if (!finished) {
+        const nearnet::NearNetSettings near = pipeline::near_net_settings(profiles->process);
+        if (!near.off()) {
+            auto shape = nearnet::near_net(model->mesh, near);
+            if (!shape) return report_error(core::with_context(shape.error(), "--model"));
+            std::printf(
+                "near-net shape  the model grown by %.2f mm, holes under %.2f mm filled "
+                "(the profile's machining stock and fill)\n",
+                near.stock_mm, near.fill_below_mm);
+            finished = std::move(model->mesh);
+            model->mesh = std::move(shape->mesh);
+        }
     }
     // The finished part moves with the model: the job places what it deposits (decision 0026).
     std::optional<mesh::TriangleMesh> placed_finished;
