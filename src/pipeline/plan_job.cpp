@@ -425,7 +425,7 @@ std::string plan_json(const PlannedPart& planned, const PreparedPart& part) {
                            {"base", frame_json(r.base)},
                            {"cell", std::move(cell)},
                            {"layers", r.layers},
-                           {"reason", r.reason}});
+                           {"reason", plan::describe(p, r)}});
     }
     j["regions"] = std::move(regions);
     ordered_json layers = ordered_json::array();
@@ -479,7 +479,7 @@ std::string plan_json(const PlannedPart& planned, const PreparedPart& part) {
                           {"V", detail::vec_json(d.piece.V)},
                           {"ang_deg", d.piece.ang_deg},
                           {"touches_lower", d.piece.touches_lower}}},
-                        {"reason", d.reason}};
+                        {"reason", plan::describe(p, d)}};
         if (d.kind == plan::Decision::Kind::kSplit || d.kind == plan::Decision::Kind::kFloating) {
             dj["new_region"] = d.new_region;
             dj["continuation"] = d.continuation;
@@ -770,13 +770,13 @@ std::string plan_summary(const PlannedPart& planned, const mesh::ValidationRepor
     put(out, "splits          {}\n", p.split_count());
     for (const plan::Decision& d : p.decisions) {
         if (d.kind == plan::Decision::Kind::kSplit || d.kind == plan::Decision::Kind::kFloating) {
-            put(out, "  {}\n", d.reason);
+            put(out, "  {}\n", plan::describe(p, d));
         }
     }
     put(out, "tilted layers   {}\n", p.tilted_layer_count());
     for (const plan::Decision& d : p.decisions) {
         if (d.kind == plan::Decision::Kind::kTilt || d.kind == plan::Decision::Kind::kTiltGaveUp) {
-            put(out, "  {}\n", d.reason);
+            put(out, "  {}\n", plan::describe(p, d));
         }
     }
     put(out, "tilts wanted    {} (overhangs with alpha < Ang <= beta left planar)\n",

@@ -2,16 +2,12 @@
 // each layer is deposited on the pieces of the slice below it overlaps; a sideways region's
 // first layer on the layers of other regions it touches across its base plane.
 
-#include <fmt/format.h>
-
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <limits>
 #include <numbers>
 #include <queue>
-#include <string>
 #include <utility>
 
 #include <tbb/parallel_for.h>
@@ -73,27 +69,6 @@ Box2 box2_of(const geom2d::Paths2& paths) {
         }
     }
     return b;
-}
-
-// Rewrites the layer names "L<id>" in a reason with new ids.
-template <class Renumber>
-std::string renumber_layer_names(const std::string& text, const Renumber& renumber) {
-    std::string out;
-    out.reserve(text.size());
-    for (std::size_t i = 0; i < text.size();) {
-        const bool word_start = i == 0 || !std::isalnum(static_cast<unsigned char>(text[i - 1]));
-        std::size_t j = i + 1;
-        while (j < text.size() && std::isdigit(static_cast<unsigned char>(text[j])) != 0) ++j;
-        if (text[i] == 'L' && word_start && j > i + 1 &&
-            (j == text.size() || !std::isalnum(static_cast<unsigned char>(text[j])))) {
-            out += 'L';
-            out += std::to_string(renumber(std::stoi(text.substr(i + 1, j - i - 1))));
-            i = j;
-        } else {
-            out += text[i++];
-        }
-    }
-    return out;
 }
 
 // The edges of a plan's hierarchy graph, with the boxes and marks the searches reuse.
@@ -378,7 +353,7 @@ private:
 // separate islands (two legs, two branches) gives one layer per island, so that branches
 // can merge and fork in the graph and the build order can grow them in turn. Pieces of a
 // slice share its index_in_region; ids stay contiguous per region, and the layer ids the
-// decisions name (fields and reasons) are renumbered to the slice's first piece.
+// decisions name are renumbered to the slice's first piece (their texts are made from them).
 void split_pieces(Plan& plan) {
     std::vector<Layer> out;
     out.reserve(plan.layers.size());
@@ -413,11 +388,7 @@ void split_pieces(Plan& plan) {
                    ? first_piece[static_cast<std::size_t>(old)]
                    : old;
     };
-    for (Decision& d : plan.decisions) {
-        d.layer = renumber(d.layer);
-        d.reason = renumber_layer_names(d.reason, renumber);
-    }
-    for (Region& r : plan.regions) r.reason = renumber_layer_names(r.reason, renumber);
+    for (Decision& d : plan.decisions) d.layer = renumber(d.layer);
     plan.layers = std::move(out);
 }
 

@@ -112,34 +112,22 @@ void Planner::record_unreachable(int rid, int lower, const slice::Slice& s,
             return;
         }
     }
-    record_piece(Decision::Kind::kUnreachable, rid, lower, s, p,
-                 fmt::format("above layer L{} at {:.3f} mm: a piece of {:.1f} mm2 at ({:.3f}, "
-                             "{:.3f}, {:.3f}) floats straight above the layer below: no "
-                             "sideways build direction reaches it; left in its layer, where "
-                             "it rests on nothing",
-                             lower, s.span.cut, p.area_mm2, p.C.x, p.C.y, p.C.z));
+    record_piece(Decision::Kind::kUnreachable, rid, lower, s, p);
 }
 
 void Planner::record_tilt(int rid, int lower, const slice::Slice& s, const OverhangPiece& p) {
-    record_piece(
-        Decision::Kind::kTiltWanted, rid, lower, s, p,
-        fmt::format("layer above L{} at {:.3f} mm: overhang piece of {:.1f} mm2 with Ang = "
-                    "{:.1f} deg in (alpha {:.0f}, beta {:.0f}]: a tilted layer is wanted; "
-                    "layers tilt only where the chain of centroids leans, so this one "
-                    "may stay planar",
-                    lower, s.span.cut, p.area_mm2, p.ang_deg, s_.alpha_deg, s_.beta_deg));
+    record_piece(Decision::Kind::kTiltWanted, rid, lower, s, p);
 }
 
 // A decision about piece p of the slice s above layer `lower` of region rid.
 void Planner::record_piece(Decision::Kind kind, int rid, int lower, const slice::Slice& s,
-                           const OverhangPiece& p, std::string reason) {
+                           const OverhangPiece& p) {
     Decision d;
     d.kind = kind;
     d.region = rid;
     d.layer = lower;
     d.height_mm = s.span.cut;
     d.piece = p;
-    d.reason = std::move(reason);
     plan_.decisions.push_back(std::move(d));
 }
 

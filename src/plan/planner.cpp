@@ -40,7 +40,6 @@ core::Result<Plan> Planner::run(const core::Vec3d& base_direction) {
     base.id = 0;
     base.direction = plan_.base_direction;
     base.base = slice::base_frame(mesh_, plan_.base_direction);
-    base.reason = "base region: the part stands on the plate along the base direction";
     plan_.regions.push_back(base);
     jobs_.push_back({0, {}});
     while (!jobs_.empty()) {

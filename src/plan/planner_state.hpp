@@ -9,6 +9,7 @@
 //   footing.cpp          the footing at the plate (decision 0017)
 //   hierarchy_graph.cpp  one layer per piece and the hierarchy graph (section 6)
 //   planar_check.cpp     the same analysis over a planar stack, without regions
+//   decision_text.cpp    every text the planner writes for people (describe, refusals)
 // Private to plan.
 
 #include <cstddef>
@@ -123,7 +124,7 @@ private:
     void record_unreachable(int rid, int lower, const slice::Slice& s, const OverhangPiece& p);
     void record_tilt(int rid, int lower, const slice::Slice& s, const OverhangPiece& p);
     void record_piece(Decision::Kind kind, int rid, int lower, const slice::Slice& s,
-                      const OverhangPiece& p, std::string reason);
+                      const OverhangPiece& p);
 
     // split.cpp
     core::Result<bool> split(int rid, int lower, const slice::Slice& s, const OverhangPiece& p);
@@ -147,6 +148,12 @@ private:
     std::deque<RegionJob> jobs_;
     std::optional<SectionIndex> sections_;
 };
+
+/// The refusal of a piece that floats straight above the layer below (decision_text.cpp).
+[[nodiscard]] std::string unreachable_refusal(const OverhangPiece& p);
+
+/// The refusal of a part that needs more than max_regions regions (decision_text.cpp).
+[[nodiscard]] std::string too_many_regions_refusal(int max_regions);
 
 /// One layer per piece (hierarchy_graph.cpp).
 void split_pieces(Plan& plan);

@@ -41,17 +41,10 @@ core::Result<bool> Planner::split(int rid, int lower, const slice::Slice& s,
     const core::Vec3d sideways = sideways_of(lower, p);
     const std::string context = fmt::format("region {}, height {:.3f} mm", rid, s.span.cut);
     if (!has_sideways(lower, p)) {
-        return invalid(fmt::format("an overhang piece of {:.1f} mm2 at ({:.3f}, {:.3f}, "
-                                   "{:.3f}) floats straight above the layer below: no "
-                                   "sideways build direction reaches it",
-                                   p.area_mm2, p.C.x, p.C.y, p.C.z),
-                       context);
+        return invalid(unreachable_refusal(p), context);
     }
     if (static_cast<int>(plan_.regions.size()) + 2 > s_.max_regions) {
-        return invalid(fmt::format("the part needs more than {} regions (max_regions); is it "
-                                   "a lattice or a scan with many small overhangs?",
-                                   s_.max_regions),
-                       context);
+        return invalid(too_many_regions_refusal(s_.max_regions), context);
     }
     const core::Vec3d ns = core::normalized(sideways);
     const Layer& l = plan_.layers[static_cast<std::size_t>(lower)];
@@ -76,15 +69,6 @@ core::Result<bool> Planner::split(int rid, int lower, const slice::Slice& s,
     d.piece = p;
     d.new_region = child.id;
     d.split_plane = beyond;
-    d.reason = fmt::format(
-        "above layer L{}: overhang piece of {:.1f} mm2 with Ang = {:.1f} deg {}: split plane "
-        "through ({:.3f}, {:.3f}, {:.3f}) with normal ({:.4f}, {:.4f}, {:.4f}); region {} is "
-        "built along it",
-        lower, p.area_mm2, p.ang_deg,
-        p.touches_lower ? fmt::format("> beta {:.0f}", s_.beta_deg)
-                        : std::string("(does not touch the layer below)"),
-        p.contact_center.x, p.contact_center.y, p.contact_center.z, ns.x, ns.y, ns.z, child.id);
-    child.reason = fmt::format("split from region {}: {}", rid, d.reason);
     plan_.regions.push_back(child);
     jobs_.push_back({child.id, {}});
 
@@ -104,10 +88,6 @@ core::Result<bool> Planner::split(int rid, int lower, const slice::Slice& s,
     cont.cell = parent.cell;
     cont.cell.push_back(above);
     cont.cell.push_back(near);
-    cont.reason = fmt::format(
-        "carries on along region {}'s direction above layer L{}, on "
-        "the near side of the split plane of region {}",
-        rid, lower, child.id);
     d.continuation = cont.id;
     plan_.decisions.push_back(std::move(d));
     plan_.regions.push_back(cont);

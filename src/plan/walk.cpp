@@ -132,10 +132,7 @@ core::Result<Next> Planner::walk(const RegionJob& job, SliceStack& slices, int n
                 dec.region = rid;
                 dec.layer = lower;
                 dec.height_mm = s.span.cut;
-                dec.reason = fmt::format(
-                    "above layer L{}: the chain of centroids leans {:.1f} deg from the build "
-                    "direction (> {:.0f}): tilted 3D layers follow it from here",
-                    lower, angle_deg(d, lr.plane.normal), s_.tilt_trigger_deg);
+                dec.lean_deg = angle_deg(d, lr.plane.normal);
                 plan_.decisions.push_back(std::move(dec));
                 return Next{Next::Kind::kMarch, lower};
             }
@@ -249,10 +246,6 @@ core::Result<Next> Planner::march(int rid, int lower) {
                 dec.kind = Decision::Kind::kTiltGaveUp;
                 dec.region = rid;
                 dec.layer = lower;
-                dec.reason = fmt::format(
-                    "above layer L{}: no tilt towards the centroid chain keeps the thickness "
-                    "in [{}, {}] mm after {} tries: a planar layer",
-                    lower, s_.h_min_mm, s_.h_max_mm, s_.max_tilt_tries);
                 plan_.decisions.push_back(std::move(dec));
                 n_new = nl;
                 t_min = t_max = h;

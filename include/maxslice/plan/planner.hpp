@@ -62,7 +62,6 @@ struct Region {
     core::Vec3d direction;        ///< unit build direction
     slice::PlaneFrame base;       ///< base plane: heights of its layers are measured from it
     std::vector<HalfSpace> cell;  ///< the convex cell (empty: all of space)
-    std::string reason;           ///< why it exists
     std::vector<int> layers;      ///< its layers' ids, from the base up
 };
 
@@ -88,7 +87,7 @@ struct Layer {
     bool after_gap = false;
 };
 
-/// What the planner decided at a layer, and why.
+/// What the planner decided at a layer, and why, as fields (describe() words it).
 struct Decision {
     enum class Kind {
         kSplit,       ///< Ang > beta: a new region along N_s from a split plane
@@ -108,7 +107,7 @@ struct Decision {
     int new_region = -1;     ///< the region built sideways (splits)
     int continuation = -1;   ///< the region that carries on along the old direction
     HalfSpace split_plane;   ///< the split plane, normal N_s (splits)
-    std::string reason;      ///< one line, for people
+    double lean_deg = 0.0;   ///< kTilt: how far the chain of centroids leans (deg)
 };
 
 /// The footing laid at the plate (decision 0017): its layers are the part's footprint up to
@@ -146,6 +145,15 @@ struct Plan {
     /// Sum over layers of area x mean thickness (mm^3).
     [[nodiscard]] double volume_mm3() const;
 };
+
+/// One line, for people, on what the planner decided at d and why, built from d's fields and
+/// plan.settings; layers are named "L<id>" (ids of plan.layers). Every text a plan gives is
+/// made here, when it is printed.
+[[nodiscard]] std::string describe(const Plan& plan, const Decision& d);
+
+/// One line, for people, on why region r of the plan exists: the base region, or the split
+/// that made it (as a sideways region, or as the continuation on the near side).
+[[nodiscard]] std::string describe(const Plan& plan, const Region& r);
 
 /// Plans a part standing on the plate along base_direction (its lowest point on the base
 /// plane): the base region is sliced in uniform layers; every pair of neighbouring layers is

@@ -204,7 +204,7 @@ TEST(Planner, ARailOverAnUndercutIsCarriedByTheLayersInBetween) {
     const mesh::TriangleMesh m = test::extrude_xz(test::polygon_cap(profile), 0.0, 40.0);
     const Plan p = plan_of(m);
     for (const Decision& d : p.decisions) {
-        EXPECT_NE(d.kind, Decision::Kind::kFloating) << d.reason;
+        EXPECT_NE(d.kind, Decision::Kind::kFloating) << describe(p, d);
     }
     EXPECT_EQ(p.regions.size(), 1u);
     EXPECT_TRUE(p.unsupported_layers.empty());
@@ -421,6 +421,58 @@ TEST(Planner, RotatedPartGivesTheSameDecisions) {
         EXPECT_NEAR(a.decisions[i].piece.ang_deg, b.decisions[i].piece.ang_deg, 1.0);
     }
     expect_volume(b, mesh::signed_volume(m));
+}
+
+// The portal's legs make two pieces of every slice below the beam, so the layers' ids change
+// when the slices are split into pieces, after the decisions are taken. The decisions keep
+// their layer as a field, renumbered with the layers: each names the first piece of a slice
+// below its overhang, and its text, made from the fields when asked for, names that layer.
+// A region's text names the split that made it.
+TEST(Planner, DecisionsNameTheirLayersAfterTheSlicesAreSplitIntoPieces) {
+    const auto f = test::portal_frame();
+    const Plan p = plan_of(f.mesh);
+    ASSERT_GT(p.split_count(), 0);
+    bool pieces = false;
+    for (std::size_t i = 1; i < p.layers.size(); ++i) {
+        pieces = pieces || (p.layers[i].region == p.layers[i - 1].region &&
+                            p.layers[i].index_in_region == p.layers[i - 1].index_in_region);
+    }
+    ASSERT_TRUE(pieces) << "the fixture no longer splits a slice into pieces";
+    for (const Decision& d : p.decisions) {
+        const std::string text = describe(p, d);
+        SCOPED_TRACE(text);
+        ASSERT_GE(d.layer, 0);
+        ASSERT_LT(static_cast<std::size_t>(d.layer), p.layers.size());
+        const Layer& l = p.layers[static_cast<std::size_t>(d.layer)];
+        if (d.layer > 0) {
+            const Layer& before = p.layers[static_cast<std::size_t>(d.layer - 1)];
+            EXPECT_FALSE(before.region == l.region && before.index_in_region == l.index_in_region)
+                << "L" << d.layer << " is not the first piece of its slice";
+        }
+        if (d.kind == Decision::Kind::kSplit || d.kind == Decision::Kind::kFloating) {
+            // The split plane lies above L's bottom (it stands on L, not on a later slice).
+            EXPECT_GT(core::dot(d.split_plane.point - l.plane.origin, l.plane.normal),
+                      l.span.bottom - l.span.cut - 1e-6);
+            EXPECT_LT(core::dot(d.split_plane.point - l.plane.origin, l.plane.normal),
+                      l.span.top - l.span.cut + p.settings.layer_mm + 1e-6);
+        }
+        EXPECT_NE(text.find("L" + std::to_string(d.layer) + ":"), std::string::npos);
+    }
+    for (const Region& r : p.regions) {
+        const std::string text = describe(p, r);
+        SCOPED_TRACE(text);
+        if (r.parent < 0) continue;
+        EXPECT_EQ(text.find("region " + std::to_string(r.parent)), text.find("region "));
+        for (const Decision& d : p.decisions) {
+            if (d.new_region == r.id) {
+                EXPECT_NE(text.find(describe(p, d)), std::string::npos);
+            }
+            if (d.continuation == r.id && d.region != r.id) {
+                EXPECT_NE(text.find("above layer L" + std::to_string(d.layer) + ","),
+                          std::string::npos);
+            }
+        }
+    }
 }
 
 // A block 30 x 20 x 10 with a horizontal channel along Y, `width` wide (centred in X), from

@@ -1,0 +1,91 @@
+// Every text the planner writes for people: what it decided and why, why a region exists,
+// and why it refuses a part. Texts are built from the fields last, when they are printed:
+// nothing in a plan holds prose that code would have to parse or rewrite (layer ids change
+// when the layers are split into pieces).
+
+#include <fmt/format.h>
+
+#include <string>
+
+#include "maxslice/plan/planner.hpp"
+#include "planner_state.hpp"
+
+namespace maxslice::plan {
+
+std::string describe(const Plan& plan, const Decision& d) {
+    const PlanSettings& s = plan.settings;
+    const OverhangPiece& p = d.piece;
+    switch (d.kind) {
+        case Decision::Kind::kSplit:
+        case Decision::Kind::kFloating: {
+            const core::Vec3d& at = d.split_plane.point;
+            const core::Vec3d& ns = d.split_plane.normal;
+            return fmt::format(
+                "above layer L{}: overhang piece of {:.1f} mm2 with Ang = {:.1f} deg {}: split "
+                "plane through ({:.3f}, {:.3f}, {:.3f}) with normal ({:.4f}, {:.4f}, {:.4f}); "
+                "region {} is built along it",
+                d.layer, p.area_mm2, p.ang_deg,
+                p.touches_lower ? fmt::format("> beta {:.0f}", s.beta_deg)
+                                : std::string("(does not touch the layer below)"),
+                at.x, at.y, at.z, ns.x, ns.y, ns.z, d.new_region);
+        }
+        case Decision::Kind::kTiltWanted:
+            return fmt::format(
+                "layer above L{} at {:.3f} mm: overhang piece of {:.1f} mm2 with Ang = {:.1f} deg "
+                "in (alpha {:.0f}, beta {:.0f}]: a tilted layer is wanted; layers tilt only where "
+                "the chain of centroids leans, so this one may stay planar",
+                d.layer, d.height_mm, p.area_mm2, p.ang_deg, s.alpha_deg, s.beta_deg);
+        case Decision::Kind::kTilt:
+            return fmt::format(
+                "above layer L{}: the chain of centroids leans {:.1f} deg from the build "
+                "direction (> {:.0f}): tilted 3D layers follow it from here",
+                d.layer, d.lean_deg, s.tilt_trigger_deg);
+        case Decision::Kind::kTiltGaveUp:
+            return fmt::format(
+                "above layer L{}: no tilt towards the centroid chain keeps the thickness in "
+                "[{}, {}] mm after {} tries: a planar layer",
+                d.layer, s.h_min_mm, s.h_max_mm, s.max_tilt_tries);
+        case Decision::Kind::kUnreachable:
+            return fmt::format(
+                "above layer L{} at {:.3f} mm: a piece of {:.1f} mm2 at ({:.3f}, {:.3f}, {:.3f}) "
+                "floats straight above the layer below: no sideways build direction reaches it; "
+                "left in its layer, where it rests on nothing",
+                d.layer, d.height_mm, p.area_mm2, p.C.x, p.C.y, p.C.z);
+    }
+    return "unknown decision";
+}
+
+std::string describe(const Plan& plan, const Region& r) {
+    if (r.parent < 0) return "base region: the part stands on the plate along the base direction";
+    for (const Decision& d : plan.decisions) {
+        if (d.new_region == r.id) {
+            return fmt::format("split from region {}: {}", d.region, describe(plan, d));
+        }
+        if (d.continuation == r.id && d.region != r.id) {
+            return fmt::format(
+                "carries on along region {}'s direction above layer L{}, on the near side of the "
+                "split plane of region {}",
+                d.region, d.layer, d.new_region);
+        }
+    }
+    return fmt::format("split from region {}", r.parent);
+}
+
+namespace detail {
+
+std::string unreachable_refusal(const OverhangPiece& p) {
+    return fmt::format(
+        "an overhang piece of {:.1f} mm2 at ({:.3f}, {:.3f}, {:.3f}) floats straight above the "
+        "layer below: no sideways build direction reaches it",
+        p.area_mm2, p.C.x, p.C.y, p.C.z);
+}
+
+std::string too_many_regions_refusal(int max_regions) {
+    return fmt::format(
+        "the part needs more than {} regions (max_regions); is it a lattice or a scan with many "
+        "small overhangs?",
+        max_regions);
+}
+
+}  // namespace detail
+}  // namespace maxslice::plan
