@@ -3,7 +3,7 @@
 //
 // With X the finished part, r = fill_below_mm / 2 and s = stock_mm, the deposit is the closing
 // of X by a ball of radius r, grown by s: dilate(close(X, r), s).
-// 1. The closing, on a coarse grid (voxel ~ r / 2: it only has to find what is narrower than
+// 1. The closing, on a coarse grid (voxel ~ r / 4: it only has to find what is narrower than
 //    2 r): with D the signed distance of X (negative inside), Y = {D <= r} is X dilated by r;
 //    D1 is Y's own signed distance (a rebuild: where the dilated surfaces of two walls merge,
 //    D - r is no longer a distance); C = {D1 <= -r} is Y eroded by r. C's surface is only as
@@ -44,6 +44,10 @@ constexpr double kVoxelsPerStock = 2.0;
 // The closing's voxel is this share of the fill radius: enough to tell a hole of diameter
 // 2 r from a wider one; its surface is not kept where X's own is outside it.
 constexpr double kVoxelsPerFillRadius = 4.0;
+// The closing's voxel is at least this many fine voxels: on a large part (a fine voxel
+// coarsened by the surface bound) its band, r deep on both sides of the rebuild, would cost
+// several times the growth's; the threshold is then found to about a coarse voxel.
+constexpr double kCoarseOverFine = 2.0;
 // A finer voxel is never needed: the machine takes off stock, it does not deposit to 20 um.
 constexpr double kMinVoxelMm = 0.05;
 // Bound on the fine grid's voxels at the surface (its band is a few voxels deep): a larger
@@ -218,7 +222,7 @@ core::Result<NearNet> compute(const mesh::TriangleMesh& finished, const NearNetS
     out.report.active_voxels = static_cast<std::size_t>(field->activeVoxelCount());
     if (radius > stock) {
         if (progress != nullptr) progress->report("near-net", 0.3);
-        const double coarse = std::max(radius / kVoxelsPerFillRadius, voxel);
+        const double coarse = std::max(radius / kVoxelsPerFillRadius, kCoarseOverFine * voxel);
         auto closed =
             closing(finished, origin, radius, coarse, voxel, interrupter, out.report.active_voxels);
         if (!closed) return std::unexpected(closed.error());
