@@ -787,7 +787,7 @@ JobOutcome run_planar_slice(const PartOptions& opt, const SliceOptions& so,
     std::vector<pipeline::OrientTry> tries;
     int chosen = 0;
     const plan::PlanSettings ps =
-        profiles ? pipeline::plan_settings(profiles->process) : plan::PlanSettings{};
+        profiles ? pipeline::plan_settings(*profiles) : plan::PlanSettings{};
     const std::string name = std::filesystem::path(opt.path).filename().string();
     Written<pipeline::PlannedProgram> w;
     core::Vec3d built_along = ss.direction;  // the file's direction the program builds upwards
@@ -1059,7 +1059,7 @@ int run_plan(const PartOptions& opt, const PlanOptions& po, bool layer_given) {
     auto profiles = load_profiles(so);
     if (!profiles) return report_error(profiles.error());
     pipeline::PlanJobSettings ps;
-    ps.plan = pipeline::plan_settings(profiles->process);
+    ps.plan = pipeline::plan_settings(*profiles);
     if (po.alpha) ps.plan.alpha_deg = *po.alpha;
     if (po.beta) ps.plan.beta_deg = *po.beta;
     ps.plan.max_regions = po.max_regions;

@@ -99,7 +99,7 @@ core::Result<Placed> plan_along(const mesh::TriangleMesh& part, const Vec3d& dir
         return std::unexpected(ok.error());
     }
     PlanJobSettings ps;
-    ps.plan = plan_settings(profiles.process);
+    ps.plan = plan_settings(profiles);
     ps.tracks = path_settings(profiles.process);
     auto planned = plan_mesh(out.placed, ps, progress);
     if (!planned) return std::unexpected(planned.error());

@@ -89,6 +89,12 @@ plan::PlanSettings plan_settings(const machine::ProcessProfile& process) {
     return s;
 }
 
+plan::PlanSettings plan_settings(const machine::Profiles& profiles) {
+    plan::PlanSettings s = plan_settings(profiles.process);
+    s.head = nozzle_of(profiles.machine, nullptr);
+    return s;
+}
+
 bool same_direction(const core::Vec3d& a, const core::Vec3d& b) {
     return core::dot(core::normalized(a), core::normalized(b)) > 1.0 - kSameDirectionCos;
 }
@@ -484,7 +490,14 @@ std::string plan_json(const PlannedPart& planned, const PreparedPart& part) {
             dj["new_region"] = d.new_region;
             dj["continuation"] = d.continuation;
             dj["split_plane"] = half_space_json(d.split_plane);
+            if (d.head_checked) {
+                dj["head"] = {{"lean_deg", d.split_lean_deg},
+                              {"margin_mm", d.head_margin_mm},
+                              {"sideways_margin_mm", d.seed_margin_mm},
+                              {"clears", d.head_clears}};
+            }
         }
+        if (d.kind == plan::Decision::Kind::kTilt) dj["lean_deg"] = d.lean_deg;
         decisions.push_back(std::move(dj));
     }
     j["decisions"] = std::move(decisions);

@@ -20,14 +20,28 @@ std::string describe(const Plan& plan, const Decision& d) {
         case Decision::Kind::kFloating: {
             const core::Vec3d& at = d.split_plane.point;
             const core::Vec3d& ns = d.split_plane.normal;
+            std::string reach;
+            if (d.head_checked && !d.head_clears) {
+                reach = fmt::format(
+                    "; no lean up keeps the head's {:.2f} mm clearance from what is built before "
+                    "it and the plate (closest {:.2f} mm): the build order and the verifier "
+                    "decide",
+                    s.head->clearance_mm, d.head_margin_mm);
+            } else if (d.head_checked && d.split_lean_deg > 0.0) {
+                reach = fmt::format(
+                    " (leaned up {:.0f} deg from the sideways direction, where the head would "
+                    "come within {:.2f} mm of what is built before it or the plate; leaned, it "
+                    "keeps its {:.2f} mm clearance)",
+                    d.split_lean_deg, d.seed_margin_mm, s.head->clearance_mm);
+            }
             return fmt::format(
                 "above layer L{}: overhang piece of {:.1f} mm2 with Ang = {:.1f} deg {}: split "
                 "plane through ({:.3f}, {:.3f}, {:.3f}) with normal ({:.4f}, {:.4f}, {:.4f}); "
-                "region {} is built along it",
+                "region {} is built along it{}",
                 d.layer, p.area_mm2, p.ang_deg,
                 p.touches_lower ? fmt::format("> beta {:.0f}", s.beta_deg)
                                 : std::string("(does not touch the layer below)"),
-                at.x, at.y, at.z, ns.x, ns.y, ns.z, d.new_region);
+                at.x, at.y, at.z, ns.x, ns.y, ns.z, d.new_region, reach);
         }
         case Decision::Kind::kTiltWanted:
             return fmt::format(

@@ -28,6 +28,7 @@
 #include "maxslice/slice/layers.hpp"
 #include "maxslice/slice/plane_frame.hpp"
 #include "maxslice/slice/slicer.hpp"
+#include "reach.hpp"
 #include "section_index.hpp"
 
 namespace maxslice::plan::detail {
@@ -131,6 +132,11 @@ private:
     [[nodiscard]] core::Vec3d sideways_of(int lower, const OverhangPiece& p) const;
     [[nodiscard]] bool has_sideways(int lower, const OverhangPiece& p) const;
 
+    // reach.cpp: the direction a region split off sideways is built along (decision 0029).
+    core::Result<ReachChoice> direction_by_reach(int lower, const OverhangPiece& p,
+                                                 const core::Vec3d& ns,
+                                                 const std::vector<HalfSpace>& cell);
+
     // footing.cpp
     bool retry_footing(int rid, int ref);
     void tally_footing();
@@ -147,6 +153,7 @@ private:
     Plan plan_;
     std::deque<RegionJob> jobs_;
     std::optional<SectionIndex> sections_;
+    std::optional<PointCloud> surface_;  // the part's surface, for the reach of the head
 };
 
 /// The refusal of a piece that floats straight above the layer below (decision_text.cpp).

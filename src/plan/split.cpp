@@ -46,9 +46,13 @@ core::Result<bool> Planner::split(int rid, int lower, const slice::Slice& s,
     if (static_cast<int>(plan_.regions.size()) + 2 > s_.max_regions) {
         return invalid(too_many_regions_refusal(s_.max_regions), context);
     }
-    const core::Vec3d ns = core::normalized(sideways);
     const Layer& l = plan_.layers[static_cast<std::size_t>(lower)];
     const HalfSpace above{l.top.origin, n};
+    std::vector<HalfSpace> above_cell = parent.cell;
+    above_cell.push_back(above);
+    auto reach = direction_by_reach(lower, p, core::normalized(sideways), above_cell);
+    if (!reach) return std::unexpected(reach.error());
+    const core::Vec3d ns = reach->direction;
     const HalfSpace beyond{p.contact_center, ns};
     const HalfSpace near{p.contact_center, -ns};
 
@@ -69,6 +73,11 @@ core::Result<bool> Planner::split(int rid, int lower, const slice::Slice& s,
     d.piece = p;
     d.new_region = child.id;
     d.split_plane = beyond;
+    d.head_checked = s_.head.has_value();
+    d.split_lean_deg = reach->lean_deg;
+    d.head_margin_mm = reach->margin_mm;
+    d.seed_margin_mm = reach->seed_margin_mm;
+    d.head_clears = reach->clears;
     plan_.regions.push_back(child);
     jobs_.push_back({child.id, {}});
 

@@ -32,6 +32,10 @@ enum class Orient {
 /// their defaults.
 [[nodiscard]] plan::PlanSettings plan_settings(const machine::ProcessProfile& process);
 
+/// plan_settings(profiles.process) with the machine's head (nozzle_of): a region split off
+/// sideways is then built along a direction the head reaches (decision 0029).
+[[nodiscard]] plan::PlanSettings plan_settings(const machine::Profiles& profiles);
+
 struct PlanJobSettings {
     plan::PlanSettings plan;
     Orient orient = Orient::kGiven;

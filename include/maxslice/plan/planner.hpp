@@ -2,6 +2,7 @@
 // The multi-axis planner: regions, layers, decisions and the hierarchy graph
 // (METHOD.md sections 3 to 6). See docs/decisions/0007-multi-axis-planner.md.
 
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -12,6 +13,7 @@
 #include "maxslice/geom2d/wire_tree.hpp"
 #include "maxslice/mesh/triangle_mesh.hpp"
 #include "maxslice/plan/analysis.hpp"
+#include "maxslice/plan/nozzle.hpp"
 #include "maxslice/slice/layers.hpp"
 #include "maxslice/slice/plane_frame.hpp"
 #include "maxslice/slice/slicer.hpp"
@@ -39,6 +41,10 @@ struct PlanSettings {
     /// chamfered bottom edge, or a part touching the plate along a line or at a point, stands
     /// on a straight pad machined off with the plate; 0 = off.
     double footing_mm = 1.0;
+    /// The head the machine builds with: a region split off sideways is built along the
+    /// seed's N_s only where the head, standing on it, clears what is built before it and the
+    /// plate; otherwise along N_s leaned up (decision 0029). Unset: N_s always.
+    std::optional<Nozzle> head;
 };
 
 /// Checks ranges (positive sizes, 0 <= alpha <= beta < 180, phi_self in [0, 90), ...);
@@ -108,6 +114,15 @@ struct Decision {
     int continuation = -1;   ///< the region that carries on along the old direction
     HalfSpace split_plane;   ///< the split plane, normal N_s (splits)
     double lean_deg = 0.0;   ///< kTilt: how far the chain of centroids leans (deg)
+    /// Splits with the head set (decision 0029): how far the new region's direction leans
+    /// from N_s towards the old direction (deg), the head's smallest margin from what is
+    /// built and the plate along it and along N_s (mm; capped a millimetre above the
+    /// clearance), and whether it keeps the clearance. head_checked false: not checked.
+    bool head_checked = false;
+    double split_lean_deg = 0.0;
+    double head_margin_mm = 0.0;
+    double seed_margin_mm = 0.0;
+    bool head_clears = true;
 };
 
 /// The footing laid at the plate (decision 0017): its layers are the part's footprint up to

@@ -1,0 +1,245 @@
+#include "reach.hpp"
+
+#include "cell.hpp"
+#include "planner_state.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "maxslice/core/units.hpp"
+
+namespace maxslice::plan::detail {
+namespace {
+
+using core::Vec3d;
+
+// Material this little above the apex's plane is the layer's own level (mm), as in nozzle.cpp.
+constexpr double kLevelTolerance = 1e-6;
+// Material this little above the plane `built_below` still counts as built (mm).
+constexpr double kBuiltSlackMm = 1e-6;
+
+// The smallest margin of the head at `apex` over the cloud's points on or below `below`
+// (every point when below is null), down from best.
+double cloud_margin(const HeadProfile& head, const PointCloud& cloud,
+                    const slice::PlaneFrame* below, const Vec3d& apex, const Vec3d& axis,
+                    double best) {
+    const auto& pts = cloud.points();
+    cloud.tree().visit(
+        [&](const Vec3d& lo, const Vec3d& hi) {
+            const Vec3d centre = (lo + hi) * 0.5;
+            const Vec3d half = (hi - lo) * 0.5;
+            const auto spread = [&](const Vec3d& dir) {
+                return half.x * std::abs(dir.x) + half.y * std::abs(dir.y) +
+                       half.z * std::abs(dir.z);
+            };
+            if (below != nullptr && below->height(centre) - spread(below->normal) > kBuiltSlackMm) {
+                return false;
+            }
+            const Vec3d d = centre - apex;
+            const double t_c = core::dot(d, axis), t_half = spread(axis);
+            if (t_c + t_half <= kLevelTolerance) return false;
+            const double r_c = core::norm(d - axis * t_c);
+            const double r_lo = std::max(0.0, r_c - core::norm(half));
+            return head.bound(std::max(0.0, t_c - t_half), t_c + t_half, r_lo) < best;
+        },
+        [&](std::uint32_t i) {
+            const Vec3d& x = pts[i];
+            if (below != nullptr && below->height(x) > kBuiltSlackMm) return;
+            const Vec3d d = x - apex;
+            const double t = core::dot(d, axis);
+            if (t <= kLevelTolerance) return;
+            const double r = core::norm(d - axis * t);
+            best = std::min(best, head.margin(t, r));
+        });
+    return best;
+}
+
+// The head's lowest point above the plate with its apex at `apex`: the hardware's and the
+// stream's, each as the lowest corner of its outline in the (t, r) half plane (a solid of
+// revolution is lowest on the rim of one of its circles).
+double plate_margin(const Nozzle& n, const slice::PlaneFrame& plate, const Vec3d& apex,
+                    const Vec3d& axis) {
+    const double c = core::dot(axis, plate.normal);
+    const double s = std::sqrt(std::max(0.0, 1.0 - c * c));
+    const double base = plate.height(apex);
+    const auto low = [&](double t, double r) { return base + t * c - r * s; };
+    const double tan_half = std::tan(n.half_angle_deg * std::numbers::pi / 180.0);
+    const double so = n.standoff_mm, h = n.cone_length_mm;
+    const double stream = std::min(low(0.0, 0.0), low(so, so * tan_half));
+    double hardware = std::min(low(so, so * tan_half), low(h, h * tan_half));
+    if (n.body_radius_mm > 0.0 && n.body_length_mm > 0.0) {
+        hardware = std::min({hardware, low(h, n.body_radius_mm),
+                             low(h + n.body_length_mm, n.body_radius_mm)});
+    }
+    return std::min(hardware, stream + n.clearance_mm);
+}
+
+
+}  // namespace
+
+PointCloud::PointCloud(std::vector<core::Vec3d> points) : points_(std::move(points)) {
+    tree_ = BoxTree(points_, points_);
+}
+
+std::vector<Vec3d> surface_points(const mesh::TriangleMesh& mesh, double spacing_mm) {
+    std::vector<Vec3d> out;
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+        const Vec3d a = mesh.corner(t, 0), b = mesh.corner(t, 1), c = mesh.corner(t, 2);
+        const double longest = std::max({core::norm(b - a), core::norm(c - b), core::norm(a - c)});
+        const int n = std::max(1, static_cast<int>(std::ceil(longest / spacing_mm)));
+        for (int i = 0; i <= n; ++i) {
+            for (int j = 0; i + j <= n; ++j) {
+                const double u = static_cast<double>(i) / n, v = static_cast<double>(j) / n;
+                out.push_back(a + (b - a) * u + (c - a) * v);
+            }
+        }
+    }
+    return out;
+}
+
+std::vector<Vec3d> boundary_points(const geom2d::Paths2& paths, const slice::PlaneFrame& frame,
+                                   double spacing_mm, double lift_mm) {
+    std::vector<Vec3d> out;
+    for (const geom2d::Path2& path : paths) {
+        for (std::size_t i = 0; i < path.size(); ++i) {
+            const Vec3d a = frame.to_3d(path[i], lift_mm);
+            const Vec3d b = frame.to_3d(path[(i + 1) % path.size()], lift_mm);
+            const int n = std::max(1, static_cast<int>(std::ceil(core::norm(b - a) / spacing_mm)));
+            for (int k = 0; k < n; ++k) out.push_back(a + (b - a) * (static_cast<double>(k) / n));
+        }
+    }
+    return out;
+}
+
+std::vector<Vec3d> interior_points(const geom2d::Paths2& paths, const slice::PlaneFrame& frame,
+                                   double spacing_mm, double lift_mm) {
+    std::vector<Vec3d> out;
+    if (paths.empty()) return out;
+    std::int64_t x0 = INT64_MAX, y0 = INT64_MAX, x1 = INT64_MIN, y1 = INT64_MIN;
+    for (const geom2d::Path2& path : paths) {
+        for (const geom2d::Point2& p : path) {
+            x0 = std::min(x0, p.x);
+            y0 = std::min(y0, p.y);
+            x1 = std::max(x1, p.x);
+            y1 = std::max(y1, p.y);
+        }
+    }
+    const auto step = std::max<std::int64_t>(1, core::mm_to_um(spacing_mm));
+    for (std::int64_t y = y0 + step / 2; y <= y1; y += step) {
+        for (std::int64_t x = x0 + step / 2; x <= x1; x += step) {
+            if (geom2d::locate_point(paths, {x, y}) != geom2d::Containment::kOutside) {
+                out.push_back(frame.to_3d({x, y}, lift_mm));
+            }
+        }
+    }
+    return out;
+}
+
+double reach_margin(const Nozzle& nozzle, const ReachScene& scene, std::span<const Vec3d> apexes,
+                    const Vec3d& axis, double enough) {
+    const HeadProfile head(nozzle);
+    double best = enough;
+    for (const Vec3d& apex : apexes) {
+        best = std::min(best, plate_margin(nozzle, scene.plate, apex, axis));
+        if (scene.surface != nullptr) {
+            best = cloud_margin(head, *scene.surface, &scene.built_below, apex, axis, best);
+        }
+        if (scene.extra != nullptr) {
+            best = cloud_margin(head, *scene.extra, nullptr, apex, axis, best);
+        }
+    }
+    return best;
+}
+
+Vec3d leaned(const Vec3d& ns, const Vec3d& n, double lean_deg) {
+    const double a = lean_deg * std::numbers::pi / 180.0;
+    return core::normalized(ns * std::cos(a) + n * std::sin(a));
+}
+
+core::Result<ReachChoice> choose_by_reach(
+    const Nozzle& nozzle, const ReachScene& scene, const Vec3d& ns, const Vec3d& n,
+    std::span<const double> leans_deg,
+    const std::function<core::Result<std::vector<Vec3d>>(const Vec3d&)>& apexes_along) {
+    // Margins are looked for only this far above the clearance: enough to tell.
+    const double enough = nozzle.clearance_mm + 1.0;
+    ReachChoice out;
+    out.direction = ns;
+    for (std::size_t k = 0; k <= leans_deg.size(); ++k) {
+        const double lean = k == 0 ? 0.0 : leans_deg[k - 1];
+        const Vec3d d = k == 0 ? ns : leaned(ns, n, lean);
+        auto apexes = apexes_along(d);
+        if (!apexes) return std::unexpected(apexes.error());
+        const double m = reach_margin(nozzle, scene, *apexes, d, enough);
+        if (k == 0) {
+            out.seed_margin_mm = m;
+            out.margin_mm = m;
+        }
+        if (m >= nozzle.clearance_mm) {
+            out.direction = d;
+            out.lean_deg = lean;
+            out.margin_mm = m;
+            out.clears = true;
+            return out;
+        }
+    }
+    return out;
+}
+
+// The sideways region's apexes are sampled on this many planes at most along a direction.
+constexpr int kReachPlanes = 48;
+
+core::Result<ReachChoice> Planner::direction_by_reach(int lower, const OverhangPiece& p,
+                                                      const Vec3d& ns,
+                                                      const std::vector<HalfSpace>& cell) {
+    const Layer& l = plan_.layers[static_cast<std::size_t>(lower)];
+    if (!s_.head) return ReachChoice{ns, 0.0, 0.0, 0.0, true};
+    // Samples half a track apart: the margins they give are within a quarter track of the
+    // surface's (the build order and the verifier check the program itself).
+    const double spacing = std::max(0.5, s_.track_width_mm / 2);
+    if (!surface_) surface_.emplace(surface_points(mesh_, spacing));
+    if (!sections_) sections_.emplace(mesh_);
+    // What the layer L leaves on top: its section on its top plane.
+    const PointCloud top(
+        interior_points(l.wires.paths(), l.plane, spacing, l.span.top - l.span.cut));
+    // The part's surface counts as built half a layer under L's top: the layer's own top is
+    // the cloud `top`, and a body that only touches that plane from above (the underside of
+    // the overhang itself) is not built yet.
+    const ReachScene scene{&*surface_, l.top.shifted(-s_.layer_mm / 2), &top,
+                           plan_.regions.front().base};
+    // Leans up to the one whose underside the neighbour analysis still calls carried (a
+    // face across the old direction overhangs by tan(lean) per layer height: Ang is about
+    // atan(tan(lean) / 2) over the look-back), and no further than 60 degrees.
+    const double max_lean =
+        std::min(60.0, std::atan(2.0 * std::tan(s_.alpha_deg * std::numbers::pi / 180.0)) *
+                           180.0 / std::numbers::pi);
+    std::vector<double> leans;
+    for (const double a : {15.0, 30.0, 40.0, 45.0, 50.0, 60.0}) {
+        if (a <= max_lean + 1e-9) leans.push_back(a);
+    }
+    return choose_by_reach(
+        *s_.head, scene, ns, l.top.normal, leans,
+        [&](const Vec3d& d) -> core::Result<std::vector<Vec3d>> {
+            std::vector<HalfSpace> c = cell;
+            c.push_back({p.contact_center, d});
+            const slice::PlaneFrame base = slice::PlaneFrame::from_normal(p.contact_center, d);
+            const double hi = slice::extent_along(mesh_, base).second;
+            std::vector<Vec3d> apexes;
+            if (!(hi > 0.0)) return apexes;
+            const int planes = std::clamp(static_cast<int>(std::ceil(hi / s_.layer_mm)), 1,
+                                          kReachPlanes);
+            for (int k = 0; k < planes; ++k) {
+                const slice::PlaneFrame plane = base.shifted(hi * (k + 0.5) / planes);
+                auto cut = sections_->section(plane, s_.layer_mm);
+                if (!cut) return std::unexpected(cut.error());
+                const geom2d::Paths2 clipped = clip_to_cell(*cut, c, plane);
+                // The melt pool lies on the top of the layer being laid.
+                const std::vector<Vec3d> pts =
+                    boundary_points(clipped, plane, spacing, s_.layer_mm / 2);
+                apexes.insert(apexes.end(), pts.begin(), pts.end());
+            }
+            return apexes;
+        });
+}
+
+}  // namespace maxslice::plan::detail

@@ -1,0 +1,153 @@
+// Build directions chosen by reach (decision 0029): with the head set, a region split off
+// sideways leans up where the head, standing on it along the seed's N_s, would meet the
+// plate or what is built before it. Checked with the brute-force head of tests/support
+// (nozzle_check: its own cone and body, its own sampling), not with the planner's margins.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <vector>
+
+#include "maxslice/plan/order.hpp"
+#include "maxslice/plan/planner.hpp"
+#include "support/nozzle_check.hpp"
+#include "support/planner_fixtures.hpp"
+
+namespace maxslice::plan {
+namespace {
+
+using core::Vec3d;
+
+// The reference cell's head (examples/profiles/reference_5axis_ac.toml).
+Nozzle reference_head() {
+    Nozzle n;
+    n.half_angle_deg = 30.0;
+    n.cone_length_mm = 45.0;
+    n.standoff_mm = 9.0;
+    n.body_radius_mm = 30.0;
+    n.body_length_mm = 120.0;
+    n.clearance_mm = 1.0;
+    return n;
+}
+
+PlanSettings settings(bool with_head) {
+    PlanSettings s;
+    s.layer_mm = 0.5;
+    s.track_width_mm = 2.5;
+    s.self_supporting_deg = 20.0;
+    if (with_head) s.head = reference_head();
+    return s;
+}
+
+Plan plan_of(const mesh::TriangleMesh& m, const PlanSettings& s) {
+    auto p = plan_part(m, {0, 0, 1}, s);
+    EXPECT_TRUE(p.has_value()) << (p ? "" : p.error().describe());
+    return p ? std::move(*p) : Plan{};
+}
+
+// The smallest hardware clearance (mm) of the head from the plate (the plane z = 0) with
+// the head standing on the toolpath of every layer of `region`, its axis along the layer's
+// top normal: per apex, the plate sampled on a 2 mm grid under the head, then on a 0.05 mm
+// grid around the closest sample. Sampling can only overestimate it.
+double plate_clearance(const Plan& p, int region, const Nozzle& n, double track_mm) {
+    double best = std::numeric_limits<double>::infinity();
+    const double reach = n.cone_length_mm + n.body_length_mm + n.body_radius_mm;
+    const auto smallest = [&](const Vec3d& apex, const Vec3d& axis, double cx, double cy,
+                              double half, double step, Vec3d& at) {
+        double m = std::numeric_limits<double>::infinity();
+        for (double x = cx - half; x <= cx + half; x += step) {
+            for (double y = cy - half; y <= cy + half; y += step) {
+                const double c = test::hardware_clearance_mm(n, apex, axis, {x, y, 0.0});
+                if (c < m) {
+                    m = c;
+                    at = {x, y, 0.0};
+                }
+            }
+        }
+        return m;
+    };
+    for (const int id : p.regions[static_cast<std::size_t>(region)].layers) {
+        const Layer& l = p.layers[static_cast<std::size_t>(id)];
+        for (const Vec3d& apex : test::nozzle_apexes(l, track_mm, 5.0)) {
+            Vec3d at;
+            smallest(apex, l.top.normal, apex.x, apex.y, reach, 2.0, at);
+            best = std::min(best, smallest(apex, l.top.normal, at.x, at.y, 2.0, 0.05, at));
+        }
+    }
+    return best;
+}
+
+const Decision* first_split(const Plan& p) {
+    for (const Decision& d : p.decisions) {
+        if (d.kind == Decision::Kind::kSplit) return &d;
+    }
+    return nullptr;
+}
+
+TEST(Reach, ASidewaysBossBesideThePlateLeansUpUntilTheHeadClearsIt) {
+    const auto f = test::bearing_seat();
+    const Nozzle head = reference_head();
+    const Plan seed = plan_of(f.mesh, settings(false));
+    const Plan leaned = plan_of(f.mesh, settings(true));
+    const Decision* s = first_split(seed);
+    const Decision* d = first_split(leaned);
+    ASSERT_NE(s, nullptr);
+    ASSERT_NE(d, nullptr);
+    EXPECT_FALSE(s->head_checked);
+    EXPECT_TRUE(d->head_checked);
+    const int boss_seed = s->new_region, boss = d->new_region;
+    const Vec3d ns = seed.regions[static_cast<std::size_t>(boss_seed)].direction;
+    const Vec3d dir = leaned.regions[static_cast<std::size_t>(boss)].direction;
+    // Along the seed's sideways direction the head's body goes through the plate.
+    EXPECT_LT(plate_clearance(seed, boss_seed, head, 2.5), 0.0);
+    // Leaned up, towards the base direction, by the angle the decision states, and clear.
+    EXPECT_GT(d->split_lean_deg, 0.0);
+    EXPECT_TRUE(d->head_clears);
+    EXPECT_GE(d->head_margin_mm, head.clearance_mm);
+    EXPECT_LT(d->seed_margin_mm, head.clearance_mm);
+    const double lean = std::acos(std::clamp(core::dot(ns, dir), -1.0, 1.0)) * 180.0 /
+                        std::numbers::pi;
+    EXPECT_NEAR(lean, d->split_lean_deg, 0.5);
+    EXPECT_GT(dir.z, ns.z + 0.1);
+    EXPECT_GE(plate_clearance(leaned, boss, head, 2.5), head.clearance_mm - 0.05);
+    // Every layer still rests on the one below, and an order keeps the head off the part.
+    EXPECT_TRUE(leaned.unsupported_layers.empty());
+    OrderSettings os;
+    os.nozzle = head;
+    const auto order = order_layers(leaned, os);
+    ASSERT_TRUE(order.has_value()) << order.error().describe();
+    EXPECT_TRUE(order->conflicts.empty());
+    test::NozzleCheckSettings cs;
+    cs.clearance_mm = head.clearance_mm;
+    cs.sample_step_mm = 2.0;
+    cs.max_pairs = 1;
+    const auto hits = test::brute_force_collisions(leaned, *order, head, 2.5, cs);
+    EXPECT_TRUE(hits.empty()) << test::describe(hits.front());
+}
+
+TEST(Reach, ASidewaysRegionTheHeadReachesKeepsTheSeedsDirection) {
+    // The boss 60 mm above the plate: along its axis the head clears the plate and the block.
+    test::BearingSeatSpec spec;
+    spec.block_height = 120.0;
+    const auto f = test::bearing_seat(spec);
+    const Plan seed = plan_of(f.mesh, settings(false));
+    const Plan checked = plan_of(f.mesh, settings(true));
+    const Decision* s = first_split(seed);
+    const Decision* d = first_split(checked);
+    ASSERT_NE(s, nullptr);
+    ASSERT_NE(d, nullptr);
+    EXPECT_TRUE(d->head_checked);
+    EXPECT_TRUE(d->head_clears);
+    EXPECT_EQ(d->split_lean_deg, 0.0);
+    EXPECT_GE(d->seed_margin_mm, reference_head().clearance_mm);
+    ASSERT_EQ(seed.regions.size(), checked.regions.size());
+    for (std::size_t i = 0; i < seed.regions.size(); ++i) {
+        EXPECT_LT(core::norm(seed.regions[i].direction - checked.regions[i].direction), 1e-12);
+        EXPECT_EQ(seed.regions[i].layers.size(), checked.regions[i].layers.size());
+    }
+}
+
+}  // namespace
+}  // namespace maxslice::plan
