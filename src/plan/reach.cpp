@@ -69,12 +69,11 @@ double plate_margin(const Nozzle& n, const slice::PlaneFrame& plate, const Vec3d
     const double stream = std::min(low(0.0, 0.0), low(so, so * tan_half));
     double hardware = std::min(low(so, so * tan_half), low(h, h * tan_half));
     if (n.body_radius_mm > 0.0 && n.body_length_mm > 0.0) {
-        hardware = std::min({hardware, low(h, n.body_radius_mm),
-                             low(h + n.body_length_mm, n.body_radius_mm)});
+        hardware = std::min(
+            {hardware, low(h, n.body_radius_mm), low(h + n.body_length_mm, n.body_radius_mm)});
     }
     return std::min(hardware, stream + n.clearance_mm);
 }
-
 
 }  // namespace
 
@@ -211,8 +210,8 @@ core::Result<ReachChoice> Planner::direction_by_reach(int lower, const OverhangP
     // face across the old direction overhangs by tan(lean) per layer height: Ang is about
     // atan(tan(lean) / 2) over the look-back), and no further than 60 degrees.
     const double max_lean =
-        std::min(60.0, std::atan(2.0 * std::tan(s_.alpha_deg * std::numbers::pi / 180.0)) *
-                           180.0 / std::numbers::pi);
+        std::min(60.0, std::atan(2.0 * std::tan(s_.alpha_deg * std::numbers::pi / 180.0)) * 180.0 /
+                           std::numbers::pi);
     std::vector<double> leans;
     for (const double a : {15.0, 30.0, 40.0, 45.0, 50.0, 60.0}) {
         if (a <= max_lean + 1e-9) leans.push_back(a);
@@ -226,8 +225,8 @@ core::Result<ReachChoice> Planner::direction_by_reach(int lower, const OverhangP
             const double hi = slice::extent_along(mesh_, base).second;
             std::vector<Vec3d> apexes;
             if (!(hi > 0.0)) return apexes;
-            const int planes = std::clamp(static_cast<int>(std::ceil(hi / s_.layer_mm)), 1,
-                                          kReachPlanes);
+            const int planes =
+                std::clamp(static_cast<int>(std::ceil(hi / s_.layer_mm)), 1, kReachPlanes);
             for (int k = 0; k < planes; ++k) {
                 const slice::PlaneFrame plane = base.shifted(hi * (k + 0.5) / planes);
                 auto cut = sections_->section(plane, s_.layer_mm);

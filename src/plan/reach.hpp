@@ -72,11 +72,11 @@ struct ReachScene {
 
 /// The build direction of a region split off sideways (decision 0029).
 struct ReachChoice {
-    core::Vec3d direction;       ///< the direction kept
-    double lean_deg = 0.0;       ///< its lean from the seed's N_s towards the old direction
-    double margin_mm = 0.0;      ///< the head's smallest margin along it (capped)
-    double seed_margin_mm = 0.0; ///< along N_s itself
-    bool clears = false;         ///< margin_mm >= the nozzle's clearance
+    core::Vec3d direction;        ///< the direction kept
+    double lean_deg = 0.0;        ///< its lean from the seed's N_s towards the old direction
+    double margin_mm = 0.0;       ///< the head's smallest margin along it (capped)
+    double seed_margin_mm = 0.0;  ///< along N_s itself
+    bool clears = false;          ///< margin_mm >= the nozzle's clearance
 };
 
 /// Tries N_s (ns), then ns leaned towards n by each of `leans_deg` (increasing), and keeps

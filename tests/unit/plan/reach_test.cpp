@@ -107,8 +107,8 @@ TEST(Reach, ASidewaysBossBesideThePlateLeansUpUntilTheHeadClearsIt) {
     EXPECT_TRUE(d->head_clears);
     EXPECT_GE(d->head_margin_mm, head.clearance_mm);
     EXPECT_LT(d->seed_margin_mm, head.clearance_mm);
-    const double lean = std::acos(std::clamp(core::dot(ns, dir), -1.0, 1.0)) * 180.0 /
-                        std::numbers::pi;
+    const double lean =
+        std::acos(std::clamp(core::dot(ns, dir), -1.0, 1.0)) * 180.0 / std::numbers::pi;
     EXPECT_NEAR(lean, d->split_lean_deg, 0.5);
     EXPECT_GT(dir.z, ns.z + 0.1);
     EXPECT_GE(plate_clearance(leaned, boss, head, 2.5), head.clearance_mm - 0.05);
