@@ -31,6 +31,9 @@ constexpr double kSameAngleDeg = 1e-9;
 constexpr double kDegPerRad = 180.0 / std::numbers::pi;
 // Tilts sampled along a turn of the table when its head is kept above the plate's level.
 constexpr int kTurnSamples = 32;
+// The turn keeps the head this much above its clearance at the sampled tilts: between two
+// samples, and at the plate's edges the verifier models, the head comes a little closer.
+constexpr double kTurnSlackMm = 0.5;
 // A tilt whose plate normal moves the head's floor less than this per mm across the tilt axis
 // (near no tilt) cannot be helped by moving across.
 constexpr double kFlatSlope = 1e-9;
@@ -422,35 +425,58 @@ core::Result<std::vector<MachinePose>> MachineKinematics::reorientation(const Ma
     out.push_back(turn);
     // Where to turn across the tilt axis: each sampled tilt of the turn bounds that
     // coordinate on one side (the head's floor is affine in it); the nearest value to the
-    // retract point within all the bounds and the travel.
+    // retract point within all the bounds and the travel. A turn through the flat table
+    // (the tilt changes sign) whose bounds leave no room is made in two: to the flat table
+    // over a point that keeps the first half clear, then on over one that keeps the second.
     const bool about_x = kinematics_ == Kinematics::kTableAc;
-    double& w = about_x ? turn.y : turn.x;
-    const Limits& travel = limits_[about_x ? 1 : 0];
-    double lo = travel.min, hi = travel.max;
-    const double w0 = w;
-    bool possible = true;  // no tilt of the turn keeps the head up wherever the tip is
-    for (int k = 0; k <= kTurnSamples; ++k) {
-        const double f = static_cast<double>(k) / kTurnSamples;
-        const MachinePose at{turn.x, turn.y, turn.z,
-                             from.a_or_b_deg + f * (to.a_or_b_deg - from.a_or_b_deg), 0.0};
-        const double tilt = tilt_rad(at);
-        const Vec3d n = rotate({0.0, 0.0, 1.0}, tilt, 0.0);
-        const double slope = about_x ? n.y : n.x;  // d(floor) / dw
-        const double need = head_clearance_mm_ - head_floor_mm({at.x, at.y, at.z}, tilt);
-        if (std::abs(slope) < kFlatSlope) {
-            possible = possible && need <= 0.0;  // no w helps at this tilt
-            continue;
+    const auto shift_for = [&](const MachinePose& over, double a_from, double a_to,
+                               double& w) -> bool {
+        const Limits& travel = limits_[about_x ? 1 : 0];
+        double lo = travel.min, hi = travel.max;
+        const double w0 = about_x ? over.y : over.x;
+        w = w0;
+        bool possible = true;  // no tilt of the turn keeps the head up wherever the tip is
+        for (int k = 0; k <= kTurnSamples; ++k) {
+            const double f = static_cast<double>(k) / kTurnSamples;
+            const MachinePose at{over.x, over.y, over.z, a_from + f * (a_to - a_from), 0.0};
+            const double tilt = tilt_rad(at);
+            const Vec3d n = rotate({0.0, 0.0, 1.0}, tilt, 0.0);
+            const double slope = about_x ? n.y : n.x;  // d(floor) / dw
+            const double need =
+                head_clearance_mm_ + kTurnSlackMm - head_floor_mm({at.x, at.y, at.z}, tilt);
+            if (std::abs(slope) < kFlatSlope) {
+                possible = possible && need <= 0.0;  // no w helps at this tilt
+                continue;
+            }
+            const double bound = w0 + need / slope;
+            if (slope > 0.0) {
+                lo = std::max(lo, bound);
+            } else {
+                hi = std::min(hi, bound);
+            }
         }
-        const double bound = w0 + need / slope;
-        if (slope > 0.0) {
-            lo = std::max(lo, bound);
-        } else {
-            hi = std::min(hi, bound);
-        }
-    }
-    if (possible && lo <= hi && (w0 < lo || w0 > hi)) {
+        if (!possible || lo > hi) return false;
         w = std::clamp(w0, lo, hi);
-        out.push_back(turn);
+        return true;
+    };
+    const auto move_over = [&](MachinePose& over, double w) {
+        double& coordinate = about_x ? over.y : over.x;
+        if (std::abs(coordinate - w) > 0.0) {
+            coordinate = w;
+            out.push_back(over);
+        }
+    };
+    double w = 0.0;
+    const double a0 = from.a_or_b_deg, a1 = to.a_or_b_deg;
+    if (shift_for(turn, a0, a1, w)) {
+        move_over(turn, w);
+    } else if (a0 * a1 < 0.0) {
+        double w_first = 0.0;
+        if (shift_for(turn, a0, 0.0, w_first)) move_over(turn, w_first);
+        out.push_back({turn.x, turn.y, *z_safe, 0.0, from.c_deg});
+        MachinePose flat{turn.x, turn.y, *z_safe, 0.0, from.c_deg};
+        if (shift_for(flat, 0.0, a1, w)) move_over(flat, w);
+        turn = flat;
     }
     out.push_back({turn.x, turn.y, *z_safe, to.a_or_b_deg, to.c_deg});
     out.push_back({to.x, to.y, *z_safe, to.a_or_b_deg, to.c_deg});
