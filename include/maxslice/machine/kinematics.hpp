@@ -106,8 +106,10 @@ public:
     /// head (the profile's nozzle, or NozzleProfile's defaults) above the plate's level (part
     /// z = 0) by the nozzle's clearance: where turning over `from` would sweep the head below
     /// it, the tip first moves at z_safe across the tilt axis (machine Y for A, X for B) to the
-    /// nearest point, within the travel, from which the whole turn stays above (decision
-    /// 0016); when there is none, the turn is made over `from` as before. Empty when no rotary
+    /// nearest point, within the travel, from which the whole turn stays above by 0.5 mm more
+    /// (decision 0016); when there is none and the turn passes the flat table, it is made in
+    /// two halves (to the flat table, then on), each over its own such point; otherwise over
+    /// `from` as before (the verifier has the last word). Empty when no rotary
     /// axis changes. Errors (kInvalidInput): z_safe above the Z limit (naming machine.axes.Z
     /// and machine.table.retract_mm).
     [[nodiscard]] core::Result<std::vector<MachinePose>> reorientation(
