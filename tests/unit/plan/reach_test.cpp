@@ -12,6 +12,7 @@
 
 #include "maxslice/plan/order.hpp"
 #include "maxslice/plan/planner.hpp"
+#include "support/fixtures.hpp"
 #include "support/nozzle_check.hpp"
 #include "support/planner_fixtures.hpp"
 
@@ -146,6 +147,25 @@ TEST(Reach, ASidewaysRegionTheHeadReachesKeepsTheSeedsDirection) {
     for (std::size_t i = 0; i < seed.regions.size(); ++i) {
         EXPECT_LT(core::norm(seed.regions[i].direction - checked.regions[i].direction), 1e-12);
         EXPECT_EQ(seed.regions[i].layers.size(), checked.regions[i].layers.size());
+    }
+}
+
+// Turning a part about Z (the plate's normal) changes neither what the head can reach nor the
+// plate under it: every fixture keeps its number of regions, its layers on nothing and its
+// verdict on a collision-free order (issue 24).
+TEST(Reach, EveryFixtureTurnedAboutZKeepsItsRegionsAndItsVerdict) {
+    OrderSettings os;
+    os.nozzle = reference_head();
+    for (const auto& f : test::all_planner_fixtures()) {
+        SCOPED_TRACE(f.name);
+        const Plan given = plan_of(f.mesh, settings(true));
+        const Plan turned = plan_of(test::rotated(f.mesh, {0, 0, 1}, 37.0), settings(true));
+        EXPECT_EQ(given.regions.size(), turned.regions.size());
+        EXPECT_EQ(given.unsupported_layers.size(), turned.unsupported_layers.size());
+        const auto a = order_layers(given, os);
+        const auto b = order_layers(turned, os);
+        ASSERT_TRUE(a.has_value() && b.has_value());
+        EXPECT_EQ(a->complete(), b->complete());
     }
 }
 
