@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "maxslice/core/units.hpp"
@@ -158,12 +159,16 @@ Vec3d leaned(const Vec3d& ns, const Vec3d& n, double lean_deg) {
 
 core::Result<ReachChoice> choose_by_reach(
     const Nozzle& nozzle, const ReachScene& scene, const Vec3d& ns, const Vec3d& n,
-    std::span<const double> leans_deg,
+    std::span<const double> leans_deg, double slack_mm,
     const std::function<core::Result<std::vector<Vec3d>>(const Vec3d&)>& apexes_along) {
-    // Margins are looked for only this far above the clearance: enough to tell.
-    const double enough = nozzle.clearance_mm + 1.0;
+    const double wanted = nozzle.clearance_mm + slack_mm;
+    // Margins are looked for only this far above what is wanted: enough to tell.
+    const double enough = wanted + 1.0;
     ReachChoice out;
     out.direction = ns;
+    // The direction with the largest margin, for when none keeps the slack too.
+    ReachChoice best;
+    best.margin_mm = -std::numeric_limits<double>::infinity();
     for (std::size_t k = 0; k <= leans_deg.size(); ++k) {
         const double lean = k == 0 ? 0.0 : leans_deg[k - 1];
         const Vec3d d = k == 0 ? ns : leaned(ns, n, lean);
@@ -174,13 +179,24 @@ core::Result<ReachChoice> choose_by_reach(
             out.seed_margin_mm = m;
             out.margin_mm = m;
         }
-        if (m >= nozzle.clearance_mm) {
+        if (m >= wanted) {
             out.direction = d;
             out.lean_deg = lean;
             out.margin_mm = m;
             out.clears = true;
             return out;
         }
+        if (m > best.margin_mm) {
+            best.direction = d;
+            best.lean_deg = lean;
+            best.margin_mm = m;
+        }
+    }
+    if (best.margin_mm >= nozzle.clearance_mm) {
+        out.direction = best.direction;
+        out.lean_deg = best.lean_deg;
+        out.margin_mm = best.margin_mm;
+        out.clears = true;
     }
     return out;
 }
@@ -194,8 +210,10 @@ core::Result<ReachChoice> Planner::direction_by_reach(int lower, const OverhangP
     const Layer& l = plan_.layers[static_cast<std::size_t>(lower)];
     if (!s_.head) return ReachChoice{ns, 0.0, 0.0, 0.0, true};
     // Samples half a track apart: the margins they give are within a quarter track of the
-    // surface's (the build order and the verifier check the program itself).
+    // surface's, so a direction must keep that much more than the clearance (the build order
+    // and the verifier check the program itself).
     const double spacing = std::max(0.5, s_.track_width_mm / 2);
+    const double slack = spacing / 2;
     if (!surface_) surface_.emplace(surface_points(mesh_, spacing));
     if (!sections_) sections_.emplace(mesh_);
     // What the layer L leaves on top: its section on its top plane.
@@ -217,7 +235,7 @@ core::Result<ReachChoice> Planner::direction_by_reach(int lower, const OverhangP
         if (a <= max_lean + 1e-9) leans.push_back(a);
     }
     return choose_by_reach(
-        *s_.head, scene, ns, l.top.normal, leans,
+        *s_.head, scene, ns, l.top.normal, leans, slack,
         [&](const Vec3d& d) -> core::Result<std::vector<Vec3d>> {
             std::vector<HalfSpace> c = cell;
             c.push_back({p.contact_center, d});
@@ -228,7 +246,10 @@ core::Result<ReachChoice> Planner::direction_by_reach(int lower, const OverhangP
             const int planes =
                 std::clamp(static_cast<int>(std::ceil(hi / s_.layer_mm)), 1, kReachPlanes);
             for (int k = 0; k < planes; ++k) {
-                const slice::PlaneFrame plane = base.shifted(hi * (k + 0.5) / planes);
+                // The region's first layer, then evenly up to its top.
+                const double first = std::min(s_.layer_mm / 2, hi / 2);
+                const double at = planes == 1 ? first : first + (hi - first) * k / (planes - 1);
+                const slice::PlaneFrame plane = base.shifted(at);
                 auto cut = sections_->section(plane, s_.layer_mm);
                 if (!cut) return std::unexpected(cut.error());
                 const geom2d::Paths2 clipped = clip_to_cell(*cut, c, plane);

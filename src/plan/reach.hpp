@@ -81,11 +81,12 @@ struct ReachChoice {
 
 /// Tries N_s (ns), then ns leaned towards n by each of `leans_deg` (increasing), and keeps
 /// the first along which the head, standing on every apex apexes_along(direction) gives,
-/// keeps the nozzle's clearance from the scene; none: N_s, with clears = false. Errors: those
-/// of apexes_along.
+/// keeps the nozzle's clearance plus slack_mm (the samples' error) from the scene; none: the
+/// one with the largest margin if it keeps the clearance, else N_s with clears = false.
+/// Errors: those of apexes_along.
 [[nodiscard]] core::Result<ReachChoice> choose_by_reach(
     const Nozzle& nozzle, const ReachScene& scene, const core::Vec3d& ns, const core::Vec3d& n,
-    std::span<const double> leans_deg,
+    std::span<const double> leans_deg, double slack_mm,
     const std::function<core::Result<std::vector<core::Vec3d>>(const core::Vec3d&)>& apexes_along);
 
 }  // namespace maxslice::plan::detail
