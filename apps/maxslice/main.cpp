@@ -623,13 +623,15 @@ JobOutcome run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
     }
     if (!planned.order->complete()) {
         const plan::Conflict& c = planned.order->conflicts.front();
-        return done(
-            o.error({core::ErrorCode::kInvalidInput,
-                     fmt::format("no collision-free build order exists with this nozzle ({} "
-                                 "conflicts), so no program is written: {}. See the partial order: "
-                                 "maxslice plan PART --profile FILE --plan plan.json{}",
-                                 planned.order->conflicts.size(), c.reason, tried),
-                     opt.path}));
+        return done(o.error(
+            {core::ErrorCode::kInvalidInput,
+             fmt::format("no collision-free build order exists with this nozzle ({} "
+                         "conflicts), so no program is written: {}. {}. See the partial "
+                         "order: maxslice plan PART --profile FILE --plan plan.json{}",
+                         planned.order->conflicts.size(), c.reason,
+                         plan::describe_refusal(planned.plan, *planned.order, planned.nozzle),
+                         tried),
+             opt.path}));
     }
     print_orientation(o, oriented->tries, oriented->chosen, so.output, opt.path, finer);
     // The search stops at the first plan it keeps, so `w` is that plan's program; otherwise
@@ -1146,8 +1148,9 @@ int run_plan(const PartOptions& opt, const PlanOptions& po, bool layer_given) {
         return report_error(
             {core::ErrorCode::kInvalidInput,
              fmt::format("no collision-free build order exists with this nozzle "
-                         "({} conflicts; the plan file holds the partial order): {}",
-                         planned->order->conflicts.size(), c.reason),
+                         "({} conflicts; the plan file holds the partial order): {}. {}",
+                         planned->order->conflicts.size(), c.reason,
+                         plan::describe_refusal(planned->plan, *planned->order, planned->nozzle)),
              "build order"});
     }
     return kExitOk;

@@ -5,8 +5,10 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <string>
 
+#include "maxslice/plan/order.hpp"
 #include "maxslice/plan/planner.hpp"
 #include "planner_state.hpp"
 
@@ -102,4 +104,55 @@ std::string too_many_regions_refusal(int max_regions) {
 }
 
 }  // namespace detail
+
+std::string describe_refusal(const Plan& plan, const BuildOrder& order, const Nozzle& nozzle) {
+    if (order.conflicts.empty()) return {};
+    const Conflict& c = order.conflicts.front();
+    const auto region_of = [&](int layer) {
+        return plan.layers[static_cast<std::size_t>(layer)].region;
+    };
+    const int rid = region_of(c.layer);
+    const Region& r = plan.regions[static_cast<std::size_t>(rid)];
+    std::string out;
+    const Decision* made = nullptr;
+    for (const Decision& d : plan.decisions) {
+        if ((d.kind == Decision::Kind::kSplit || d.kind == Decision::Kind::kFloating) &&
+            d.new_region == rid) {
+            made = &d;
+        }
+    }
+    if (made != nullptr) {
+        const OverhangPiece& p = made->piece;
+        out = fmt::format(
+            "In the way: region {}, the overhang of {:.1f} mm2 at ({:.2f}, {:.2f}, {:.2f}) built "
+            "along ({:.3f}, {:.3f}, {:.3f})",
+            rid, p.area_mm2, p.C.x, p.C.y, p.C.z, r.direction.x, r.direction.y, r.direction.z);
+        if (made->head_checked && made->split_lean_deg > 0.0) {
+            out += fmt::format(", leaned up {:.0f} deg from its sideways direction",
+                               made->split_lean_deg);
+        }
+        if (made->head_checked && !made->head_clears) {
+            out += fmt::format(
+                " (no lean up to the most that keeps its underside carried kept the head "
+                "{:.2f} mm clear: closest {:.2f} mm)",
+                nozzle.clearance_mm, made->head_margin_mm);
+        }
+        out += fmt::format(", reaches region {} only with the head in its way", region_of(c.other));
+    } else {
+        out = fmt::format("In the way: region {} (along ({:.3f}, {:.3f}, {:.3f})) and region {}",
+                          rid, r.direction.x, r.direction.y, r.direction.z, region_of(c.other));
+    }
+    const bool stream = std::any_of(order.conflicts.begin(), order.conflicts.end(),
+                                    [](const Conflict& k) { return k.in_stream; });
+    double closest = nozzle.clearance_mm;
+    for (const Conflict& k : order.conflicts) closest = std::min(closest, k.margin_mm);
+    out += fmt::format(
+        "; {} (the closest gap: {:.2f} mm of the {:.2f} mm clearance); what may help: a slimmer "
+        "head (machine.nozzle: a smaller body_radius_mm, half_angle_deg or cone_length_mm), "
+        "another base (--orient auto), or a part given standing otherwise",
+        stream ? "the powder stream itself meets what is built" : "the head comes too close",
+        closest, nozzle.clearance_mm);
+    return out;
+}
+
 }  // namespace maxslice::plan

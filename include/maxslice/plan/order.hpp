@@ -89,4 +89,13 @@ struct BuildOrder {
 [[nodiscard]] core::Result<BuildOrder> order_layers(const Plan& plan, const OrderSettings& settings,
                                                     const core::Progress* progress = nullptr);
 
+/// For people, when `order` has conflicts: the feature in the way (the region of the first
+/// conflict's layer, where it was split off and how big its piece was), why no direction
+/// served it (how far it was leaned and whether the head then cleared), the closest gap
+/// among the conflicts, and what may help (a slimmer head, another base). Empty when the
+/// order is complete.
+/// Made in decision_text.cpp with the planner's other texts.
+[[nodiscard]] std::string describe_refusal(const Plan& plan, const BuildOrder& order,
+                                           const Nozzle& nozzle);
+
 }  // namespace maxslice::plan

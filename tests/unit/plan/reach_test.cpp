@@ -2,6 +2,7 @@
 // sideways leans up where the head, standing on it along the seed's N_s, would meet the
 // plate or what is built before it. Checked with the brute-force head of tests/support
 // (nozzle_check: its own cone and body, its own sampling), not with the planner's margins.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -179,6 +180,37 @@ TEST(Reach, EveryFixtureTurnedAboutZKeepsItsRegionsAndItsVerdict) {
             EXPECT_TRUE(borderline(refused)) << refused.conflicts.front().reason;
         }
     }
+}
+
+// A refusal names the feature in the way (its region, where its piece is, how big, how far it
+// was leaned) and the closest gap, from the plan's own fields.
+TEST(Reach, ARefusedOrderNamesTheRegionInTheWayAndTheClosestGap) {
+    const auto f = test::portal_frame();
+    const Plan p = plan_of(f.mesh, settings(true));
+    OrderSettings os;
+    os.nozzle = reference_head();
+    const auto order = order_layers(p, os);
+    ASSERT_TRUE(order.has_value());
+    if (order->complete()) GTEST_SKIP() << "the portal now has a collision-free order";
+    const std::string text = describe_refusal(p, *order, os.nozzle);
+    const int rid = p.layers[static_cast<std::size_t>(order->conflicts.front().layer)].region;
+    EXPECT_NE(text.find(fmt::format("region {}", rid)), std::string::npos) << text;
+    for (const Decision& d : p.decisions) {
+        if (d.kind != Decision::Kind::kSplit || d.new_region != rid) continue;
+        EXPECT_NE(text.find(fmt::format("{:.1f} mm2", d.piece.area_mm2)), std::string::npos)
+            << text;
+        if (d.split_lean_deg > 0.0) {
+            EXPECT_NE(text.find(fmt::format("leaned up {:.0f} deg", d.split_lean_deg)),
+                      std::string::npos)
+                << text;
+        }
+    }
+    double closest = os.nozzle.clearance_mm;
+    for (const Conflict& c : order->conflicts) closest = std::min(closest, c.margin_mm);
+    EXPECT_NE(text.find(fmt::format("closest gap: {:.2f} mm", closest)), std::string::npos) << text;
+    EXPECT_NE(text.find("--orient auto"), std::string::npos);
+    BuildOrder none;
+    EXPECT_TRUE(describe_refusal(p, none, os.nozzle).empty());
 }
 
 }  // namespace
