@@ -267,18 +267,36 @@ int run_verify(const VerifyCommandOptions& opts) {
     }
     // A profile with a machining stock or fill: the job deposited the near-net shape of the part
     // it read (decision 0025). Without --finished, --model is that part, and the replay is
-    // against its near-net shape, made as the job makes it (the same bytes).
+    // against its near-net shape, made as the job makes it (the same bytes), placed as the job
+    // places it (place_model: its lowest point on the plate, its XY box centred).
+    // A model whose near-net shape cannot be made (a part in other units outgrows the field's
+    // bound; the job refuses such a part) is still replayed, against the model itself: the
+    // safety checks do not depend on it, and the figures then say how far the program is
+    // from that model. The warning names why and what the figures are of.
     if (!finished) {
         const nearnet::NearNetSettings near = pipeline::near_net_settings(profiles->process);
         if (!near.off()) {
             auto shape = nearnet::near_net(model->mesh, near);
-            if (!shape) return report_error(core::with_context(shape.error(), "--model"));
-            std::printf(
-                "near-net shape  the model grown by %.2f mm, holes under %.2f mm filled "
-                "(the profile's machining stock and fill)\n",
-                near.stock_mm, near.fill_below_mm);
-            finished = std::move(model->mesh);
-            model->mesh = std::move(shape->mesh);
+            if (!shape && shape.error().code != core::ErrorCode::kInvalidInput) {
+                return report_error(core::with_context(shape.error(), "--model"));
+            }
+            if (shape) {
+                std::printf(
+                    "near-net shape  the model grown by %.2f mm, holes under %.2f mm filled "
+                    "(the profile's machining stock and fill)\n",
+                    near.stock_mm, near.fill_below_mm);
+                finished = std::move(model->mesh);
+                model->mesh = std::move(shape->mesh);
+            } else {
+                std::printf(
+                    "near-net shape  none: the program is replayed against the model itself\n");
+                std::fprintf(stderr,
+                             "maxslice: warning: --model: the near-net shape the profile asks for "
+                             "(%.2f mm stock, holes under %.2f mm filled) cannot be made: %s; the "
+                             "program is replayed against the model itself, without the stock "
+                             "(a slice job refuses this model)\n",
+                             near.stock_mm, near.fill_below_mm, shape.error().message.c_str());
+            }
         }
     }
     // The finished part moves with the model: the job places what it deposits (decision 0026).

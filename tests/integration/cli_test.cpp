@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <regex>
 #include <string>
 #include <vector>
 
@@ -254,7 +255,19 @@ TEST(Cli, VerifyRefusesUnsafeAndWrongProgramsWithExitThree) {
     refused(verify(write("comments.ngc", "(nothing)\n; still nothing\n"), lc_profile),
             "unfinished");
     // Nothing deposited measurably: the model read in metres, a voxel coarser than the beads.
-    refused(verify(gm, gm_profile, {"--units", "m"}), "nothing_deposited");
+    // Its near-net shape (the profile's 1 mm stock, decision 0025) cannot be made at that size:
+    // the program is still replayed, against the model itself, and the warning says why.
+    const CliRun metres = verify(gm, gm_profile, {"--units", "m"});
+    refused(metres, "nothing_deposited");
+    EXPECT_NE(metres.err.find("warning: --model: the near-net shape the profile asks for (1.00 mm "
+                              "stock, holes under 10.00 mm filled) cannot be made"),
+              std::string::npos)
+        << metres.err;
+    EXPECT_NE(metres.err.find("(--units)"), std::string::npos) << metres.err;
+    EXPECT_NE(metres.out.find("near-net shape  none: the program is replayed against the model "
+                              "itself"),
+              std::string::npos)
+        << metres.out;
     refused(verify(gm, gm_profile, {"--voxel", "1e9"}), "nothing_deposited");
     // -700 W, 800 g/min on a machine whose maximum is 30.
     std::string negative = lc_text;
@@ -333,14 +346,24 @@ std::string box_stl(const std::array<double, 3>& lo, const std::array<double, 3>
 // placed as the model is (its own placement would drop it onto the plate, leaving no stock
 // under it), reported with its share inside beads and the smallest stock, and a finished part
 // that reaches out of the beads fails the check `finished_inside`.
+// The near-net block is given by hand here, so the program deposits it as it is: the profile
+// is the reference LMD cell without its own machining stock and fill (a copy with both 0;
+// decision 0025), else the job and the replay would grow the given near-net shape again.
 TEST(Cli, VerifyMeasuresTheFinishedPartInsideTheNearNetShape) {
     const fs::path dir = temp_dir("verify_finished");
-    const fs::path profile = kSource / "examples/profiles/reference_lmd.toml";
     const auto write = [&](const std::string& name, const std::string& text) {
         const fs::path f = dir / name;
         std::ofstream(f, std::ios::binary) << text;
         return f;
     };
+    const fs::path reference = kSource / "examples/profiles/reference_lmd.toml";
+    std::string as_given = slurp(reference);
+    for (const std::string key : {"machining_stock_mm = ", "fill_below_mm = "}) {
+        const std::size_t at = as_given.find(key);
+        ASSERT_NE(at, std::string::npos) << key;
+        as_given.replace(at, as_given.find(' ', at + key.size()) - at, key + "0.0");
+    }
+    const fs::path profile = write("no_stock.toml", as_given);
     // The near-net block and a finished block 1 mm above its bottom, 2 mm inside its sides and
     // top; one reaching 1 mm out of its sides.
     const fs::path near = write("near.stl", box_stl({0, 0, 0}, {40, 30, 8}));
@@ -386,4 +409,38 @@ TEST(Cli, VerifyMeasuresTheFinishedPartInsideTheNearNetShape) {
     r = nlohmann::json::parse(slurp(json));
     EXPECT_FALSE(r.at("finished_given").get<bool>());
     EXPECT_EQ(r.at("finished_inside"), r.at("coverage"));
+
+    // With the shipped profile (1 mm stock) the job deposits the finished part's near-net shape;
+    // `verify --model FINISHED` makes and places it as the job does: the job's figures again,
+    // the finished part all inside its beads with stock around it.
+    const fs::path built = dir / "built.gm";
+    const CliRun job =
+        run_cli({"slice", inside.string(), "--profile", reference.string(), "-o", built.string()});
+    ASSERT_EQ(job.exit_code, 0) << job.out << job.err;
+    std::smatch coverage, finished;
+    ASSERT_TRUE(std::regex_search(job.out, coverage,
+                                  std::regex(R"(\ncoverage +([0-9.]+)% of the part, excess )")))
+        << job.out;
+    ASSERT_TRUE(std::regex_search(
+        job.out, finished,
+        std::regex(R"(\nfinished part +([0-9.]+)% inside beads, smallest stock (-?[0-9.]+) mm)")))
+        << job.out;
+    fs::remove(json);
+    const CliRun grown = run_cli({"verify", built.string(), "--model", inside.string(), "--profile",
+                                  reference.string(), "--json", json.string()});
+    EXPECT_EQ(grown.exit_code, 0) << grown.out << grown.err;
+    EXPECT_NE(grown.out.find("near-net shape  the model grown by 1.00 mm"), std::string::npos)
+        << grown.out;
+    EXPECT_EQ(grown.err.find("is the model placed"), std::string::npos) << grown.err;
+    r = nlohmann::json::parse(slurp(json));
+    EXPECT_TRUE(r.at("finished_given").get<bool>());
+    EXPECT_NEAR(100.0 * r.at("coverage").get<double>(), std::stod(coverage[1].str()), 0.005 + 1e-9);
+    EXPECT_NEAR(100.0 * r.at("finished_inside").get<double>(), std::stod(finished[1].str()),
+                0.005 + 1e-9);
+    EXPECT_NEAR(r.at("smallest_stock_mm").get<double>(), std::stod(finished[2].str()),
+                0.005 + 1e-9);
+    EXPECT_GE(r.at("finished_inside").get<double>(), 0.995) << grown.out;
+    EXPECT_GT(r.at("smallest_stock_mm").get<double>(), 0.0) << grown.out;
+    EXPECT_LT(r.at("smallest_stock_mm").get<double>(), 1.0 + r.at("voxel_mm").get<double>())
+        << grown.out;
 }
