@@ -181,8 +181,17 @@ TEST(Verify, FiveAxisBlockWithSafeReorientationPasses) {
     EXPECT_NEAR(c.x, 0.0, 1e-9);  // the C axis
     const double travel = p.process.travel_feed_mm_min;
     zigzag_block(prog, p, c.x, c.y, kHalf, kLayers);
-    // Retract above the sphere that holds the part, turn, cross, come down beside it.
-    const double safe = 60.0;
+    // Retract above the sphere about the pivot that holds the part and its substrate plate
+    // (the profile's 300 x 300 x 20 mm, decision 0028: turned 90 degrees it stands 150 mm
+    // high), turn, cross, stay there: every point of the head is then higher than any point
+    // of the plate whatever the table does.
+    ASSERT_TRUE(p.machine.substrate.has_value());
+    const machine::SubstrateProfile& plate = *p.machine.substrate;
+    const double safe =
+        std::hypot(0.5 * plate.size_x_mm, 0.5 * plate.size_y_mm, plate.thickness_mm) + 10.0;
+    const machine::AxisLimits* z = p.machine.find_axis("Z");
+    ASSERT_NE(z, nullptr);
+    ASSERT_LT(safe, z->max);
     prog.move(c.x - kHalf + 1.25, c.y + kHalf - 1.25, safe, travel);
     prog.move(c.x - kHalf + 1.25, c.y + kHalf - 1.25, safe, travel, 90.0, 0.0);
     prog.move(0.0, 0.0, safe, travel, 90.0, 0.0);
@@ -372,12 +381,20 @@ machine::Program block_program(const machine::Profiles& p, const Vec3d& c) {
 // point control for fanuc and siemens): a block built along +Z, then, after a re-orientation,
 // one wire laid along +Y against the block's +Y wall. It replays clean, covers the block,
 // and the one sideways wire rests on the wall (supported) and is the only excess.
+// The machine's plate is the block's size plus 2 mm: the sideways wire lies 3 mm above the
+// plate, where the horizontal head's 30 mm body meets the profiles' 300 x 300 mm plate
+// (decision 0028; TheHeadMeetsTheSubstrateOnlyWhereThePlateIs checks that) but passes beside
+// this one. The dialects are under test here, with a plate modelled.
 TEST(Verify, FiveAxisWritersOutputReplaysCleanInEveryDialect) {
     for (const char* file : {"reference_5axis_ac.toml", "linuxcnc_5axis_ac.toml",
                              "fanuc_5axis_ac.toml", "siemens_5axis_bc.toml"}) {
         SCOPED_TRACE(file);
-        const machine::Profiles p = load(file);
+        machine::Profiles p = load(file);
         ASSERT_FALSE(p.machine.name.empty());
+        ASSERT_TRUE(p.machine.substrate.has_value());
+        const double fit = 2 * kHalf + 2.0;
+        p.machine.substrate =
+            machine::SubstrateProfile{fit, fit, p.machine.substrate->thickness_mm};
         const mesh::TriangleMesh model = placed_block(p);
         const Vec3d c = mesh::bounding_box(model).center();
         const double h = p.process.layer_height_mm;
@@ -419,9 +436,12 @@ TEST(Verify, FiveAxisWritersOutputReplaysCleanInEveryDialect) {
 // block's size plus 2 mm is not (the head ends its cone and starts its body beyond the plate's
 // edge), nor a plate that is long in X but short in Y; one long in Y is hit again. A plate
 // smaller than the block leaves the first layer's outer beads on nothing.
+// The program is written for the machine without a plate (the bundled profile's own plate
+// is taken out, decision 0028); each plate under test is then put in for the replay.
 TEST(Verify, TheHeadMeetsTheSubstrateOnlyWhereThePlateIs) {
     machine::Profiles p = load("reference_5axis_ac.toml");
-    ASSERT_FALSE(p.machine.substrate.has_value());
+    ASSERT_TRUE(p.machine.substrate.has_value());
+    p.machine.substrate.reset();
     const mesh::TriangleMesh model = placed_block(p);
     const Vec3d c = mesh::bounding_box(model).center();
     const double h = p.process.layer_height_mm;
