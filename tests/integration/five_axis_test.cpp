@@ -127,11 +127,13 @@ struct VerifyRun {
 };
 
 VerifyRun run_verify(const fs::path& program, const fs::path& part, const fs::path& profile,
-                     const fs::path& json) {
+                     const fs::path& json, const std::vector<std::string>& extra = {}) {
     VerifyRun v;
     fs::remove(json);
-    v.run = run_cli({"verify", program.string(), "--model", part.string(), "--profile",
-                     profile.string(), "--json", json.string()});
+    std::vector<std::string> args = {"verify",    program.string(), "--model", part.string(),
+                                     "--profile", profile.string(), "--json",  json.string()};
+    args.insert(args.end(), extra.begin(), extra.end());
+    v.run = run_cli(args);
     if (fs::exists(json)) {
         v.report = nlohmann::json::parse(slurp(json), nullptr, false);
         EXPECT_FALSE(v.report.is_discarded()) << "the report is not JSON: " << json;
@@ -139,6 +141,37 @@ VerifyRun run_verify(const fs::path& program, const fs::path& part, const fs::pa
         ADD_FAILURE() << "no JSON report written\n" << v.run.err;
     }
     return v;
+}
+
+// The options of the job's "verify with" line (printed when the job built the part on another
+// base or with a finer process): its --direction and --finer, as a user replays the program.
+// The gm dialect names no base in the program, so its replay needs them; none when the job
+// built the part as given with its main process (no such line).
+std::vector<std::string> replay_options(const std::string& out) {
+    static const std::regex line(
+        R"((?:^|\n)verify with +maxslice verify \S+ --model \S+((?: --(?:direction|finer) \S+)*) \(and the same --profile\))");
+    std::smatch m;
+    if (!std::regex_search(out, m, line)) return {};
+    std::vector<std::string> options;
+    std::istringstream words(m[1].str());
+    for (std::string w; words >> w;) options.push_back(w);
+    return options;
+}
+
+// A copy of `profile` in `dir` with its machining stock and fill at 0: the job deposits the
+// part as it is, no near-net shape (decision 0025). For tests about the track against the
+// part's own features, which the reference profiles' near-net shape fills.
+fs::path net_shape_copy(const fs::path& profile, const fs::path& dir) {
+    std::string text = slurp(profile);
+    for (const std::string key : {"machining_stock_mm = ", "fill_below_mm = "}) {
+        const std::size_t at = text.find(key);
+        EXPECT_NE(at, std::string::npos) << key << " in " << profile;
+        if (at == std::string::npos) continue;
+        text.replace(at, text.find(' ', at + key.size()) - at, key + "0.0");
+    }
+    const fs::path copy = dir / (profile.stem().string() + "_net_shape.toml");
+    std::ofstream(copy) << text;
+    return copy;
 }
 
 // A clean 5-axis job: slice exits 0 and writes the program; the printed figures say no
@@ -160,7 +193,10 @@ void expect_clean_job(const fs::path& part, const fs::path& profile, const fs::p
     EXPECT_GE(f.coverage_pct, 97.0) << r.out;
     EXPECT_LT(f.excess_pct, 5.0) << r.out;
 
-    const VerifyRun v = run_verify(program, part, profile, dir / "report.json");
+    // Replayed as the job says (the plate, decision 0028, and the near-net shape, 0025, can
+    // make it build the part on another base).
+    const VerifyRun v =
+        run_verify(program, part, profile, dir / "report.json", replay_options(r.out));
     EXPECT_EQ(v.run.exit_code, 0) << v.run.out << v.run.err;
     EXPECT_NE(v.run.out.find("PASSED"), std::string::npos) << v.run.out;
     ASSERT_TRUE(v.report.is_object());
@@ -322,17 +358,27 @@ TEST(FiveAxis, PartsTooFineForTheReferenceTrackBuildCleanWithTheFineTrack) {
           "prusaslicer/M3x10_screw.stl", "netgen/part1.stl"}) {
         expect_clean_job(kTestData / "meshes" / part, fine, dir, "gm");
     }
-    // At the reference track alone (--finer off) the beads hold under 97 % of the part: no
-    // program is written (decision 0026), and the job says the figure, why it is low and what
-    // builds the part.
+    // At the reference track alone (--finer off) the beads hold under 97 % of the part as it
+    // is: no program is written (decision 0026), and the job says the figure, why it is low and
+    // what builds the part. The part as it is: the reference cell without its machining stock
+    // and fill (whose near-net shape fills the gaps between the teeth, below).
     const fs::path gear = kTestData / "meshes/stl-models/gearwheel.bin.stl";
-    const CliRun r = run_cli({"slice", gear.string(), "--profile", kReference5.string(), "-o",
+    const fs::path net = net_shape_copy(kReference5, dir);
+    const CliRun r = run_cli({"slice", gear.string(), "--profile", net.string(), "-o",
                               (dir / "g.gm").string(), "--finer", "off"});
     EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
     EXPECT_FALSE(fs::exists(dir / "g.gm"));
     expect_short_of_part(r.err);
     EXPECT_NE(r.err.find("narrower than the 2.50 mm track"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("fine_5axis_ac.toml"), std::string::npos) << r.err;
+    // The shipped reference profile deposits the gear's near-net shape (1 mm stock, gaps under
+    // 10 mm filled, decision 0025): its 2.5 mm track builds that, the finished gear inside.
+    const CliRun grown = run_cli({"slice", gear.string(), "--profile", kReference5.string(), "-o",
+                                  (dir / "g.gm").string(), "--finer", "off"});
+    ASSERT_EQ(grown.exit_code, 0) << grown.out << grown.err;
+    EXPECT_NE(grown.out.find("near-net shape  1.00 mm machining stock"), std::string::npos)
+        << grown.out;
+    expect_clean(read_figures(grown.out), grown.out);
     // With the fine track already, the hint is the units: the angle block is in inches
     // (MANIFEST.md); read as mm it is 1.35 mm across and mostly narrower than 0.8 mm.
     const fs::path block = kTestData / "meshes/trimesh/angle_block.STL";
@@ -353,10 +399,14 @@ TEST(FiveAxis, PartsTooFineForTheReferenceTrackBuildCleanWithTheFineTrack) {
 // builds keeps it; a part neither builds is refused with what the finer track gave.
 TEST(FiveAxis, TheReferenceCellFallsBackToItsFinerTrackWhereItsTrackMissesTheFigures) {
     const fs::path dir = temp_dir("finer_fallback");
+    // The reference cell without its machining stock and fill: its near-net shape fills the
+    // gear's tooth gaps, which the 2.5 mm track then builds (PartsTooFine... checks that);
+    // here the track meets the part's own features.
+    const fs::path net = net_shape_copy(kReference5, dir);
     const fs::path gear = kTestData / "meshes/stl-models/gearwheel.bin.stl";
     const fs::path program = dir / "g.gm";
-    const CliRun r = run_cli(
-        {"slice", gear.string(), "--profile", kReference5.string(), "-o", program.string()});
+    const CliRun r =
+        run_cli({"slice", gear.string(), "--profile", net.string(), "-o", program.string()});
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const Figures f = read_figures(r.out);
     expect_clean(f, r.out);
@@ -375,7 +425,7 @@ TEST(FiveAxis, TheReferenceCellFallsBackToItsFinerTrackWhereItsTrackMissesTheFig
 
     const auto verify = [&](std::vector<std::string> extra, const fs::path& prog) {
         std::vector<std::string> args = {"verify",      prog.string(), "--model",
-                                         gear.string(), "--profile",   kReference5.string()};
+                                         gear.string(), "--profile",   net.string()};
         args.insert(args.end(), extra.begin(), extra.end());
         return run_cli(args);
     };
@@ -414,36 +464,44 @@ TEST(FiveAxis, TheReferenceCellFallsBackToItsFinerTrackWhereItsTrackMissesTheFig
 
     // --finer 1 picks it at once: the same program.
     const fs::path direct = dir / "g1.gm";
-    const CliRun d = run_cli({"slice", gear.string(), "--profile", kReference5.string(), "-o",
-                              direct.string(), "--finer", "1"});
+    const CliRun d = run_cli(
+        {"slice", gear.string(), "--profile", net.string(), "-o", direct.string(), "--finer", "1"});
     ASSERT_EQ(d.exit_code, 0) << d.err;
     EXPECT_EQ(slurp(direct), text);
-    const CliRun bad = run_cli({"slice", gear.string(), "--profile", kReference5.string(), "-o",
+    const CliRun bad = run_cli({"slice", gear.string(), "--profile", net.string(), "-o",
                                 direct.string(), "--finer", "fine"});
     EXPECT_EQ(bad.exit_code, 2);
     EXPECT_NE(bad.err.find("--finer"), std::string::npos) << bad.err;
-    const CliRun layered = run_cli({"slice", gear.string(), "--profile", kReference5.string(), "-o",
+    const CliRun layered = run_cli({"slice", gear.string(), "--profile", net.string(), "-o",
                                     direct.string(), "--finer", "1", "--layer", "0.5"});
     EXPECT_EQ(layered.exit_code, 2);
     EXPECT_NE(layered.err.find("--layer sets the main process"), std::string::npos) << layered.err;
 
     // A part the 2.5 mm track builds to the figures keeps it.
     const fs::path seat = export_fixture(maxslice::test::bearing_seat(), dir);
-    const CliRun kept = run_cli(
-        {"slice", seat.string(), "--profile", kReference5.string(), "-o", (dir / "s.gm").string()});
+    const CliRun kept =
+        run_cli({"slice", seat.string(), "--profile", net.string(), "-o", (dir / "s.gm").string()});
     ASSERT_EQ(kept.exit_code, 0) << kept.err;
     EXPECT_EQ(kept.out.find("process         finer"), std::string::npos) << kept.out;
     EXPECT_EQ(kept.err.find("note:"), std::string::npos) << kept.err;
     EXPECT_EQ(slurp(dir / "s.gm").find("300.00 3.00"), std::string::npos);
     // Its replay with the finer track is warned of: the program has the main process's power.
-    const CliRun forced = run_cli({"verify", (dir / "s.gm").string(), "--model", seat.string(),
-                                   "--profile", kReference5.string(), "--finer", "1"});
+    // Replayed on the base the job built it on (with the plate, decision 0028, not the file's).
+    const std::vector<std::string> base = replay_options(kept.out);
+    std::vector<std::string> forced_args = {"verify",    (dir / "s.gm").string(),
+                                            "--model",   seat.string(),
+                                            "--profile", net.string(),
+                                            "--finer",   "1"};
+    forced_args.insert(forced_args.end(), base.begin(), base.end());
+    const CliRun forced = run_cli(forced_args);
     EXPECT_NE(forced.err.find("warning: the program deposits with the laser power of the "
                               "profile's main process, not of finer process 1 (--finer)"),
               std::string::npos)
         << forced.err;
-    const CliRun plain = run_cli({"verify", (dir / "s.gm").string(), "--model", seat.string(),
-                                  "--profile", kReference5.string()});
+    std::vector<std::string> plain_args = {
+        "verify", (dir / "s.gm").string(), "--model", seat.string(), "--profile", net.string()};
+    plain_args.insert(plain_args.end(), base.begin(), base.end());
+    const CliRun plain = run_cli(plain_args);
     EXPECT_EQ(plain.exit_code, 0) << plain.err;
     EXPECT_EQ(plain.out.find("process         finer"), std::string::npos) << plain.out;
     EXPECT_EQ(plain.err.find("warning"), std::string::npos) << plain.err;
@@ -452,8 +510,8 @@ TEST(FiveAxis, TheReferenceCellFallsBackToItsFinerTrackWhereItsTrackMissesTheFig
     // 2.5 mm track, with what the 0.8 mm one gave.
     const fs::path block = kTestData / "meshes/trimesh/angle_block.STL";
     const fs::path none_written = dir / "b.gm";
-    const CliRun refused = run_cli({"slice", block.string(), "--repair", "--profile",
-                                    kReference5.string(), "-o", none_written.string()});
+    const CliRun refused = run_cli({"slice", block.string(), "--repair", "--profile", net.string(),
+                                    "-o", none_written.string()});
     EXPECT_EQ(refused.exit_code, 2) << refused.out;
     EXPECT_FALSE(fs::exists(none_written));
     EXPECT_NE(refused.err.find("error: " + block.string() + ": no track fits"), std::string::npos)
@@ -468,7 +526,10 @@ TEST(FiveAxis, APlanarJobFallsBackToTheFinerTrackToo) {
     const fs::path dir = temp_dir("finer_planar");
     const std::string five = slurp(kReference5);
     const fs::path profile = dir / "lmd_finer.toml";
-    std::ofstream(profile) << slurp(kProfiles / "reference_lmd.toml") << "\n"
+    // The 3-axis cell without its machining stock and fill: the near-net shape of part1 (its
+    // narrow features filled, decision 0025) is built by the 2.5 mm track; here the track
+    // meets the part's own features.
+    std::ofstream(profile) << slurp(net_shape_copy(kProfiles / "reference_lmd.toml", dir)) << "\n"
                            << five.substr(five.find("[[process.finer]]"));
     const fs::path part1 = kTestData / "meshes/netgen/part1.stl";
     const fs::path program = dir / "p.gm";
@@ -591,52 +652,58 @@ TEST(FiveAxis, APartThatCannotBeBuiltAsGivenIsStoodOnAnotherBase) {
 }
 
 // The bearing seat's boss is built sideways 12 mm above the plate: the head's 30 mm body
-// reaches below the plate's level. Without a substrate in the profile the job builds it
-// as given and warns; with a 200 x 200 x 15 mm plate (decision 0016) the verifier finds the
-// head in the plate, and the job stands the part on another base, whose program passes with
-// the plate; --orient given refuses without a program.
+// reaches below the plate's level. Without a substrate in the profile (a copy of the reference
+// profile with its plate taken out) the job builds it as given and warns how far; with the
+// profile's 300 x 300 x 20 mm plate (decision 0028) the verifier finds the head in the plate,
+// and the job stands the part on another base, whose program passes with the plate; --orient
+// given refuses without a program.
 TEST(FiveAxis, AHeadThatWouldMeetTheSubstrateMakesTheJobChooseAnotherBase) {
     const fs::path dir = temp_dir("substrate");
     const fs::path part = export_fixture(maxslice::test::bearing_seat(), dir);
     const fs::path program = dir / "p.gm";
-    const CliRun plain = run_cli(
-        {"slice", part.string(), "--profile", kReference5.string(), "-o", program.string()});
+    std::string text = slurp(kReference5);
+    const std::size_t from = text.find("\n[machine.substrate]\n");
+    ASSERT_NE(from, std::string::npos);
+    const std::size_t to = text.find("\n\n", from + 1);
+    ASSERT_NE(to, std::string::npos);
+    text.erase(from, to - from);
+    ASSERT_EQ(text.find("substrate]"), std::string::npos);
+    const fs::path no_plate = dir / "no_plate.toml";
+    std::ofstream(no_plate) << text;
+    const CliRun plain =
+        run_cli({"slice", part.string(), "--profile", no_plate.string(), "-o", program.string()});
     ASSERT_EQ(plain.exit_code, 0) << plain.out << plain.err;
-    // The boss's lowest track centres are half a track above its 12 mm: the body reaches
-    // 30 - 13.25 mm under the plate's level.
+    // The near-net boss's underside is 12 mm above the plate (1 mm stock below it, the part
+    // 1 mm higher on its grown base) and its lowest track centres at least half a track above
+    // that: the body reaches at least 30 - 13.25 mm under the plate's level (more where the
+    // near-net shape rounds the inside corner under the boss), less than its radius.
     std::smatch below;
     ASSERT_TRUE(std::regex_search(plain.err, below,
                                   std::regex(R"(the head reaches up to ([0-9.]+) mm below the )"
                                              R"(plate's level)")))
         << plain.err;
-    EXPECT_NEAR(std::stod(below[1].str()), 30.0 - 13.25, 0.1) << plain.err;
+    EXPECT_GE(std::stod(below[1].str()), 30.0 - 13.25 - 0.1) << plain.err;
+    EXPECT_LT(std::stod(below[1].str()), 30.0) << plain.err;
     EXPECT_EQ(plain.err.find("cannot be built"), std::string::npos) << plain.err;
 
-    std::string text = slurp(kReference5);
-    const std::string process = "\n[process]";
-    const auto at = text.find(process);
-    ASSERT_NE(at, std::string::npos);
-    text.insert(at,
-                "\n[machine.substrate]\nsize_x_mm = 200.0\nsize_y_mm = 200.0\n"
-                "thickness_mm = 15.0\n");
-    const fs::path plated = dir / "plated.toml";
-    std::ofstream(plated) << text;
-    const CliRun r =
-        run_cli({"slice", part.string(), "--profile", plated.string(), "-o", program.string()});
+    const CliRun r = run_cli(
+        {"slice", part.string(), "--profile", kReference5.string(), "-o", program.string()});
     ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
     EXPECT_NE(r.err.find("the part as given cannot be built: the verifier refused its program"),
               std::string::npos)
         << r.err;
+    EXPECT_NE(r.err.find("the head meets the substrate plate"), std::string::npos) << r.err;
     EXPECT_EQ(r.err.find("below the plate's level"), std::string::npos) << r.err;
+    expect_clean(read_figures(r.out), r.out);
     std::smatch m;
     ASSERT_TRUE(std::regex_search(
         r.out, m, std::regex(R"(verify with +maxslice verify \S+ --model \S+ --direction (\S+))")))
         << r.out;
     const CliRun v = run_cli({"verify", program.string(), "--model", part.string(), "--profile",
-                              plated.string(), "--direction", m[1].str()});
+                              kReference5.string(), "--direction", m[1].str()});
     EXPECT_EQ(v.exit_code, 0) << v.out << v.err;
     const fs::path given = dir / "given.gm";
-    const CliRun g = run_cli({"slice", part.string(), "--profile", plated.string(), "-o",
+    const CliRun g = run_cli({"slice", part.string(), "--profile", kReference5.string(), "-o",
                               given.string(), "--orient", "given"});
     EXPECT_EQ(g.exit_code, 2) << g.out << g.err;
     EXPECT_NE(g.err.find("substrate"), std::string::npos) << g.err;
@@ -676,8 +743,9 @@ TEST(FiveAxis, AnRsProgramSaysWhichBaseItBuildsOn) {
 // A wedge standing on a strip 0.5 mm wide: no 2.5 mm track fits on the plate, and the wider
 // layers above would rest on nothing (the toolpath stage cuts them, decision 0013, and most of
 // the part went missing; the angle block of the shared set in inches had 174 beads in mid-air).
-// The job stands it on a face instead and its program verifies; --orient given refuses,
-// naming the strip.
+// The job stands it on a face instead and its program verifies; --orient given with the 2.5 mm
+// track alone refuses, naming the strip. (The near-net shape, decision 0025, widens the strip
+// to 2.5 mm with its stock: as given, the finer 0.8 mm track fits there and builds the part.)
 TEST(FiveAxis, APartStandingOnAnEdgeIsStoodOnAFace) {
     const fs::path dir = temp_dir("edge");
     maxslice::test::RampSpec spec;
@@ -699,12 +767,23 @@ TEST(FiveAxis, APartStandingOnAnEdgeIsStoodOnAFace) {
 
     const fs::path none = dir / "none.gm";
     const CliRun g = run_cli({"slice", part.string(), "--profile", kReference5.string(), "-o",
-                              none.string(), "--orient", "given"});
+                              none.string(), "--orient", "given", "--finer", "off"});
     EXPECT_EQ(g.exit_code, 2) << g.out << g.err;
     EXPECT_NE(g.err.find("the part stands on 1 piece(s) where no 2.50 mm track fits"),
               std::string::npos)
         << g.err;
     EXPECT_FALSE(fs::exists(none));
+    const fs::path fine = dir / "fine.gm";
+    const CliRun f1 = run_cli({"slice", part.string(), "--profile", kReference5.string(), "-o",
+                               fine.string(), "--orient", "given"});
+    ASSERT_EQ(f1.exit_code, 0) << f1.out << f1.err;
+    EXPECT_NE(f1.out.find("process         finer 1: 0.80 mm track, 0.20 mm layers (the 2.50 mm "
+                          "track: refused: the part stands on 1 piece(s) where no 2.50 mm track "
+                          "fits)"),
+              std::string::npos)
+        << f1.out;
+    EXPECT_EQ(f1.out.find("orientation     "), std::string::npos) << f1.out;
+    expect_clean(read_figures(f1.out), f1.out);
 }
 
 // A written program with one deposit block moved 5 mm down into the part, and one with a travel
@@ -725,7 +804,10 @@ TEST(FiveAxis, APlantedCollisionIsCaughtByVerify) {
     }
     ASSERT_GT(deposits.size(), 1000u);
 
-    const VerifyRun control = run_verify(good, part, kReference5, dir / "good.json");
+    // The arch's near-net shape (decision 0025) is built on another base: every replay takes
+    // the job's --direction, as a user does.
+    const std::vector<std::string> replay = replay_options(r.out);
+    const VerifyRun control = run_verify(good, part, kReference5, dir / "good.json", replay);
     ASSERT_EQ(control.run.exit_code, 0) << control.run.out << control.run.err;
 
     // 1. A deposit block late in the build (many layers below it) 5 mm down.
@@ -740,7 +822,8 @@ TEST(FiveAxis, APlantedCollisionIsCaughtByVerify) {
         ASSERT_NE(bad[d.index], lines[d.index]);
         const fs::path program = dir / "deposit_down.gm";
         std::ofstream(program, std::ios::binary) << join_lines(bad);
-        const VerifyRun v = run_verify(program, part, kReference5, dir / "deposit_down.json");
+        const VerifyRun v =
+            run_verify(program, part, kReference5, dir / "deposit_down.json", replay);
         const int line = static_cast<int>(d.index) + 1;
         EXPECT_EQ(v.run.exit_code, kExitUnsafe) << v.run.out << v.run.err;
         EXPECT_NE(v.run.err.find("maxslice: error: verification failed"), std::string::npos)
@@ -771,7 +854,8 @@ TEST(FiveAxis, APlantedCollisionIsCaughtByVerify) {
                     gm_line(0.0, 0.0, last->x, last->y, last->z, last->a, last->c, travel)});
         const fs::path program = dir / "travel_down.gm";
         std::ofstream(program, std::ios::binary) << join_lines(bad);
-        const VerifyRun v = run_verify(program, part, kReference5, dir / "travel_down.json");
+        const VerifyRun v =
+            run_verify(program, part, kReference5, dir / "travel_down.json", replay);
         const int line = static_cast<int>(off) + 2;  // 1-based, right after the M9
         EXPECT_EQ(v.run.exit_code, kExitUnsafe) << v.run.out << v.run.err;
         EXPECT_NE(collisions_line(v.run.out).find("line " + std::to_string(line)),
@@ -786,10 +870,13 @@ TEST(FiveAxis, APlantedCollisionIsCaughtByVerify) {
     }
 }
 
-// --no-verify writes the same program without replaying it and says so.
+// --no-verify writes the same program without replaying it and says so: the program of the
+// first plan, which for this part is the one the verifier keeps. (The L bracket as given now
+// meets the profile's plate, decision 0028: its verified job builds it on another base, which
+// --no-verify, replaying nothing, cannot know; the T keeps its base.)
 TEST(FiveAxis, NoVerifyWritesTheProgramAndSaysSo) {
     const fs::path dir = temp_dir("no_verify");
-    const fs::path part = export_fixture(maxslice::test::l_bracket(), dir);
+    const fs::path part = export_fixture(maxslice::test::t_shape_arms(), dir);
     const fs::path checked = dir / "checked.gm";
     const fs::path unchecked = dir / "unchecked.gm";
     const CliRun a = run_cli(
@@ -803,6 +890,7 @@ TEST(FiveAxis, NoVerifyWritesTheProgramAndSaysSo) {
     EXPECT_FALSE(read_figures(b.out).verified) << b.out;
     EXPECT_FALSE(read_figures(b.out).coverage_line) << b.out;
     EXPECT_TRUE(read_figures(a.out).verified) << a.out;
+    EXPECT_EQ(a.out.find("orientation     "), std::string::npos) << a.out;
     EXPECT_EQ(slurp(checked), slurp(unchecked));
     EXPECT_EQ(a.err.find("--adaptive"), std::string::npos) << a.err;
 
@@ -877,10 +965,26 @@ TEST(FiveAxis, EverySharedModelIsBuiltOrRefusedCleanly) {
         EXPECT_TRUE(fs::exists(program));
         const Figures f = read_figures(r.out);
         expect_clean(f, r.out);
-        // Issue 6's figures for every part that plans at the reference profile: the 2.5 mm
-        // track, or its finer process where that track misses them (decision 0019).
-        EXPECT_GE(f.coverage_pct, 97.0) << r.out << r.err;
-        EXPECT_LT(f.excess_pct, 5.0) << r.out << r.err;
+        // What the job guarantees (decision 0026): at least 97 % of the finished part inside
+        // beads (expect_clean). The figures of the near-net shape it deposits (decision 0025)
+        // are not a rule: where the program misses 97 % coverage or 5 % excess of it, the
+        // job tried the profile's finer process (decision 0019) and took it or said it does no
+        // better, and a coverage under 97 % is warned with its figure.
+        if (f.coverage_pct < 97.0 || f.excess_pct >= 5.0) {
+            EXPECT_TRUE(r.out.find("process         finer 1") != std::string::npos ||
+                        r.err.find("the profile's finer processes do no better") !=
+                            std::string::npos)
+                << r.out << r.err;
+        }
+        if (f.coverage_pct < 97.0) {
+            std::smatch warned;
+            ASSERT_TRUE(std::regex_search(
+                r.err, warned,
+                std::regex(
+                    R"(warning: the beads cover ([0-9.]+)% of the near-net shape's volume)")))
+                << r.out << r.err;
+            EXPECT_NEAR(std::stod(warned[1].str()), f.coverage_pct, 0.05 + 1e-6) << r.err;
+        }
     }
     // Most parts of the set are either too fine for the 2.5 mm track or have a build; several
     // of them must give a program (a planner that refuses everything fails here).
