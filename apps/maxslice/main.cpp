@@ -997,6 +997,18 @@ int run_slice(const PartOptions& opt, const SliceOptions& so) {
     std::optional<mesh::TriangleMesh> finished;
     std::string near_net_line;
     if (profiles) {
+        // A part the table cannot bring under the nozzle as deposited (grown by the stock) in
+        // any orientation the job may try is refused at once: the near-net shape of a part
+        // that large takes the most time, or is itself refused for its size. The shape made,
+        // each orientation checks it again before it is planned.
+        if (program_mode && !pipeline::near_net_settings(profiles->process).off()) {
+            if (auto ok =
+                    pipeline::check_fits_machine(part->imported.mesh, ss.direction, *policy,
+                                                 *profiles, profiles->process.machining_stock_mm);
+                !ok) {
+                return report_error(ok.error());
+            }
+        }
         const auto progress = make_progress();
         auto near = pipeline::near_net_part(*part, profiles->process, progress.get(), &times);
         if (!near) return report_error(core::with_context(near.error(), opt.path));

@@ -79,6 +79,35 @@ struct Placed {
     std::vector<int> bare_plate;
 };
 
+// Whether the table can bring `placed` (a part on the plate) under the nozzle at all
+// (MachineKinematics::check_reach, with a track's width of slack), as deposited grown by
+// `grown_mm` on every side: a part larger than the machine is refused before it is planned.
+// The grown part's points are checked exactly where it matters most: every point of a part
+// grown by s lies within s of the part, and the farthest from the table's axes is a vertex
+// moved s farther out, so the check of the vertices is made with s less slack (the grown part
+// stands s higher: its box is the part's grown by s). Its lowest layer is checked on the
+// part's own lowest layer moved down by s (a part of the grown one's lowest layer: a bound
+// that never refuses what the grown part's own check would pass).
+core::Result<void> check_reach_of(const machine::MachineKinematics& kinematics,
+                                  const mesh::TriangleMesh& placed,
+                                  const machine::ProcessProfile& process, double grown_mm) {
+    double bottom = INFINITY;
+    for (const Vec3d& v : placed.vertices) bottom = std::min(bottom, v.z);
+    std::vector<Vec3d> plate;
+    for (const Vec3d& v : placed.vertices) {
+        if (v.z <= bottom + process.layer_height_mm) plate.push_back(v);
+    }
+    if (grown_mm <= 0.0) {
+        return kinematics.check_reach(placed.vertices, plate, process.track_width_mm);
+    }
+    std::vector<Vec3d> raised = placed.vertices;
+    for (Vec3d& v : raised) v.z += grown_mm;
+    if (auto ok = kinematics.check_reach(raised, {}, process.track_width_mm - grown_mm); !ok) {
+        return ok;
+    }
+    return kinematics.check_reach({}, plate, process.track_width_mm);
+}
+
 core::Result<Placed> plan_along(const mesh::TriangleMesh& part, const Vec3d& direction,
                                 const machine::Profiles& profiles, const core::Progress* progress) {
     Placed out;
@@ -87,15 +116,7 @@ core::Result<Placed> plan_along(const mesh::TriangleMesh& part, const Vec3d& dir
     // A part the table cannot bring under the nozzle is refused before it is planned.
     auto kinematics = machine::MachineKinematics::create(profiles.machine);
     if (!kinematics) return std::unexpected(kinematics.error());
-    double bottom = INFINITY;
-    for (const Vec3d& v : out.placed.vertices) bottom = std::min(bottom, v.z);
-    std::vector<Vec3d> plate;
-    for (const Vec3d& v : out.placed.vertices) {
-        if (v.z <= bottom + profiles.process.layer_height_mm) plate.push_back(v);
-    }
-    if (auto ok =
-            kinematics->check_reach(out.placed.vertices, plate, profiles.process.track_width_mm);
-        !ok) {
+    if (auto ok = check_reach_of(*kinematics, out.placed, profiles.process, 0.0); !ok) {
         return std::unexpected(ok.error());
     }
     PlanJobSettings ps;
@@ -139,6 +160,49 @@ std::string other_tries(const std::vector<OrientTry>& tries, int chosen) {
                            tries[i].refusal.empty() ? "builds" : tries[i].refusal);
     }
     return out.empty() ? out : "; other orientations tried: " + out;
+}
+
+core::Result<void> check_fits_machine(const mesh::TriangleMesh& part, const Vec3d& given,
+                                      OrientPolicy policy, const machine::Profiles& profiles,
+                                      double grown_mm) {
+    if (!machine::is_table_tilt(profiles.machine.kinematics)) return {};
+    auto kinematics = machine::MachineKinematics::create(profiles.machine);
+    if (!kinematics) return std::unexpected(kinematics.error());
+    // The most slack any of the job's processes gets (each attempt checks again with its own).
+    machine::ProcessProfile widest = profiles.process;
+    for (const machine::ProcessProfile& p : profiles.process.finer) {
+        widest.track_width_mm = std::max(widest.track_width_mm, p.track_width_mm);
+    }
+    std::vector<std::pair<Vec3d, std::string>> directions;
+    if (policy != OrientPolicy::kAuto) directions.emplace_back(given, "as given");
+    if (policy != OrientPolicy::kGiven) {
+        for (const OrientCandidate& c : orientation_candidates(part)) {
+            if (policy == OrientPolicy::kAuto || !same_direction(c.direction, given)) {
+                directions.emplace_back(c.direction, c.source);
+            }
+        }
+    }
+    std::vector<OrientTry> tries;
+    std::optional<core::Error> first;
+    for (const auto& [direction, source] : directions) {
+        const mesh::TriangleMesh placed =
+            place_on_plate(part, direction, machine::plate_center(profiles.machine));
+        auto ok = check_reach_of(*kinematics, placed, widest, grown_mm);
+        if (ok) return {};
+        if (ok.error().code != core::ErrorCode::kInvalidInput) return ok;
+        tries.push_back(
+            {core::normalized(direction), source, "no plan: " + first_clause(ok.error())});
+        if (!first) first = ok.error();
+    }
+    if (!first) return {};
+    if (grown_mm > 0.0) {
+        first->message += fmt::format(
+            " (the part as deposited: grown by its {:.2f} mm machining stock, checked before its "
+            "near-net shape is made)",
+            grown_mm);
+    }
+    first->message += other_tries(tries, 0);
+    return std::unexpected(*first);
 }
 
 core::Result<OrientedPlan> orient_multiaxis(const mesh::TriangleMesh& part, const Vec3d& given,

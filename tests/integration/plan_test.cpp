@@ -374,7 +374,10 @@ TEST(PlanCli, ThreeAxisPartOnAStripIsStoodOnAFace) {
 
 // A slab 1.2 m square on the 800 x 800 mm travel of the reference A/C cell: refused before
 // anything is planned (it used to be planned and ordered first: a 2 m block ran for minutes),
-// in every orientation, naming a point and the reach.
+// in every orientation, naming a point and the reach. With the profile's machining stock the
+// part is checked as deposited, grown by the stock, and before its near-net shape is made (a
+// part this large would otherwise be refused for the near-net shape's voxel bound, or take the
+// near-net shape's time, before the machine's reach was looked at).
 TEST(PlanCli, APartLargerThanTheMachineIsRefusedAtOnce) {
     const fs::path dir = temp_dir("large");
     const fs::path slab =
@@ -386,6 +389,10 @@ TEST(PlanCli, APartLargerThanTheMachineIsRefusedAtOnce) {
     EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
     EXPECT_NE(r.err.find("the part does not fit the machine"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("other orientations tried"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("mm machining stock, checked before its near-net shape is made"),
+              std::string::npos)
+        << r.err;
+    EXPECT_EQ(r.err.find("voxels"), std::string::npos) << "no near-net shape made: " << r.err;
     EXPECT_EQ(r.out.find("regions"), std::string::npos) << "nothing planned: " << r.out;
     EXPECT_FALSE(fs::exists(out));
 }

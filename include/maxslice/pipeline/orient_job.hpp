@@ -35,6 +35,22 @@ struct OrientTry {
 /// `chosen` and the part as given (empty without others).
 std::string other_tries(const std::vector<OrientTry>& tries, int chosen);
 
+/// Refuses at once a part the table-tilt machine cannot bring under the nozzle along any
+/// direction `policy` lets the job try (kGiven: `given`; kFallback: `given`, then the
+/// orientation_candidates of `part`; kAuto: the candidates), before anything is planned or a
+/// near-net shape made: MachineKinematics::check_reach of the part standing on the plate along
+/// each, as deposited grown by `grown_mm` (the profile's machining stock: the near-net shape's
+/// box is the part's grown by it, and its farthest point from the table's axes a vertex's
+/// grown by it), with the widest track of the profile's processes as slack. It passes when one
+/// direction fits; orient_multiaxis checks the mesh it is given again, direction by direction.
+/// Nothing is tested for a 3-axis machine. Errors (kInvalidInput): the first direction's
+/// ("the part does not fit the machine: ..."), saying the stock was added, then "; other
+/// orientations tried: ..." as orient_multiaxis words it; the kinematics' own errors.
+[[nodiscard]] core::Result<void> check_fits_machine(const mesh::TriangleMesh& part,
+                                                    const core::Vec3d& given, OrientPolicy policy,
+                                                    const machine::Profiles& profiles,
+                                                    double grown_mm);
+
 /// A multi-axis plan of the part standing on the plate along a chosen direction.
 struct OrientedPlan {
     mesh::TriangleMesh placed;  ///< the part on the plate, the chosen direction up

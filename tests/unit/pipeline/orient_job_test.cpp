@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cmath>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -196,6 +197,57 @@ TEST(OrientJob, AStackTheCheckRefusesIsNotKept) {
     EXPECT_EQ(g->tries[0].refusal, "refused by the test");
     EXPECT_NEAR(top_z(g->placed), given_height, 1e-6);
     EXPECT_EQ(calls, 1);
+}
+
+// The quick fit check of a job that deposits a near-net shape is of the part grown by the
+// stock: a 1 mm square column, standing as given, reaches farthest from the table's axes at its
+// top, which the stock raises by s (the column stands on s of stock) and moves s farther up:
+// the tallest column that fits is 2 s shorter than without stock. Laid down (the candidates),
+// a column too tall to stand fits; a slab wider than the travel fits no way, and the refusal
+// names the stock and the orientations tried.
+TEST(OrientJob, TheFitCheckIsOfThePartGrownByTheStock) {
+    const machine::Profiles profiles = reference_profiles();
+    const double stock = profiles.process.machining_stock_mm;
+    ASSERT_GT(stock, 0.0);
+    const auto column = [](double h) { return test::box({0, 0, 0}, {1, 1, h}); };
+    const auto fits = [&](double h, double grown, OrientPolicy policy) {
+        return check_fits_machine(column(h), {0, 0, 1}, policy, profiles, grown).has_value();
+    };
+    // The tallest column that fits standing, to 1e-4 mm.
+    const auto tallest = [&](double grown) {
+        double lo = 10.0, hi = 1e4;
+        EXPECT_TRUE(fits(lo, grown, OrientPolicy::kGiven));
+        EXPECT_FALSE(fits(hi, grown, OrientPolicy::kGiven));
+        while (hi - lo > 1e-4) {
+            const double mid = 0.5 * (lo + hi);
+            (fits(mid, grown, OrientPolicy::kGiven) ? lo : hi) = mid;
+        }
+        return lo;
+    };
+    const double bare = tallest(0.0);
+    const double grown = tallest(stock);
+    EXPECT_NEAR(bare - grown, 2.0 * stock, 0.01) << bare << " " << grown;
+
+    const auto too_tall =
+        check_fits_machine(column(grown + 1.0), {0, 0, 1}, OrientPolicy::kGiven, profiles, stock);
+    ASSERT_FALSE(too_tall.has_value());
+    EXPECT_NE(too_tall.error().message.find("does not fit the machine"), std::string::npos);
+    EXPECT_NE(too_tall.error().message.find("machining stock"), std::string::npos);
+    EXPECT_EQ(too_tall.error().message.find("other orientations"), std::string::npos);
+    EXPECT_TRUE(fits(grown + 1.0, stock, OrientPolicy::kFallback));
+    EXPECT_TRUE(fits(grown + 1.0, stock, OrientPolicy::kAuto));
+
+    const auto slab = check_fits_machine(test::box({0, 0, 0}, {2000, 2000, 10}), {0, 0, 1},
+                                         OrientPolicy::kFallback, profiles, stock);
+    ASSERT_FALSE(slab.has_value());
+    EXPECT_NE(slab.error().message.find("other orientations tried"), std::string::npos);
+
+    // A 3-axis machine: nothing is checked here (its program's limit check names the move).
+    machine::Profiles xyz = profiles;
+    xyz.machine.kinematics = machine::Kinematics::kXyz;
+    EXPECT_TRUE(check_fits_machine(test::box({0, 0, 0}, {2000, 2000, 10}), {0, 0, 1},
+                                   OrientPolicy::kGiven, xyz, stock)
+                    .has_value());
 }
 
 }  // namespace
