@@ -577,8 +577,12 @@ JobOutcome run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
         return refusal;
     };
     auto t0 = std::chrono::steady_clock::now();
-    auto oriented =
-        pipeline::orient_multiaxis(part, given, policy, profiles, progress.get(), check);
+    // A near-net shape is stood on the flat faces of its finished part (decision 0025).
+    const std::vector<pipeline::OrientCandidate> candidates =
+        finished != nullptr ? pipeline::orientation_candidates(*finished)
+                            : std::vector<pipeline::OrientCandidate>{};
+    auto oriented = pipeline::orient_multiaxis(part, given, policy, profiles, progress.get(), check,
+                                               candidates);
     if (!oriented) return done(o.error(oriented.error()));
     const mesh::TriangleMesh placed = std::move(oriented->placed);
     const pipeline::PlannedPart& planned = oriented->planned;
@@ -813,9 +817,13 @@ JobOutcome run_planar_slice(const PartOptions& opt, const SliceOptions& so,
         // plate along the given direction (or, when that has overhangs a planar build cannot
         // hold, or a program the verifier refuses, and --orient allows it, along another),
         // checked with the planner's analysis.
+        // A near-net shape is stood on the flat faces of its finished part (decision 0025).
+        const std::vector<pipeline::OrientCandidate> candidates =
+            finished != nullptr ? pipeline::orientation_candidates(*finished)
+                                : std::vector<pipeline::OrientCandidate>{};
         auto oriented = pipeline::orient_planar(
             part.imported.mesh, given, so.allow_overhangs ? pipeline::OrientPolicy::kGiven : policy,
-            ss, *profiles, progress.get(), &times, write_stack);
+            ss, *profiles, progress.get(), &times, write_stack, candidates);
         if (!oriented) return done(o.error(oriented.error()));
         built_along = oriented->direction;
         part.imported.mesh = std::move(oriented->placed);
@@ -1102,6 +1110,11 @@ int run_plan(const PartOptions& opt, const PlanOptions& po, bool layer_given) {
     if (!near) return report_error(core::with_context(near.error(), opt.path));
     if (*near) {
         near_net_line = pipeline::near_net_line(**near);
+        // Stood on the flat faces of the finished part: the near-net shape's are meshed from
+        // voxels and none is exactly flat where the part lies across the grid.
+        if (ps.orient == pipeline::Orient::kAuto) {
+            ps.candidates = pipeline::orientation_candidates((*near)->finished);
+        }
         *part = std::move((*near)->built);
     }
     auto planned = pipeline::plan_mesh(part->imported.mesh, ps, progress.get());

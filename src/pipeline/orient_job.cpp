@@ -208,7 +208,8 @@ core::Result<void> check_fits_machine(const mesh::TriangleMesh& part, const Vec3
 core::Result<OrientedPlan> orient_multiaxis(const mesh::TriangleMesh& part, const Vec3d& given,
                                             OrientPolicy policy, const machine::Profiles& profiles,
                                             const core::Progress* progress,
-                                            const ProgramCheck& check) {
+                                            const ProgramCheck& check,
+                                            const std::vector<OrientCandidate>& candidates_of) {
     // "" when `p` (buildable as planned) passes `check` too.
     const auto checked = [&](const Placed& p) -> core::Result<std::string> {
         if (!check) return std::string();
@@ -258,7 +259,8 @@ core::Result<OrientedPlan> orient_multiaxis(const mesh::TriangleMesh& part, cons
         Placed placed;
     };
     std::vector<OrientCandidate> candidates;
-    for (const OrientCandidate& c : orientation_candidates(part)) {
+    for (const OrientCandidate& c :
+         candidates_of.empty() ? orientation_candidates(part) : candidates_of) {
         if (policy == OrientPolicy::kAuto || !same_direction(c.direction, given)) {
             candidates.push_back(c);
         }
@@ -346,7 +348,8 @@ core::Result<OrientedStack> orient_planar(const mesh::TriangleMesh& part, const 
                                           OrientPolicy policy, const SliceSettings& settings,
                                           const machine::Profiles& profiles,
                                           const core::Progress* progress, StageTimes* times,
-                                          const StackCheck& check) {
+                                          const StackCheck& check,
+                                          const std::vector<OrientCandidate>& candidates_of) {
     const plan::PlanSettings ps = plan_settings(profiles.process);
     SliceSettings along_z = settings;
     along_z.direction = {0.0, 0.0, 1.0};
@@ -385,7 +388,8 @@ core::Result<OrientedStack> orient_planar(const mesh::TriangleMesh& part, const 
     // ranking of plan --orient auto, all of them needing no split), the first `check` keeps.
     std::vector<OrientedStack> passing;
     std::optional<OrientedStack> first;  // kAuto when none passes: the first that slices
-    for (const OrientCandidate& c : orientation_candidates(part)) {
+    for (const OrientCandidate& c :
+         candidates_of.empty() ? orientation_candidates(part) : candidates_of) {
         if (as_given && same_direction(c.direction, given)) continue;
         auto s = slice_along(c.direction, nullptr);
         if (!s && s.error().code == core::ErrorCode::kCancelled) return std::unexpected(s.error());

@@ -249,7 +249,7 @@ core::Result<PlannedPart> plan_mesh(const mesh::TriangleMesh& mesh, const PlanJo
         }
         out.plan = std::move(*p);
     } else {
-        out.candidates = orientation_candidates(mesh);
+        out.candidates = s.candidates.empty() ? orientation_candidates(mesh) : s.candidates;
         // Planned side by side (each plan is the same whatever runs beside it), then taken in
         // the candidates' order.
         std::vector<std::optional<core::Result<plan::Plan>>> plans(out.candidates.size());

@@ -79,13 +79,12 @@ using ProgramCheck = std::function<core::Result<std::string>(
 /// direction; with kFallback a plan the planner refuses as invalid input along the given direction
 /// is recorded as a try like the candidates' and its error returned only when nothing builds.
 /// `check`, when given, is asked about every plan before it is kept (kGiven: its answer is
-/// recorded and the given plan kept).
-[[nodiscard]] core::Result<OrientedPlan> orient_multiaxis(const mesh::TriangleMesh& part,
-                                                          const core::Vec3d& given,
-                                                          OrientPolicy policy,
-                                                          const machine::Profiles& profiles,
-                                                          const core::Progress* progress = nullptr,
-                                                          const ProgramCheck& check = {});
+/// recorded and the given plan kept). `candidates_of`, when not empty, replaces
+/// orientation_candidates(part) (a near-net shape is searched along its finished part's).
+[[nodiscard]] core::Result<OrientedPlan> orient_multiaxis(
+    const mesh::TriangleMesh& part, const core::Vec3d& given, OrientPolicy policy,
+    const machine::Profiles& profiles, const core::Progress* progress = nullptr,
+    const ProgramCheck& check = {}, const std::vector<OrientCandidate>& candidates_of = {});
 
 /// A planar stack of the part standing on the plate along a chosen direction.
 struct OrientedStack {
@@ -106,12 +105,13 @@ struct OrientedStack {
 /// `times` gets the given direction's slicing only (as without the search: the `slice` stage
 /// the benchmarks compare). `check`, when given, is asked about every stack before it is kept,
 /// in the search's order; one it refuses is a refused try (kGiven: recorded, the given kept).
+/// `candidates_of` as for orient_multiaxis.
 using StackCheck = std::function<core::Result<std::string>(
     const core::Vec3d& direction, const mesh::TriangleMesh& placed, const SliceStack& stack)>;
 [[nodiscard]] core::Result<OrientedStack> orient_planar(
     const mesh::TriangleMesh& part, const core::Vec3d& given, OrientPolicy policy,
     const SliceSettings& settings, const machine::Profiles& profiles,
     const core::Progress* progress = nullptr, StageTimes* times = nullptr,
-    const StackCheck& check = {});
+    const StackCheck& check = {}, const std::vector<OrientCandidate>& candidates_of = {});
 
 }  // namespace maxslice::pipeline

@@ -36,16 +36,6 @@ enum class Orient {
 /// sideways is then built along a direction the head reaches (decision 0029).
 [[nodiscard]] plan::PlanSettings plan_settings(const machine::Profiles& profiles);
 
-struct PlanJobSettings {
-    plan::PlanSettings plan;
-    Orient orient = Orient::kGiven;
-    core::Vec3d direction{0.0, 0.0, 1.0};  ///< the base direction when given
-    /// The toolpath settings of the process: when set, every plan's layers on nothing where
-    /// no track fits are moved to plan::Plan::bare_unsupported_layers (before candidates are
-    /// ranked).
-    std::optional<path::PathSettings> tracks;
-};
-
 /// One base direction tried by --orient auto.
 struct OrientCandidate {
     core::Vec3d direction;
@@ -56,6 +46,20 @@ struct OrientCandidate {
     int unsupported_layers = 0;  ///< layers its plan leaves resting on nothing
     bool planned = false;        ///< false when planning failed for it (error below)
     std::string error;
+};
+
+struct PlanJobSettings {
+    plan::PlanSettings plan;
+    Orient orient = Orient::kGiven;
+    core::Vec3d direction{0.0, 0.0, 1.0};  ///< the base direction when given
+    /// The toolpath settings of the process: when set, every plan's layers on nothing where
+    /// no track fits are moved to plan::Plan::bare_unsupported_layers (before candidates are
+    /// ranked).
+    std::optional<path::PathSettings> tracks;
+    /// The base directions --orient auto tries; empty: orientation_candidates of the mesh
+    /// planned. A job that plans a near-net shape gives the finished part's (its flat faces
+    /// are the near-net shape's, which is meshed from voxels and has none exactly flat).
+    std::vector<OrientCandidate> candidates;
 };
 
 struct PlannedPart {
