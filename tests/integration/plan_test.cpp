@@ -35,6 +35,37 @@ fs::path reference_profile() {
     return kSource / "examples/profiles/reference_5axis_ac.toml";
 }
 
+// A profile file: `source` with the line of each key replaced by `key = value`.
+fs::path profile_with(const fs::path& dir, const std::string& name, const fs::path& source,
+                      const std::map<std::string, std::string>& values) {
+    std::string text = slurp(source);
+    for (const auto& [key, value] : values) {
+        const std::size_t at = text.find("\n" + key + " = ");
+        EXPECT_NE(at, std::string::npos) << key;
+        if (at == std::string::npos) continue;
+        const std::size_t end = text.find('\n', at + 1);
+        text.replace(at + 1, end - at - 1, key + " = " + value);
+    }
+    const fs::path file = dir / name;
+    std::FILE* f = std::fopen(file.c_str(), "wb");
+    EXPECT_NE(f, nullptr);
+    if (f != nullptr) {
+        std::fwrite(text.data(), 1, text.size(), f);
+        std::fclose(f);
+    }
+    return file;
+}
+
+// A copy of `source` that deposits the part as the file gives it: no machining stock and no
+// hole filled (decision 0025; the reference profiles ship with both). For tests whose subject
+// is not the near-net shape but a feature the test builds on purpose (a rod or a strip
+// narrower than the track, a chamfer at the plate), which the stock would widen or the fill
+// close.
+fs::path without_near_net(const fs::path& dir, const fs::path& source) {
+    return profile_with(dir, source.stem().string() + "_as_given.toml", source,
+                        {{"machining_stock_mm", "0.0"}, {"fill_below_mm", "0.0"}});
+}
+
 // The properties every plan file has (docs/plan-format.md).
 void check_plan_file(const fs::path& file) {
     const nlohmann::json j = nlohmann::json::parse(slurp(file));
@@ -261,10 +292,11 @@ TEST(PlanCli, TouchingBodiesAreBuiltAsOneAndAnInsideOutBodyIsRefused) {
 // A block with a 1 mm rod floating beside it: the rod's first layer rests on nothing, but no
 // 2.5 mm track fits the rod, so nothing is laid there (as on any feature that narrow). It is
 // listed as left bare, not as a layer on nothing; the job builds the block, and the verifier
-// finds no bead on nothing.
+// finds no bead on nothing. The part is built as given: the reference profile's near-net shape
+// would fill the 5 mm gap between rod and block and grow the rod to the track's width.
 TEST(PlanCli, ALayerOnNothingWhereNoTrackFitsIsLeftBare) {
     const fs::path dir = temp_dir("bare_rod");
-    const fs::path profile = reference_profile();
+    const fs::path profile = without_near_net(dir, reference_profile());
     const fs::path part = fixture_stl(
         dir, "rod", merged(box({0, 0, 0}, {20, 20, 20}), box({25, 10, 10}, {26, 11, 15})));
     const fs::path plan = dir / "rod.json";
@@ -336,14 +368,19 @@ TEST(PlanCli, VerifyWarnsWhenTheModelHasAnInsideOutBody) {
 // verifier refuses that program, and the 3-axis job stands the wedge on a face instead (it
 // used to fail with the verifier's refusal). --orient given still refuses. The wedge is 40
 // mm high and deep: at 20 mm its sharp edge, which no 2.5 mm track fills, leaves under 97 %
-// of it inside the beads, and that program is not written either (decision 0026).
+// of it inside the beads, and that program is not written either (decision 0026). The wedges
+// are built as given (the default 3-axis profile without its near-net shape): 1 mm of stock a
+// side would widen the strip to the track's width and cover the sharp edge.
 TEST(PlanCli, ThreeAxisPartOnAStripIsStoodOnAFace) {
     const fs::path dir = temp_dir("strip");
+    const std::string profile =
+        without_near_net(dir, kSource / "examples/profiles/reference_lmd.toml").string();
     maxslice::test::RampSpec spec;
     spec.base_length = 0.5;
     spec.lean_deg = 30.0;
     const fs::path small = fixture_stl(dir, "small", maxslice::test::ramp_45(spec).mesh);
-    const CliRun short_of = run_cli({"slice", small.string(), "-o", (dir / "small.gm").string()});
+    const CliRun short_of =
+        run_cli({"slice", small.string(), "--profile", profile, "-o", (dir / "small.gm").string()});
     EXPECT_EQ(short_of.exit_code, 2) << short_of.out << short_of.err;
     EXPECT_NE(short_of.err.find("maxslice: error: verifying the program: the program holds "),
               std::string::npos)
@@ -355,7 +392,8 @@ TEST(PlanCli, ThreeAxisPartOnAStripIsStoodOnAFace) {
     spec.depth = 40.0;
     const fs::path wedge = fixture_stl(dir, "wedge", maxslice::test::ramp_45(spec).mesh);
     const fs::path out = dir / "wedge.gm";
-    const CliRun turned = run_cli({"slice", wedge.string(), "-o", out.string()});
+    const CliRun turned =
+        run_cli({"slice", wedge.string(), "--profile", profile, "-o", out.string()});
     ASSERT_EQ(turned.exit_code, 0) << turned.out << turned.err;
     EXPECT_NE(turned.err.find("the part as given cannot be built: the verifier refused its "
                               "program (0 collisions, "),
@@ -365,8 +403,8 @@ TEST(PlanCli, ThreeAxisPartOnAStripIsStoodOnAFace) {
         << turned.out;
     EXPECT_TRUE(fs::exists(out));
     fs::remove(out);
-    const CliRun given =
-        run_cli({"slice", wedge.string(), "-o", out.string(), "--orient", "given"});
+    const CliRun given = run_cli(
+        {"slice", wedge.string(), "--profile", profile, "-o", out.string(), "--orient", "given"});
     EXPECT_EQ(given.exit_code, 2) << given.out << given.err;
     EXPECT_NE(given.err.find("the verifier refused the program"), std::string::npos) << given.err;
     EXPECT_FALSE(fs::exists(out));
@@ -484,39 +522,19 @@ TEST(PlanCli, OrientAutoFindsTheSameBuildForATurnedPart) {
     }
 }
 
-// A profile file: `source` with the line of each key replaced by `key = value`.
-fs::path profile_with(const fs::path& dir, const std::string& name, const fs::path& source,
-                      const std::map<std::string, std::string>& values) {
-    std::string text = slurp(source);
-    for (const auto& [key, value] : values) {
-        const std::size_t at = text.find("\n" + key + " = ");
-        EXPECT_NE(at, std::string::npos) << key;
-        if (at == std::string::npos) continue;
-        const std::size_t end = text.find('\n', at + 1);
-        text.replace(at + 1, end - at - 1, key + " = " + value);
-    }
-    const fs::path file = dir / name;
-    std::FILE* f = std::fopen(file.c_str(), "wb");
-    EXPECT_NE(f, nullptr);
-    if (f != nullptr) {
-        std::fwrite(text.data(), 1, text.size(), f);
-        std::fclose(f);
-    }
-    return file;
-}
-
 // A block whose bottom edge is chamfered 2 mm over 0.4 mm, with the 0.8 mm fine track: on 5
 // axes and on 3 the part stands on the footing (decision 0017) and its program verifies; the
 // plan file names the footing. Without a footing (footing_mm = 0) the 5-axis plan splits the
-// chamfer off sideways from the plate, and a 3-axis program is refused.
+// chamfer off sideways from the plate, and a 3-axis program is refused. The block is built as
+// given: a near-net shape's stock (0.5 mm on the fine profile) would round the bottom edge
+// below the chamfer and change what the footing fills.
 TEST(PlanCli, AChamferAtThePlateIsBuiltOnAFooting) {
     const fs::path dir = temp_dir("footing");
     const fs::path part = fixture_stl(dir, "chamfer", maxslice::test::chamfered_block(2.0, 0.4));
-    const fs::path fine = kSource / "examples/profiles/fine_5axis_ac.toml";
-    const std::map<std::string, std::string> fine_process{{"track_width_mm", "0.8"},
-                                                          {"layer_height_mm", "0.2"},
-                                                          {"h_min_mm", "0.12"},
-                                                          {"h_max_mm", "0.28"}};
+    const fs::path fine = without_near_net(dir, kSource / "examples/profiles/fine_5axis_ac.toml");
+    const std::map<std::string, std::string> fine_process{
+        {"track_width_mm", "0.8"}, {"layer_height_mm", "0.2"},    {"h_min_mm", "0.12"},
+        {"h_max_mm", "0.28"},      {"machining_stock_mm", "0.0"}, {"fill_below_mm", "0.0"}};
     const fs::path fine_xyz = profile_with(
         dir, "fine_xyz.toml", kSource / "examples/profiles/reference_lmd.toml", fine_process);
     for (const fs::path& profile : {fine, fine_xyz}) {
@@ -562,10 +580,16 @@ TEST(PlanCli, BadOptionsExitTwo) {
 }
 
 // The plan's volume is compared with the mesh the job works on: a mesh --repair closes (the
-// angle block's cracks are welded shut) is compared, one still open is not.
+// angle block's cracks are welded shut) is compared, one still open is not. The parts are
+// planned as given: with the default profile's near-net shape the job works on that shape,
+// which is meshed closed whatever the file.
 TEST(PlanCli, PlanVolumeIsComparedWithTheRepairedMesh) {
+    const fs::path dir = temp_dir("repaired_volume");
+    const std::string profile =
+        without_near_net(dir, kSource / "examples/profiles/reference_lmd.toml").string();
     const fs::path block = kTestData / "meshes" / "trimesh" / "angle_block.STL";
-    const CliRun r = run_cli({"plan", block.string(), "--units", "in", "--repair"});
+    const CliRun r =
+        run_cli({"plan", block.string(), "--units", "in", "--repair", "--profile", profile});
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const std::size_t at = r.out.find("plan volume");
     ASSERT_NE(at, std::string::npos) << r.out;
@@ -574,7 +598,7 @@ TEST(PlanCli, PlanVolumeIsComparedWithTheRepairedMesh) {
     EXPECT_EQ(line.find("not closed"), std::string::npos) << line;
 
     const fs::path open = kTestData / "meshes" / "trimesh" / "featuretype.3MF";
-    const CliRun o = run_cli({"plan", open.string(), "--repair"}, 300);
+    const CliRun o = run_cli({"plan", open.string(), "--repair", "--profile", profile}, 300);
     EXPECT_EQ(o.exit_code, 0) << o.err;
     EXPECT_NE(o.out.find("the mesh is not closed"), std::string::npos) << o.out << o.err;
 }
@@ -583,14 +607,17 @@ TEST(PlanCli, PlanVolumeIsComparedWithTheRepairedMesh) {
 // that layer's material, clear of it): no sideways region reaches it. The planner failed
 // with an error there; it now leaves the piece in its layer, records why ("unreachable"), and
 // the plan lists layers resting on nothing (a refusal of this base the job's orientation
-// search ranks like the others). About 12 s: not in the ASan run.
+// search ranks like the others). About 12 s: not in the ASan run. The part is planned as given:
+// with the reference profile's near-net shape (1 mm stock, gaps under 10 mm filled) the piece
+// no longer floats: nothing is unreachable and no layer rests on nothing.
 TEST(PlanCliSlow, APieceNoSidewaysRegionReachesIsLeftInPlace) {
     const fs::path dir = temp_dir("unreachable");
     const fs::path part = kTestData / "step" / "nist" / "nist_ftc_06_asme1_rd.stp";
     const fs::path out = dir / "plan.json";
-    const CliRun r = run_cli({"plan", part.string(), "--plan", out.string(), "--profile",
-                              (kSource / "examples/profiles/reference_5axis_ac.toml").string()},
-                             300);
+    const CliRun r = run_cli(
+        {"plan", part.string(), "--plan", out.string(), "--profile",
+         without_near_net(dir, kSource / "examples/profiles/reference_5axis_ac.toml").string()},
+        300);
     ASSERT_TRUE(r.exit_code == 0 || (r.exit_code == 2 && r.err.find("no collision-free build "
                                                                     "order") != std::string::npos))
         << r.err;
