@@ -62,10 +62,34 @@ double word(const std::string& block, char letter) {
     return std::stod(block.substr(pos + 2));
 }
 
+// The number a profile's text gives `key` (the first "key = number" line), NAN when none.
+double profile_number(const std::string& text, const std::string& key) {
+    const auto pos = text.find("\n" + key + " = ");
+    if (pos == std::string::npos) return NAN;
+    return std::stod(text.substr(pos + key.size() + 4));
+}
+
 }  // namespace
 
+// The reference profile's values: power and powder while depositing, the travel feed, and the
+// deposition feed of each layer by the speed law (decision 0011; the profile gives no measured
+// pairs, so height x feed is constant through the nominal point, within [h_min, h_max]). The
+// part is deposited as its near-net shape (decision 0025): its height is not a whole number of
+// layers, and the last layer is thinner (laid at the window's end feed).
 TEST(Program, GmLaserIsOnOnlyWhileDepositing) {
     const fs::path dir = temp_dir("gm");
+    const std::string profile = slurp(kReference);
+    ASSERT_EQ(profile.find("\nspeed_height = "), std::string::npos) << "a measured law";
+    const double power = profile_number(profile, "laser_power_w");
+    const double powder = profile_number(profile, "powder_feed_g_min");
+    const double feed = profile_number(profile, "deposition_feed_mm_min");
+    const double travel = profile_number(profile, "travel_feed_mm_min");
+    const double layer = profile_number(profile, "layer_height_mm");
+    const double h_min = profile_number(profile, "h_min_mm");
+    const double h_max = profile_number(profile, "h_max_mm");
+    for (const double v : {power, powder, feed, travel, layer, h_min, h_max}) ASSERT_GT(v, 0.0);
+    // The feed that lays a layer `h` thick.
+    const auto feed_for = [&](double h) { return feed * layer / std::clamp(h, h_min, h_max); };
     const CliRun r = run_cli({"slice", kExample.string(), "--profile", kReference.string(), "-o",
                               (dir / "p.gm").string()});
     ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -74,8 +98,10 @@ TEST(Program, GmLaserIsOnOnlyWhileDepositing) {
     EXPECT_EQ(lines[0].block, "G21");
     EXPECT_EQ(lines[1].block, "G90");
     bool on = false;
-    int wires = 0, deposits = 0;
+    int wires = 0, deposits = 0, nominal = 0;
     double last_z = 0.0;
+    // The top of the layer being deposited and of the one below it (the plate's top at 0).
+    double layer_top = 0.0, below = 0.0;
     for (const GmLine& g : lines) {
         if (g.block == "M8") {
             EXPECT_FALSE(on) << "M8 twice";
@@ -86,16 +112,23 @@ TEST(Program, GmLaserIsOnOnlyWhileDepositing) {
             on = false;
         } else if (g.block.rfind("G1", 0) == 0) {
             const double f = word(g.block, 'F');
+            const double z = word(g.block, 'Z');
             if (on) {
                 ++deposits;
-                EXPECT_DOUBLE_EQ(g.power, 700.0) << g.block;
-                EXPECT_DOUBLE_EQ(g.powder, 8.0) << g.block;
-                EXPECT_DOUBLE_EQ(f, 381.0) << g.block;
+                if (z > layer_top + 1e-9) {
+                    below = layer_top;
+                    layer_top = z;
+                }
+                EXPECT_DOUBLE_EQ(g.power, power) << g.block;
+                EXPECT_DOUBLE_EQ(g.powder, powder) << g.block;
+                // Written with one decimal.
+                EXPECT_NEAR(f, feed_for(layer_top - below), 0.05 + 1e-9)
+                    << g.block << " (a layer " << layer_top - below << " mm thick)";
+                if (std::abs(layer_top - below - layer) < 1e-6) ++nominal;
             } else {
                 EXPECT_DOUBLE_EQ(g.power, 0.0) << g.block;
-                EXPECT_DOUBLE_EQ(f, 2540.0) << g.block;
+                EXPECT_DOUBLE_EQ(f, travel) << g.block;
             }
-            const double z = word(g.block, 'Z');
             EXPECT_GE(z, last_z - 1e-9) << "the head never goes down: " << g.block;
             last_z = z;
         } else if (g.block.rfind("G4", 0) == 0) {
@@ -105,17 +138,30 @@ TEST(Program, GmLaserIsOnOnlyWhileDepositing) {
     EXPECT_FALSE(on) << "laser left on at the end";
     EXPECT_GT(wires, 60);
     EXPECT_GT(deposits, wires);
+    EXPECT_GT(nominal, deposits / 2) << "most layers are of the profile's height";
 }
 
 TEST(Program, LinuxCncProgramsOfEverySharedMeshPassRs274) {
     if (maxslice::test::find_rs274().empty())
         GTEST_SKIP() << "rs274 (linuxcnc-uspace) not installed";
     const fs::path dir = temp_dir("rs274");
+    // The generic LinuxCNC cell without its substrate plate: the test is about what the
+    // controller's interpreter accepts, and the plate changes what the verifier checks (beads
+    // beyond it rest on nothing, decision 0028), not the 3-axis program. With the nominal
+    // 300 mm plate the 355.6 mm square tray bottom is refused for beads beyond it.
+    std::string text = slurp(kLinuxCnc);
+    const std::size_t plate = text.find("[machine.substrate]");
+    ASSERT_NE(plate, std::string::npos);
+    const std::size_t next = text.find("\n[", plate);
+    ASSERT_NE(next, std::string::npos);
+    text.erase(plate, next + 1 - plate);
+    const fs::path profile = dir / "linuxcnc_without_plate.toml";
+    std::ofstream(profile) << text;
     int written = 0;
     for (const auto& e : fs::recursive_directory_iterator(kTestData / "meshes")) {
         if (!e.is_regular_file()) continue;
         const fs::path ngc = dir / (e.path().stem().string() + ".ngc");
-        const CliRun r = run_cli({"slice", e.path().string(), "--profile", kLinuxCnc.string(),
+        const CliRun r = run_cli({"slice", e.path().string(), "--profile", profile.string(),
                                   "--repair", "-o", ngc.string()},
                                  300);
         // Parts bigger than the gantry, too small for a 2.5 mm bead (no track fits), whose
