@@ -603,37 +603,6 @@ TEST(PlanCli, PlanVolumeIsComparedWithTheRepairedMesh) {
     EXPECT_NE(o.out.find("the mesh is not closed"), std::string::npos) << o.out << o.err;
 }
 
-// NIST FTC-6 along +Z has a piece floating straight above the layer below (its centroid over
-// that layer's material, clear of it): no sideways region reaches it. The planner failed
-// with an error there; it now leaves the piece in its layer, records why ("unreachable"), and
-// the plan lists layers resting on nothing (a refusal of this base the job's orientation
-// search ranks like the others). About 12 s: not in the ASan run. The part is planned as given:
-// with the reference profile's near-net shape (1 mm stock, gaps under 10 mm filled) the piece
-// no longer floats: nothing is unreachable and no layer rests on nothing.
-TEST(PlanCliSlow, APieceNoSidewaysRegionReachesIsLeftInPlace) {
-    const fs::path dir = temp_dir("unreachable");
-    const fs::path part = kTestData / "step" / "nist" / "nist_ftc_06_asme1_rd.stp";
-    const fs::path out = dir / "plan.json";
-    const CliRun r = run_cli(
-        {"plan", part.string(), "--plan", out.string(), "--profile",
-         without_near_net(dir, kSource / "examples/profiles/reference_5axis_ac.toml").string()},
-        300);
-    ASSERT_TRUE(r.exit_code == 0 || (r.exit_code == 2 && r.err.find("no collision-free build "
-                                                                    "order") != std::string::npos))
-        << r.err;
-    ASSERT_TRUE(fs::exists(out)) << r.err;
-    const nlohmann::json plan = nlohmann::json::parse(slurp(out));
-    int unreachable = 0;
-    for (const auto& d : plan.at("decisions")) {
-        if (d.at("kind") != "unreachable") continue;
-        ++unreachable;
-        EXPECT_NE(d.at("reason").get<std::string>().find("floats straight above"),
-                  std::string::npos);
-    }
-    EXPECT_GE(unreachable, 1);
-    EXPECT_GT(plan.at("summary").at("unsupported_layers").get<int>(), 0);
-}
-
 // Every shared mesh plans, also in the units MANIFEST.md states for those not in millimetres
 // (the bunny in metres has a piece floating straight above the layer below, which no sideways
 // region reaches: the planner failed on it; it is now left in its layer, resting on nothing).
