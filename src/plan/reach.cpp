@@ -204,26 +204,56 @@ core::Result<ReachChoice> choose_by_reach(
 // The sideways region's apexes are sampled on this many planes at most along a direction.
 constexpr int kReachPlanes = 48;
 
+// Sample spacing of the head's reach checks: half a track. The margins they give are within a
+// quarter track of the surface's, so a direction must keep that much more than the clearance
+// (the build order and the verifier check the program itself).
+double Planner::reach_spacing() const {
+    return std::max(0.5, s_.track_width_mm / 2);
+}
+
+// What the head must clear while a region split above layer `lower` is built (s_.head set):
+// the part's surface half a layer under L's top (the layer's own top is `top`, and a body
+// that only touches that plane from above, the underside of the overhang itself, is not built
+// yet), L's top face, and the plate.
+ReachScene Planner::reach_scene(int lower) {
+    const Layer& l = plan_.layers[static_cast<std::size_t>(lower)];
+    const double spacing = reach_spacing();
+    if (!surface_) surface_.emplace(surface_points(mesh_, spacing));
+    auto [at, made] = reach_tops_.try_emplace(lower);
+    if (made) {
+        at->second =
+            PointCloud(interior_points(l.wires.paths(), l.plane, spacing, l.span.top - l.span.cut));
+    }
+    return ReachScene{&*surface_, l.top.shifted(-s_.layer_mm / 2), &at->second,
+                      plan_.regions.front().base};
+}
+
+core::Result<bool> Planner::tilt_keeps_reach(int rid, const geom2d::Paths2& u,
+                                             const slice::PlaneFrame& mid, double h,
+                                             const core::Vec3d& n_new) {
+    if (!s_.head) return true;
+    const Decision* made = nullptr;
+    for (const Decision& d : plan_.decisions) {
+        if (d.new_region == rid && d.head_checked) made = &d;
+    }
+    if (made == nullptr) return true;
+    const ReachScene scene = reach_scene(made->layer);
+    const double spacing = reach_spacing();
+    const double wanted = std::min(s_.head->clearance_mm + spacing / 2, made->head_margin_mm);
+    // The melt pool lies on the top of the layer being laid.
+    const std::vector<Vec3d> apexes = boundary_points(u, mid, spacing, h / 2);
+    return reach_margin(*s_.head, scene, apexes, n_new, wanted + 1.0) >= wanted;
+}
+
 core::Result<ReachChoice> Planner::direction_by_reach(int lower, const OverhangPiece& p,
                                                       const Vec3d& ns,
                                                       const std::vector<HalfSpace>& cell) {
     const Layer& l = plan_.layers[static_cast<std::size_t>(lower)];
     if (!s_.head) return ReachChoice{ns, 0.0, 0.0, 0.0, true};
-    // Samples half a track apart: the margins they give are within a quarter track of the
-    // surface's, so a direction must keep that much more than the clearance (the build order
-    // and the verifier check the program itself).
-    const double spacing = std::max(0.5, s_.track_width_mm / 2);
+    const double spacing = reach_spacing();
     const double slack = spacing / 2;
-    if (!surface_) surface_.emplace(surface_points(mesh_, spacing));
     if (!sections_) sections_.emplace(mesh_);
-    // What the layer L leaves on top: its section on its top plane.
-    const PointCloud top(
-        interior_points(l.wires.paths(), l.plane, spacing, l.span.top - l.span.cut));
-    // The part's surface counts as built half a layer under L's top: the layer's own top is
-    // the cloud `top`, and a body that only touches that plane from above (the underside of
-    // the overhang itself) is not built yet.
-    const ReachScene scene{&*surface_, l.top.shifted(-s_.layer_mm / 2), &top,
-                           plan_.regions.front().base};
+    const ReachScene scene = reach_scene(lower);
     // Leans up to the one whose underside the neighbour analysis still calls carried (a
     // face across the old direction overhangs by tan(lean) per layer height: Ang is about
     // atan(tan(lean) / 2) over the look-back), and no further than 60 degrees.

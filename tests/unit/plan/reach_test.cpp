@@ -183,15 +183,16 @@ TEST(Reach, EveryFixtureTurnedAboutZKeepsItsRegionsAndItsVerdict) {
 }
 
 // A refusal names the feature in the way (its region, where its piece is, how big, how far it
-// was leaned) and the closest gap, from the plan's own fields.
+// was leaned) and the closest gap, from the plan's own fields. The helical ring as modelled has
+// no collision-free order: the planner does not yet follow its turns.
 TEST(Reach, ARefusedOrderNamesTheRegionInTheWayAndTheClosestGap) {
-    const auto f = test::portal_frame();
+    const auto f = test::helical_ring();
     const Plan p = plan_of(f.mesh, settings(true));
     OrderSettings os;
     os.nozzle = reference_head();
     const auto order = order_layers(p, os);
     ASSERT_TRUE(order.has_value());
-    if (order->complete()) GTEST_SKIP() << "the portal now has a collision-free order";
+    ASSERT_FALSE(order->complete()) << "the helical ring as modelled has no collision-free order";
     const std::string text = describe_refusal(p, *order, os.nozzle);
     const int rid = p.layers[static_cast<std::size_t>(order->conflicts.front().layer)].region;
     EXPECT_NE(text.find(fmt::format("region {}", rid)), std::string::npos) << text;
