@@ -79,6 +79,31 @@ struct Placed {
     std::vector<int> bare_plate;
 };
 
+// The part's lowest layer must stand on the substrate plate (decision 0028): beads beyond
+// its top face rest on nothing. `plate` holds the lowest layer's vertices; grown by grown_mm
+// on every side as deposited.
+core::Result<void> check_on_plate(const machine::MachineProfile& machine,
+                                  const std::vector<Vec3d>& plate, double grown_mm) {
+    if (!machine.substrate || plate.empty()) return {};
+    const Vec3d c = machine::plate_center(machine);
+    const double hx = machine.substrate->size_x_mm / 2, hy = machine.substrate->size_y_mm / 2;
+    double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
+    for (const Vec3d& v : plate) {
+        x0 = std::min(x0, v.x - grown_mm);
+        x1 = std::max(x1, v.x + grown_mm);
+        y0 = std::min(y0, v.y - grown_mm);
+        y1 = std::max(y1, v.y + grown_mm);
+    }
+    if (x0 >= c.x - hx && x1 <= c.x + hx && y0 >= c.y - hy && y1 <= c.y + hy) return {};
+    return core::fail(
+        core::ErrorCode::kInvalidInput,
+        fmt::format("the part's footprint on the plate, {:.1f} x {:.1f} mm, reaches beyond the "
+                    "substrate plate ({:.1f} x {:.1f} mm, [machine.substrate]): beads there would "
+                    "rest on nothing; enter the size of the plate the part is welded onto",
+                    x1 - x0, y1 - y0, 2 * hx, 2 * hy),
+        "machine.substrate");
+}
+
 // Whether the table can bring `placed` (a part on the plate) under the nozzle at all
 // (MachineKinematics::check_reach, with a track's width of slack), as deposited grown by
 // `grown_mm` on every side: a part larger than the machine is refused before it is planned.
@@ -87,8 +112,10 @@ struct Placed {
 // moved s farther out, so the check of the vertices is made with s less slack (the grown part
 // stands s higher: its box is the part's grown by s). Its lowest layer is checked on the
 // part's own lowest layer moved down by s (a part of the grown one's lowest layer: a bound
-// that never refuses what the grown part's own check would pass).
+// that never refuses what the grown part's own check would pass). The lowest layer must
+// also stand on the plate (check_on_plate).
 core::Result<void> check_reach_of(const machine::MachineKinematics& kinematics,
+                                  const machine::MachineProfile& machine,
                                   const mesh::TriangleMesh& placed,
                                   const machine::ProcessProfile& process, double grown_mm) {
     double bottom = INFINITY;
@@ -97,6 +124,7 @@ core::Result<void> check_reach_of(const machine::MachineKinematics& kinematics,
     for (const Vec3d& v : placed.vertices) {
         if (v.z <= bottom + process.layer_height_mm) plate.push_back(v);
     }
+    if (auto ok = check_on_plate(machine, plate, grown_mm); !ok) return ok;
     if (grown_mm <= 0.0) {
         return kinematics.check_reach(placed.vertices, plate, process.track_width_mm);
     }
@@ -116,7 +144,8 @@ core::Result<Placed> plan_along(const mesh::TriangleMesh& part, const Vec3d& dir
     // A part the table cannot bring under the nozzle is refused before it is planned.
     auto kinematics = machine::MachineKinematics::create(profiles.machine);
     if (!kinematics) return std::unexpected(kinematics.error());
-    if (auto ok = check_reach_of(*kinematics, out.placed, profiles.process, 0.0); !ok) {
+    if (auto ok = check_reach_of(*kinematics, profiles.machine, out.placed, profiles.process, 0.0);
+        !ok) {
         return std::unexpected(ok.error());
     }
     PlanJobSettings ps;
@@ -187,7 +216,7 @@ core::Result<void> check_fits_machine(const mesh::TriangleMesh& part, const Vec3
     for (const auto& [direction, source] : directions) {
         const mesh::TriangleMesh placed =
             place_on_plate(part, direction, machine::plate_center(profiles.machine));
-        auto ok = check_reach_of(*kinematics, placed, widest, grown_mm);
+        auto ok = check_reach_of(*kinematics, profiles.machine, placed, widest, grown_mm);
         if (ok) return {};
         if (ok.error().code != core::ErrorCode::kInvalidInput) return ok;
         tries.push_back(

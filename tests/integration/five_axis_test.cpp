@@ -284,15 +284,16 @@ TEST(FiveAxis, FixturesBuildCleanWithTheReferenceProfile) {
 }
 
 // Issue 24's parts as given (--orient given, the reference A/C profile with its plate): the
-// portals, whose beam bridges two columns, the block with a horizontal through-hole and the
-// plate with a holed tab. Each program verifies clean, a separate `maxslice verify` passes it,
-// at least 99.5% of the finished part lies inside its beads and the excess over the near-net
-// shape stays under 5%.
+// portals and the arch, whose top bridges two bases, the block with a horizontal through-hole,
+// the plate with a holed tab and the demo's bearing seat. Each program verifies clean, a separate
+// `maxslice verify` passes it, at least 99.5% of the finished part lies inside its beads and the
+// excess over the near-net shape stays under 5%.
 TEST(FiveAxis, PartsAsGivenBuildWithTheFinishedPartInsideTheBeads) {
     const fs::path dir = temp_dir("as_given");
     for (const PlannerFixture& f :
-         {maxslice::test::portal_frame(), maxslice::test::tall_portal(),
-          maxslice::test::cross_hole_block(), maxslice::test::tab_with_hole()}) {
+         {maxslice::test::portal_frame(), maxslice::test::tall_portal(), maxslice::test::arch(),
+          maxslice::test::cross_hole_block(), maxslice::test::tab_with_hole(),
+          maxslice::test::bearing_seat()}) {
         SCOPED_TRACE(f.name);
         const fs::path part = export_fixture(f, dir);
         const fs::path program = dir / (f.name + ".gm");
@@ -603,6 +604,28 @@ fs::path wide_nozzle_profile(const fs::path& dir, const fs::path& from_profile =
     const fs::path profile = dir / "wide.toml";
     std::ofstream(profile) << text;
     return profile;
+}
+
+// A part whose footprint reaches beyond the substrate plate is refused before it is planned,
+// naming the plate (beads there would rest on nothing), with no program written.
+TEST(FiveAxis, APartLargerThanThePlateIsRefusedNamingThePlate) {
+    const fs::path dir = temp_dir("small_plate");
+    std::string text = slurp(kReference5);
+    for (const std::string key : {"size_x_mm = 300.0", "size_y_mm = 300.0"}) {
+        const auto pos = text.find(key);
+        ASSERT_NE(pos, std::string::npos) << key;
+        text.replace(pos, key.size(), key.substr(0, 12) + "20.0");
+    }
+    const fs::path profile = dir / "small_plate.toml";
+    std::ofstream(profile) << text;
+    const fs::path part = export_fixture(maxslice::test::bearing_seat(), dir);
+    const fs::path program = dir / "p.gm";
+    const CliRun r =
+        run_cli({"slice", part.string(), "--profile", profile.string(), "-o", program.string()});
+    EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+    EXPECT_NE(r.err.find("reaches beyond the substrate plate (20.0 x 20.0 mm"), std::string::npos)
+        << r.err;
+    EXPECT_FALSE(fs::exists(program));
 }
 
 // A nozzle with a 60 degree half angle cannot reach under the portal's beam: no build order,
