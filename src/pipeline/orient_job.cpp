@@ -124,16 +124,19 @@ core::Result<void> check_reach_of(const machine::MachineKinematics& kinematics,
     for (const Vec3d& v : placed.vertices) {
         if (v.z <= bottom + process.layer_height_mm) plate.push_back(v);
     }
-    if (auto ok = check_on_plate(machine, plate, grown_mm); !ok) return ok;
     if (grown_mm <= 0.0) {
-        return kinematics.check_reach(placed.vertices, plate, process.track_width_mm);
+        if (auto ok = kinematics.check_reach(placed.vertices, plate, process.track_width_mm); !ok) {
+            return ok;
+        }
+        return check_on_plate(machine, plate, grown_mm);
     }
     std::vector<Vec3d> raised = placed.vertices;
     for (Vec3d& v : raised) v.z += grown_mm;
     if (auto ok = kinematics.check_reach(raised, {}, process.track_width_mm - grown_mm); !ok) {
         return ok;
     }
-    return kinematics.check_reach({}, plate, process.track_width_mm);
+    if (auto ok = kinematics.check_reach({}, plate, process.track_width_mm); !ok) return ok;
+    return check_on_plate(machine, plate, grown_mm);
 }
 
 core::Result<Placed> plan_along(const mesh::TriangleMesh& part, const Vec3d& direction,

@@ -206,7 +206,10 @@ TEST(OrientJob, AStackTheCheckRefusesIsNotKept) {
 // a column too tall to stand fits; a slab wider than the travel fits no way, and the refusal
 // names the stock and the orientations tried.
 TEST(OrientJob, TheFitCheckIsOfThePartGrownByTheStock) {
-    const machine::Profiles profiles = reference_profiles();
+    machine::Profiles profiles = reference_profiles();
+    // About the machine's travel: without the plate, whose own check (the footprint on it)
+    // would refuse the long column laid down first.
+    profiles.machine.substrate.reset();
     const double stock = profiles.process.machining_stock_mm;
     ASSERT_GT(stock, 0.0);
     const auto column = [](double h) { return test::box({0, 0, 0}, {1, 1, h}); };
