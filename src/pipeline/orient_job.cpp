@@ -97,10 +97,13 @@ core::Result<void> check_on_plate(const machine::MachineProfile& machine,
     if (x0 >= c.x - hx && x1 <= c.x + hx && y0 >= c.y - hy && y1 <= c.y + hy) return {};
     return core::fail(
         core::ErrorCode::kInvalidInput,
-        fmt::format("the part's footprint on the plate, {:.1f} x {:.1f} mm, reaches beyond the "
-                    "substrate plate ({:.1f} x {:.1f} mm, [machine.substrate]): beads there would "
-                    "rest on nothing; enter the size of the plate the part is welded onto",
-                    x1 - x0, y1 - y0, 2 * hx, 2 * hy),
+        fmt::format("the part's footprint on the plate, {:.1f} x {:.1f} mm, reaches {:.1f} mm "
+                    "along X and {:.1f} mm along Y from the plate's centre (the part's place), "
+                    "beyond the substrate plate ({:.1f} x {:.1f} mm, [machine.substrate]): beads "
+                    "there would rest on nothing; enter the size of the plate the part is welded "
+                    "onto",
+                    x1 - x0, y1 - y0, std::max(c.x - x0, x1 - c.x), std::max(c.y - y0, y1 - c.y),
+                    2 * hx, 2 * hy),
         "machine.substrate");
 }
 
