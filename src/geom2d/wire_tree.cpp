@@ -249,6 +249,16 @@ Paths2 sweep_polylines(const Paths2& polylines, std::int64_t half_width_um) {
     return from_clipper(out);
 }
 
+Paths2 sweep_polylines_square(const Paths2& polylines, std::int64_t half_width_um) {
+    if (half_width_um <= 0) return {};
+    ClipperLib::ClipperOffset offset(2.0, 0.25 * static_cast<double>(half_width_um));
+    offset.AddPaths(polylines_to_clipper(polylines), ClipperLib::jtSquare,
+                    ClipperLib::etOpenSquare);
+    ClipperLib::Paths out;
+    offset.Execute(out, static_cast<double>(half_width_um));
+    return from_clipper(out);
+}
+
 Paths2 clip_polylines(const Paths2& polylines, const Paths2& region) {
     ClipperLib::Clipper clipper;
     for (const Path2& p : polylines) {

@@ -134,11 +134,13 @@ PlannedIsland plan_island(const Paths2& island, const detail::RasterFrame& frame
     }
 
     // Gaps: inside each contour pass's track, what neither the next pass (its track and all
-    // inside it) nor, after the last pass, the fill tracks laid reach. The fill's own tracks,
-    // not its region grown by a pitch: where a boundary wavers (a near-net shape's voxel
-    // steps), the outermost line may run along the fill region's edge and be clipped to
-    // scraps, leaving a strip up to a pitch wide between the fill and the contour. A pass
-    // missing in a narrow arm leaves the arm's middle to the gap fill.
+    // inside it) nor, after the last pass, the fill tracks laid reach (swept by squares of half
+    // a track, geom2d::sweep_polylines_square: about a bead's cover, far cheaper to unite than
+    // discs; what they differ by is narrower than any gap a track fills). The fill's own tracks,
+    // not its region grown by a pitch: where a boundary wavers (a near-net shape's voxel steps),
+    // the outermost line may run along the fill region's edge and be clipped to scraps, leaving a
+    // strip up to a pitch wide between the fill and the contour. A pass missing in a narrow arm
+    // leaves the arm's middle to the gap fill.
     Paths2 gaps;
     for (std::size_t k = 0; k < passes.size(); ++k) {
         const Paths2 inner =
@@ -148,7 +150,7 @@ PlannedIsland plan_island(const Paths2& island, const detail::RasterFrame& frame
         if (k + 1 < passes.size()) {
             reached = geom2d::offset_of(passes[k + 1], w.half);
         } else if (k + 1 == static_cast<std::size_t>(w.passes) && !raster_lines.empty()) {
-            reached = geom2d::sweep_polylines(raster_lines, w.half);
+            reached = geom2d::sweep_polylines_square(raster_lines, w.half);
         }
         Paths2 left = reached.empty() ? inner : geom2d::difference_of(inner, reached);
         gaps.insert(gaps.end(), std::make_move_iterator(left.begin()),

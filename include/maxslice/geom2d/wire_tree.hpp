@@ -79,6 +79,12 @@ namespace detail {
 /// Result as region paths (outers CCW, holes CW); arcs deviate by at most 1% of the radius.
 [[nodiscard]] Paths2 sweep_polylines(const Paths2& polylines, std::int64_t half_width_um);
 
+/// Like sweep_polylines with squares for discs: each segment's rectangle 2 x half_width wide,
+/// the polylines' ends extended by half_width, turns joined with squared corners (Clipper's
+/// square joins). A little more than the disc's sweep at the ends and most corners, a sliver
+/// less at the outer corners of sharp turns; far cheaper to make (few vertices, no arcs).
+[[nodiscard]] Paths2 sweep_polylines_square(const Paths2& polylines, std::int64_t half_width_um);
+
 /// The pieces of open polylines inside a region (closed loops, non-zero rule), as open
 /// polylines. Pieces running along the region's boundary may be kept or dropped.
 [[nodiscard]] Paths2 clip_polylines(const Paths2& polylines, const Paths2& region);
