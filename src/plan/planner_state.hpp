@@ -15,7 +15,6 @@
 #include <cstddef>
 #include <deque>
 #include <expected>
-#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -137,15 +136,11 @@ private:
     core::Result<ReachChoice> direction_by_reach(int lower, const OverhangPiece& p,
                                                  const core::Vec3d& ns,
                                                  const std::vector<HalfSpace>& cell);
-    // Whether a tilted layer of region rid (section u on plane mid, thickness h) with top
-    // normal n_new keeps the head as clear as the region's own direction was chosen to be
-    // (regions split off with the head checked; true otherwise): a march follows the centroid
-    // chain, which in a region leaned up off a horizontal beam turns the head back down.
-    core::Result<bool> tilt_keeps_reach(int rid, const geom2d::Paths2& u,
-                                        const slice::PlaneFrame& mid, double h,
-                                        const core::Vec3d& n_new);
+    // Whether region rid was split off with its direction leaned up from N_s for the head's
+    // reach: its layers do not tilt towards the centroid chain (decision 0029).
+    [[nodiscard]] bool leaned_by_reach(int rid) const;
     [[nodiscard]] double reach_spacing() const;
-    ReachScene reach_scene(int lower);
+    ReachScene reach_scene(int lower, PointCloud& top);
 
     // footing.cpp
     bool retry_footing(int rid, int ref);
@@ -164,9 +159,6 @@ private:
     std::deque<RegionJob> jobs_;
     std::optional<SectionIndex> sections_;
     std::optional<PointCloud> surface_;  // the part's surface, for the reach of the head
-    // Per layer id: its top face as points, for the reach of the head (cleared by roll_back,
-    // which may hand the ids on).
-    std::map<int, PointCloud> reach_tops_;
 };
 
 /// The refusal of a piece that floats straight above the layer below (decision_text.cpp).

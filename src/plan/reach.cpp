@@ -215,34 +215,19 @@ double Planner::reach_spacing() const {
 // the part's surface half a layer under L's top (the layer's own top is `top`, and a body
 // that only touches that plane from above, the underside of the overhang itself, is not built
 // yet), L's top face, and the plate.
-ReachScene Planner::reach_scene(int lower) {
+ReachScene Planner::reach_scene(int lower, PointCloud& top) {
     const Layer& l = plan_.layers[static_cast<std::size_t>(lower)];
     const double spacing = reach_spacing();
     if (!surface_) surface_.emplace(surface_points(mesh_, spacing));
-    auto [at, made] = reach_tops_.try_emplace(lower);
-    if (made) {
-        at->second =
-            PointCloud(interior_points(l.wires.paths(), l.plane, spacing, l.span.top - l.span.cut));
-    }
-    return ReachScene{&*surface_, l.top.shifted(-s_.layer_mm / 2), &at->second,
+    top = PointCloud(interior_points(l.wires.paths(), l.plane, spacing, l.span.top - l.span.cut));
+    return ReachScene{&*surface_, l.top.shifted(-s_.layer_mm / 2), &top,
                       plan_.regions.front().base};
 }
 
-core::Result<bool> Planner::tilt_keeps_reach(int rid, const geom2d::Paths2& u,
-                                             const slice::PlaneFrame& mid, double h,
-                                             const core::Vec3d& n_new) {
-    if (!s_.head) return true;
-    const Decision* made = nullptr;
-    for (const Decision& d : plan_.decisions) {
-        if (d.new_region == rid && d.head_checked) made = &d;
-    }
-    if (made == nullptr) return true;
-    const ReachScene scene = reach_scene(made->layer);
-    const double spacing = reach_spacing();
-    const double wanted = std::min(s_.head->clearance_mm + spacing / 2, made->head_margin_mm);
-    // The melt pool lies on the top of the layer being laid.
-    const std::vector<Vec3d> apexes = boundary_points(u, mid, spacing, h / 2);
-    return reach_margin(*s_.head, scene, apexes, n_new, wanted + 1.0) >= wanted;
+bool Planner::leaned_by_reach(int rid) const {
+    return std::any_of(plan_.decisions.begin(), plan_.decisions.end(), [&](const Decision& d) {
+        return d.new_region == rid && d.head_checked && d.split_lean_deg > 0.0;
+    });
 }
 
 core::Result<ReachChoice> Planner::direction_by_reach(int lower, const OverhangPiece& p,
@@ -253,7 +238,8 @@ core::Result<ReachChoice> Planner::direction_by_reach(int lower, const OverhangP
     const double spacing = reach_spacing();
     const double slack = spacing / 2;
     if (!sections_) sections_.emplace(mesh_);
-    const ReachScene scene = reach_scene(lower);
+    PointCloud top;
+    const ReachScene scene = reach_scene(lower, top);
     // Leans up to the one whose underside the neighbour analysis still calls carried (a
     // face across the old direction overhangs by tan(lean) per layer height: Ang is about
     // atan(tan(lean) / 2) over the look-back), and no further than 60 degrees.

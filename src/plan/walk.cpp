@@ -117,7 +117,11 @@ core::Result<Next> Planner::walk(const RegionJob& job, SliceStack& slices, int n
             if (!splits) return std::unexpected(splits.error());
             if (*splits) return done_or_rewalk(**splits);
         }
-        if (lower >= 0 && lower != no_march_from && s_.tilt_trigger_deg > 0.0) {
+        // A region leaned up for the head's reach keeps its direction: following its chain of
+        // centroids (a beam's, running along the beam) would turn the head back down onto
+        // what the lean cleared (decision 0029).
+        if (lower >= 0 && lower != no_march_from && s_.tilt_trigger_deg > 0.0 &&
+            !leaned_by_reach(rid)) {
             // The centroid chain over a track's height (METHOD.md section 4).
             const Region& rr = plan_.regions[static_cast<std::size_t>(rid)];
             const auto k = static_cast<std::size_t>(look_back_);
@@ -239,15 +243,6 @@ core::Result<Next> Planner::march(int rid, int lower) {
                     t_max = std::max(t_max, tx);
                 }
                 ok = t_min >= s_.h_min_mm - 1e-9 && t_max <= s_.h_max_mm + 1e-9;
-                if (ok) {
-                    // A tilt must not bring the head closer to what is built than the
-                    // region's direction was chosen to keep it (decision 0029).
-                    const slice::PlaneFrame mid_try = slice::PlaneFrame::from_normal(
-                        (c_top + g) * 0.5, core::normalized(nl + n_new));
-                    auto reach = tilt_keeps_reach(rid, *u0, mid_try, h, n_new);
-                    if (!reach) return std::unexpected(reach.error());
-                    ok = *reach;
-                }
                 if (!ok) delta *= 0.5;
             }
             if (!ok) {
@@ -312,7 +307,6 @@ void Planner::roll_back(int rid, int keep) {
         plan_.layers.pop_back();
     }
     if (footing_added_.size() > plan_.layers.size()) footing_added_.resize(plan_.layers.size());
-    std::erase_if(reach_tops_, [&](const auto& kv) { return kv.first > keep; });
     std::erase_if(plan_.decisions, [&](const Decision& d) {
         return (d.kind == Decision::Kind::kTiltWanted || d.kind == Decision::Kind::kUnreachable) &&
                d.region == rid && d.layer > keep;
