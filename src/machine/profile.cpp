@@ -1370,7 +1370,10 @@ std::optional<std::string> motion_word(std::string_view block) {
             }
             const std::string number = s.substr(j, k - j);
             const double g = std::atof(number.c_str());
-            const int whole = static_cast<int>(std::floor(g));
+            // A G number past any real code (or not finite) moves nothing known; the cast
+            // below is only defined inside int's range.
+            const int whole =
+                std::isfinite(g) && g >= 0.0 && g < 1000.0 ? static_cast<int>(std::floor(g)) : -1;
             const bool moves = k == j || whole == 0 || whole == 1 || whole == 2 || whole == 3 ||
                                whole == 5 || whole == 28 || whole == 30 || whole == 33 ||
                                whole == 38 || whole == 73 || whole == 74 || whole == 76 ||

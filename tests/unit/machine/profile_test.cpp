@@ -531,7 +531,9 @@ TEST(Profile, TemplatesThatMoveTheMachineAreRefused) {
     for (const std::string block :
          {"M8", "M68 E0 Q{power}", "M64 P0", "G4 P0.5", "G65 P9011 A{power}", "$A_OUTA[1]={power}",
           "M201 (LASER ON {power_pct}, X Y Z)", "o<laser_on> call [{power}]", "TRAORI", "G90 G94",
-          "M3 S{power}", "#<_x> = 3", "M9 ; G0 X0"}) {
+          "M3 S{power}", "#<_x> = 3", "M9 ; G0 X0",
+          // A G number past int's range is no known motion (and reads without overflow).
+          "M64 G22222222222222222222222222222222222222222222222222222222222222222 P1"}) {
         SCOPED_TRACE(block);
         EXPECT_FALSE(motion_word(block).has_value()) << *motion_word(block);
         EXPECT_TRUE(parse_profile(codes_with("program_start", block), "test.toml").has_value());
