@@ -138,6 +138,16 @@ std::string describe_refusal(const Plan& plan, const BuildOrder& order, const No
                 nozzle.clearance_mm, made->head_margin_mm);
         }
         out += fmt::format(", reaches region {} only with the head in its way", region_of(c.other));
+        // A piece that hangs below a region built sideways is split off along a direction
+        // that points down: the head then comes at it from under the part, past the plate.
+        const double down = angle_deg(r.direction, plan.regions.front().direction);
+        if (down > 90.0) {
+            out += fmt::format(
+                "; that direction points {:.0f} deg from the plate's normal, down: the piece "
+                "hangs below the sideways region it grows from, so the head would come at it "
+                "from under the part (built another way up, it would grow from below)",
+                down);
+        }
     } else {
         out = fmt::format("In the way: region {} (along ({:.3f}, {:.3f}, {:.3f})) and region {}",
                           rid, r.direction.x, r.direction.y, r.direction.z, region_of(c.other));

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -334,6 +335,37 @@ TEST(PlanCli, ALayerOnNothingWhereNoTrackFitsIsLeftBare) {
     ASSERT_EQ(f.exit_code, 0) << f.err;
     EXPECT_NE(f.out.find("unsupported     1 layers rest on nothing"), std::string::npos) << f.out;
     EXPECT_EQ(f.out.find("left bare"), std::string::npos) << f.out;
+}
+
+// A refusal names a region split off pointing down (a piece hanging below the sideways region
+// it grows from) and says so: NIST FTC-09 as given, a thin plate standing on its edge, splits
+// off a piece near its top along a direction more than 90 degrees from the plate's normal.
+TEST(PlanCli, ARefusalSaysWhenTheRegionInTheWayPointsDown) {
+    const fs::path part = fs::path(MAXSLICE_TESTDATA_DIR) / "step/nist/nist_ftc_09_asme1_rd.stp";
+    ASSERT_TRUE(fs::exists(part)) << part;
+    const fs::path dir = temp_dir("points_down");
+    const fs::path plan = dir / "plan.json";
+    const CliRun r =
+        run_cli({"plan", part.string(), "--repair", "--profile", reference_profile().string(),
+                 "--orient", "given", "--plan", plan.string()});
+    ASSERT_EQ(r.exit_code, 2) << r.err;
+    const std::string key = "deg from the plate's normal, down";
+    const auto at = r.err.find(key);
+    ASSERT_NE(at, std::string::npos) << r.err;
+    // The angle printed is that of the region the refusal names, and over 90 degrees.
+    const auto num = r.err.rfind("points ", at);
+    ASSERT_NE(num, std::string::npos);
+    const double deg = std::stod(r.err.substr(num + 7));
+    EXPECT_GT(deg, 90.0);
+    const auto named = r.err.find("In the way: region ");
+    ASSERT_NE(named, std::string::npos);
+    const int rid = std::stoi(r.err.substr(named + 19));
+    const auto j = nlohmann::json::parse(slurp(plan));
+    const auto& d = j.at("regions").at(static_cast<std::size_t>(rid)).at("direction");
+    const auto& up = j.at("regions").at(0).at("direction");
+    double c = 0.0;
+    for (std::size_t k = 0; k < 3; ++k) c += d.at(k).get<double>() * up.at(k).get<double>();
+    EXPECT_NEAR(std::acos(c) * 180.0 / 3.14159265358979, deg, 0.6);
 }
 
 // `maxslice verify` measures coverage against what the model's surface encloses: with a body
