@@ -129,7 +129,8 @@ core::Result<RawImport> read_impl(std::string_view bytes, Format format) {
     }
 
     Assimp::Importer importer;
-    const aiScene* scene = importer.ReadFileFromMemory(bytes.data(), bytes.size(), 0, "obj");
+    const std::string_view text = format == Format::kObj ? std::string_view(scan.geometry) : bytes;
+    const aiScene* scene = importer.ReadFileFromMemory(text.data(), text.size(), 0, "obj");
     if (scene == nullptr) {
         const std::string why = importer.GetErrorString();
         return core::fail(core::ErrorCode::kInvalidInput,

@@ -1,8 +1,12 @@
 // A strict first look at OBJ text before assimp parses it. Assimp's number parser reads
 // "3.1+e2" as 3.1 and stops, and its index checks report no line; both would let a damaged
-// file through as a different shape or fail without saying where. This pass reads only
+// file through as a different shape or fail without saying where. This pass checks the
 // 'v', 'f', 'p' and 'l' statements, joins lines continued with a trailing backslash, and
-// leaves everything else (groups, materials, texture coordinates) to assimp. Faces with more
+// hands assimp only the statements that carry geometry (vertices, texture coordinates,
+// normals, elements, objects, groups, smoothing groups), each on one line, with every other
+// statement (materials, curves, unknown keywords) left as blank lines so that line numbers
+// stay the file's: assimp's parser writes through wild pointers on some of those (a material
+// library with an unknown statement before a face; found by fuzz/fuzz_obj). Faces with more
 // corners than the PLY and OFF readers take (kMaxPolygonCorners) are refused here, before
 // anything triangulates them.
 
@@ -66,11 +70,22 @@ public:
         return true;
     }
 
+    /// The line the next statement starts on.
+    [[nodiscard]] std::size_t line() const { return line_; }
+
 private:
     std::string_view text_;
     std::size_t pos_ = 0;
     std::size_t line_ = 1;
 };
+
+// Statements assimp is given (the rest become blank lines).
+bool carries_geometry(std::string_view keyword) {
+    for (const std::string_view k : {"v", "vt", "vn", "f", "l", "p", "o", "g", "s"}) {
+        if (keyword == k) return true;
+    }
+    return false;
+}
 
 // Splits a statement into its keyword and the whitespace-separated arguments.
 class Tokens {
@@ -171,9 +186,12 @@ core::Result<ObjScan> scan_obj(std::string_view text) {
     }
     StatementReader reader(text);
     Statement st;
+    scan.geometry.reserve(text.size());
     while (reader.next(st)) {
         Tokens tokens(st.text);
         const std::string_view keyword = tokens.next();
+        if (carries_geometry(keyword)) scan.geometry.append(st.text);
+        scan.geometry.append(reader.line() - st.line, '\n');
         const int kind = kind_of(keyword);
         if (kind == 0) {
             int numbers = 0;

@@ -168,6 +168,22 @@ TEST(Assimp, ObjWithANulByteIsRefusedBeforeAssimp) {
     EXPECT_TRUE(contains(r.error().message, "line 2: a NUL byte")) << r.error().describe();
 }
 
+TEST(Assimp, ObjStatementsWithoutGeometryAreNotHandedToAssimp) {
+    // assimp wrote through a wild pointer on a material library with an unknown statement
+    // before a face (fuzz/corpus/fuzz_obj/regress-mtllib-unknown-statement, which the fuzz
+    // run replays first). Materials and unknown keywords are left out; a continued face and
+    // the line numbers of later statements are kept.
+    ScratchDir dir;
+    auto r = read_mesh(dir.write("m.obj",
+                                 "mtllib s0\nv 0 0 0\nv 1 0 0\nv 0 1 0\na1\nusemtl m \\\n x\n"
+                                 "f 1 2 \\\n 3\n"));
+    ASSERT_TRUE(r) << r.error().describe();
+    EXPECT_EQ(r->mesh.triangles.size(), 1u);
+    r = read_mesh(dir.write("n.obj", "mtllib s0\nv 0 0 0\nv 1 0 0\nv 0 1 0\na1\nf 1 2 \\\n 9\n"));
+    ASSERT_FALSE(r);
+    EXPECT_TRUE(contains(r.error().message, "line 6: vertex index 9")) << r.error().describe();
+}
+
 TEST(Assimp, ObjLineContinuation) {
     ScratchDir dir;
     auto r = read_mesh(dir.write("c.obj",
