@@ -7,6 +7,8 @@
 #include <numbers>
 #include <optional>
 
+#include "maxslice/core/revolution.hpp"
+
 namespace maxslice::machine {
 namespace {
 
@@ -121,11 +123,7 @@ double MachineKinematics::head_floor_mm(const Vec3d& m, double tilt) const {
     // The part's +Z in the machine frame; a machine point's part height is its distance from
     // the pivot along it (C turns about a parallel axis through the plate's level).
     const Vec3d n = rotate({0.0, 0.0, 1.0}, tilt, 0.0);
-    const double across = std::hypot(n.x, n.y);
-    double lowest = 0.0;
-    for (const auto& [along, radius] : head_outline_) {
-        lowest = std::min(lowest, along * n.z - radius * across);
-    }
+    const double lowest = std::min(0.0, core::lowest_on_revolution(head_outline_, n.z));
     return core::dot(m - pivot_mm_, n) + lowest;
 }
 

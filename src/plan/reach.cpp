@@ -7,7 +7,10 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <utility>
+#include <vector>
 
+#include "maxslice/core/revolution.hpp"
 #include "maxslice/core/units.hpp"
 
 namespace maxslice::plan::detail {
@@ -62,18 +65,17 @@ double cloud_margin(const HeadProfile& head, const PointCloud& cloud,
 double plate_margin(const Nozzle& n, const slice::PlaneFrame& plate, const Vec3d& apex,
                     const Vec3d& axis) {
     const double c = core::dot(axis, plate.normal);
-    const double s = std::sqrt(std::max(0.0, 1.0 - c * c));
     const double base = plate.height(apex);
-    const auto low = [&](double t, double r) { return base + t * c - r * s; };
     const double tan_half = std::tan(n.half_angle_deg * std::numbers::pi / 180.0);
     const double so = n.standoff_mm, h = n.cone_length_mm;
-    const double stream = std::min(low(0.0, 0.0), low(so, so * tan_half));
-    double hardware = std::min(low(so, so * tan_half), low(h, h * tan_half));
+    const std::pair<double, double> stream[] = {{0.0, 0.0}, {so, so * tan_half}};
+    std::vector<std::pair<double, double>> hardware = {{so, so * tan_half}, {h, h * tan_half}};
     if (n.body_radius_mm > 0.0 && n.body_length_mm > 0.0) {
-        hardware = std::min(
-            {hardware, low(h, n.body_radius_mm), low(h + n.body_length_mm, n.body_radius_mm)});
+        hardware.push_back({h, n.body_radius_mm});
+        hardware.push_back({h + n.body_length_mm, n.body_radius_mm});
     }
-    return std::min(hardware, stream + n.clearance_mm);
+    return base + std::min(core::lowest_on_revolution(hardware, c),
+                           core::lowest_on_revolution(stream, c) + n.clearance_mm);
 }
 
 }  // namespace

@@ -2,10 +2,14 @@
 
 #include <atomic>
 #include <cmath>
+#include <numbers>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "maxslice/core/progress.hpp"
 #include "maxslice/core/result.hpp"
+#include "maxslice/core/revolution.hpp"
 #include "maxslice/core/units.hpp"
 #include "maxslice/core/vec3.hpp"
 
@@ -179,3 +183,26 @@ TEST(Box3d, StartsEmptyAndGrows) {
 
 }  // namespace
 }  // namespace maxslice::core
+
+// The lowest point of a head outline, against the rims of its circles sampled point by point:
+// a point at angle phi on the circle of radius r, t along the axis, stands t cos + r sin cos(phi)
+// high along a direction at angle acos(cos) to the axis.
+TEST(Revolution, LowestPointMatchesTheSampledRims) {
+    const std::vector<std::pair<double, double>> head = {
+        {0.0, 0.0}, {9.0, 5.2}, {45.0, 26.0}, {45.0, 30.0}, {165.0, 30.0}};
+    for (const double c : {1.0, 0.8, 0.5, 0.0, -0.3, -1.0}) {
+        SCOPED_TRACE(c);
+        const double s = std::sqrt(1.0 - c * c);
+        double sampled = 1e300;
+        for (const auto& [t, r] : head) {
+            for (int k = 0; k < 3600; ++k) {
+                const double phi = 2.0 * std::numbers::pi * k / 3600.0;
+                sampled = std::min(sampled, t * c + r * s * std::cos(phi));
+            }
+        }
+        const double lowest = maxslice::core::lowest_on_revolution(head, c);
+        EXPECT_NEAR(lowest, sampled, 1e-9);
+        EXPECT_LE(lowest, 0.0);  // the apex itself is on the outline
+    }
+    EXPECT_TRUE(std::isinf(maxslice::core::lowest_on_revolution({}, 0.5)));
+}
