@@ -239,24 +239,30 @@ ClipperLib::Paths polylines_to_clipper(const Paths2& polylines) {
 
 }  // namespace
 
-Paths2 sweep_polylines(const Paths2& polylines, std::int64_t half_width_um) {
-    if (half_width_um <= 0) return {};
-    const double radius = static_cast<double>(half_width_um);
-    ClipperLib::ClipperOffset offset(2.0, std::max(1.0, 0.01 * radius));
-    offset.AddPaths(polylines_to_clipper(polylines), ClipperLib::jtRound, ClipperLib::etOpenRound);
-    ClipperLib::Paths out;
-    offset.Execute(out, radius);
-    return from_clipper(out);
-}
+namespace {
 
-Paths2 sweep_polylines_square(const Paths2& polylines, std::int64_t half_width_um) {
+// The polylines offset by half_width_um with Clipper's joins and ends of one kind.
+Paths2 sweep(const Paths2& polylines, std::int64_t half_width_um, ClipperLib::JoinType join,
+             ClipperLib::EndType end, double arc_tolerance) {
     if (half_width_um <= 0) return {};
-    ClipperLib::ClipperOffset offset(2.0, 0.25 * static_cast<double>(half_width_um));
-    offset.AddPaths(polylines_to_clipper(polylines), ClipperLib::jtSquare,
-                    ClipperLib::etOpenSquare);
+    ClipperLib::ClipperOffset offset(2.0, arc_tolerance);
+    offset.AddPaths(polylines_to_clipper(polylines), join, end);
     ClipperLib::Paths out;
     offset.Execute(out, static_cast<double>(half_width_um));
     return from_clipper(out);
+}
+
+}  // namespace
+
+Paths2 sweep_polylines(const Paths2& polylines, std::int64_t half_width_um) {
+    return sweep(polylines, half_width_um, ClipperLib::jtRound, ClipperLib::etOpenRound,
+                 std::max(1.0, 0.01 * static_cast<double>(half_width_um)));
+}
+
+Paths2 sweep_polylines_square(const Paths2& polylines, std::int64_t half_width_um) {
+    // The arc tolerance does not apply to square joins.
+    return sweep(polylines, half_width_um, ClipperLib::jtSquare, ClipperLib::etOpenSquare,
+                 0.25 * static_cast<double>(half_width_um));
 }
 
 Paths2 clip_polylines(const Paths2& polylines, const Paths2& region) {

@@ -7,8 +7,8 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <span>
 #include <utility>
-#include <vector>
 
 #include "maxslice/core/revolution.hpp"
 #include "maxslice/core/units.hpp"
@@ -68,13 +68,14 @@ double plate_margin(const Nozzle& n, const slice::PlaneFrame& plate, const Vec3d
     const double base = plate.height(apex);
     const double tan_half = std::tan(n.half_angle_deg * std::numbers::pi / 180.0);
     const double so = n.standoff_mm, h = n.cone_length_mm;
+    // Called for every apex sampled: fixed outlines, nothing allocated.
     const std::pair<double, double> stream[] = {{0.0, 0.0}, {so, so * tan_half}};
-    std::vector<std::pair<double, double>> hardware = {{so, so * tan_half}, {h, h * tan_half}};
-    if (n.body_radius_mm > 0.0 && n.body_length_mm > 0.0) {
-        hardware.push_back({h, n.body_radius_mm});
-        hardware.push_back({h + n.body_length_mm, n.body_radius_mm});
-    }
-    return base + std::min(core::lowest_on_revolution(hardware, c),
+    const std::pair<double, double> hardware[] = {{so, so * tan_half},
+                                                  {h, h * tan_half},
+                                                  {h, n.body_radius_mm},
+                                                  {h + n.body_length_mm, n.body_radius_mm}};
+    const bool body = n.body_radius_mm > 0.0 && n.body_length_mm > 0.0;
+    return base + std::min(core::lowest_on_revolution(std::span(hardware).first(body ? 4 : 2), c),
                            core::lowest_on_revolution(stream, c) + n.clearance_mm);
 }
 

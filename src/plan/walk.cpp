@@ -69,6 +69,10 @@ core::Result<Next> Planner::walk(const RegionJob& job, SliceStack& slices, int n
     bool gap = false;            // empty sections since L
     std::vector<Paths2> pads;    // the footing's layers, from slice pads_from up
     std::size_t pads_from = std::numeric_limits<std::size_t>::max();
+    // A region leaned up for the head's reach keeps its direction: following its chain of
+    // centroids (a beam's, running along the beam) would turn the head back down onto what
+    // the lean cleared (decision 0029). Fixed when the region was made.
+    const bool may_march = s_.tilt_trigger_deg > 0.0 && !leaned_by_reach(rid);
     for (std::size_t i = 0; i < slices.size(); ++i) {
         auto next = slices.at(i);
         if (!next) return std::unexpected(next.error());
@@ -117,11 +121,7 @@ core::Result<Next> Planner::walk(const RegionJob& job, SliceStack& slices, int n
             if (!splits) return std::unexpected(splits.error());
             if (*splits) return done_or_rewalk(**splits);
         }
-        // A region leaned up for the head's reach keeps its direction: following its chain of
-        // centroids (a beam's, running along the beam) would turn the head back down onto
-        // what the lean cleared (decision 0029).
-        if (lower >= 0 && lower != no_march_from && s_.tilt_trigger_deg > 0.0 &&
-            !leaned_by_reach(rid)) {
+        if (may_march && lower >= 0 && lower != no_march_from) {
             // The centroid chain over a track's height (METHOD.md section 4).
             const Region& rr = plan_.regions[static_cast<std::size_t>(rid)];
             const auto k = static_cast<std::size_t>(look_back_);
