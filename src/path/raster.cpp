@@ -2,10 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <numbers>
 #include <optional>
+#include <utility>
+#include <vector>
 
 #include "maxslice/core/assert.hpp"
+#include "maxslice/geom2d/wire_tree.hpp"
 
 namespace maxslice::path::detail {
 namespace {
@@ -92,6 +96,112 @@ struct Link {
     Path2 via;                 // points after the exit point, ending at the entry point
 };
 
+// The scan lines of a fill region: count lines y0, y0 + spacing, ...
+struct Lines {
+    std::int64_t y0 = 0;
+    std::int64_t spacing = 0;
+    int count = 0;
+};
+
+// The region's lowest and highest points (ymin >= ymax: no area).
+std::pair<std::int64_t, std::int64_t> y_extent(const Paths2& loops) {
+    std::int64_t ymin = INT64_MAX;
+    std::int64_t ymax = INT64_MIN;
+    for (const Path2& loop : loops) {
+        if (loop.size() < 3) continue;
+        for (const Point2& p : loop) {
+            ymin = std::min(ymin, p.y);
+            ymax = std::max(ymax, p.y);
+        }
+    }
+    return {ymin, ymax};
+}
+
+// As few lines as keep every spacing at most the pitch p with the extreme lines at most m
+// inside the region's extremes: at the pitch and centred when the leftover fits in the two
+// margins, else spread evenly from extreme to extreme (a little closer than the pitch). A
+// region thinner than 2 m gets one line along its middle.
+std::optional<Lines> place_lines(const Paths2& loops, std::int64_t p, std::int64_t m) {
+    const auto [ymin, ymax] = y_extent(loops);
+    if (ymin >= ymax) return std::nullopt;
+    const std::int64_t lo = ymin + kLineInsetUm;
+    const std::int64_t hi = ymax - kLineInsetUm;
+    const std::int64_t range = hi - lo;
+    const std::int64_t gaps = range > 2 * m ? (range - 2 * m + p - 1) / p : 0;
+    Lines out;
+    if (gaps == 0) {
+        out.y0 = ymin + (ymax - ymin) / 2;
+        out.spacing = p;
+    } else if (gaps * p >= range) {
+        out.y0 = lo;
+        out.spacing = range / gaps;  // rounded down: the last line is < gaps um short of hi
+    } else {
+        out.y0 = lo + (range - gaps * p) / 2;
+        out.spacing = p;
+    }
+    out.count = static_cast<int>(gaps) + 1;
+    return out;
+}
+
+// Shelves of the fill region where its lines leave a sliver: a run of edges at least a pitch
+// long, level within a quarter of the margin m, strictly between the region's extremes (the
+// top of a wall beside a boss standing on it, a step), whose nearest line on the region's
+// side lies more than m from it. A line there runs up to a pitch short of the contour's
+// track along the shelf, and a gap narrower than the gap fill takes is left bare. Returns
+// the heights to cut at (a run's lowest point where the region lies below it, its highest
+// where above), sorted, at most max_cuts of them (the longest runs).
+std::vector<std::int64_t> sliver_shelves(const Paths2& loops, const Lines& lines, std::int64_t p,
+                                         std::int64_t m, std::size_t max_cuts) {
+    const auto [ymin, ymax] = y_extent(loops);
+    const std::int64_t level = std::max<std::int64_t>(m / 4, 1);
+    std::vector<std::pair<std::int64_t, std::int64_t>> found;  // (length, y)
+    const auto consider = [&](std::int64_t length, std::int64_t lo, std::int64_t hi, bool below) {
+        const std::int64_t y = below ? lo : hi;
+        if (length < p || lo <= ymin + m || hi >= ymax - m) return;
+        const std::int64_t k = floor_div(y - lines.y0, lines.spacing);
+        const std::int64_t line =
+            below ? lines.y0 + k * lines.spacing : lines.y0 + (k + 1) * lines.spacing;
+        if (std::abs(y - line) > m + kLineInsetUm) found.emplace_back(length, y);
+    };
+    for (const Path2& loop : loops) {
+        const std::size_t n = loop.size();
+        if (n < 3) continue;
+        // Runs of consecutive edges all heading one way along x within the level band. The
+        // region lies left of its edges (outer loops counter-clockwise, holes clockwise): a
+        // run heading towards -x has it below.
+        std::int64_t x0 = 0, lo = 0, hi = 0, length = 0;
+        int heading = 0;
+        for (std::size_t e = 0; e < n; ++e) {
+            const Point2 a = loop[e];
+            const Point2 b = loop[(e + 1) % n];
+            const int h = b.x > a.x ? 1 : (b.x < a.x ? -1 : 0);
+            const bool extends =
+                heading != 0 && h == heading && std::max(hi, b.y) - std::min(lo, b.y) <= level;
+            if (extends) {
+                lo = std::min(lo, b.y);
+                hi = std::max(hi, b.y);
+                length = std::abs(b.x - x0);
+                continue;
+            }
+            if (heading != 0) consider(length, lo, hi, heading < 0);
+            heading = (h != 0 && std::abs(b.y - a.y) <= level) ? h : 0;
+            x0 = a.x;
+            lo = std::min(a.y, b.y);
+            hi = std::max(a.y, b.y);
+            length = std::abs(b.x - a.x);
+        }
+        if (heading != 0) consider(length, lo, hi, heading < 0);
+    }
+    std::sort(found.begin(), found.end(), std::greater<>());
+    std::vector<std::int64_t> ys;
+    for (const auto& [length, y] : found) {
+        if (ys.size() >= max_cuts) break;
+        if (std::find(ys.begin(), ys.end(), y) == ys.end()) ys.push_back(y);
+    }
+    std::sort(ys.begin(), ys.end());
+    return ys;
+}
+
 class Zigzag {
 public:
     explicit Zigzag(const ZigzagInput& in) : in_(in), loops_(*in.fill_region) {}
@@ -107,37 +217,11 @@ public:
 
 private:
     bool make_lines() {
-        std::int64_t ymin = INT64_MAX;
-        std::int64_t ymax = INT64_MIN;
-        for (const Path2& loop : loops_) {
-            if (loop.size() < 3) continue;
-            for (const Point2& p : loop) {
-                ymin = std::min(ymin, p.y);
-                ymax = std::max(ymax, p.y);
-            }
-        }
-        if (ymin >= ymax) return false;
-        const std::int64_t lo = ymin + kLineInsetUm;
-        const std::int64_t hi = ymax - kLineInsetUm;
-        const std::int64_t range = hi - lo;
-        const std::int64_t p = in_.pitch_um;
-        const std::int64_t m = in_.max_margin_um;
-        // As few lines as keep every spacing at most the pitch with the extreme lines at most
-        // `m` inside the extremes: at the pitch and centred when the leftover fits in the two
-        // margins, else spread evenly from extreme to extreme (a little closer than the
-        // pitch). A region thinner than 2 m gets one line along its middle.
-        const std::int64_t gaps = range > 2 * m ? (range - 2 * m + p - 1) / p : 0;
-        if (gaps == 0) {
-            y0_ = ymin + (ymax - ymin) / 2;
-            spacing_ = p;
-        } else if (gaps * p >= range) {
-            y0_ = lo;
-            spacing_ = range / gaps;  // rounded down: the last line is < gaps um short of hi
-        } else {
-            y0_ = lo + (range - gaps * p) / 2;
-            spacing_ = p;
-        }
-        line_count_ = static_cast<int>(gaps) + 1;
+        const std::optional<Lines> lines = place_lines(loops_, in_.pitch_um, in_.max_margin_um);
+        if (!lines) return false;
+        y0_ = lines->y0;
+        spacing_ = lines->spacing;
+        line_count_ = lines->count;
         return true;
     }
 
@@ -548,9 +632,53 @@ double long_side_angle(const Paths2& outer_wires) {
     return best_angle;
 }
 
+namespace {
+
+// Shelves cut per band, and how many times a band is cut again (each cut band places its
+// lines afresh, which may leave a sliver at another shelf).
+constexpr std::size_t kMaxShelfCuts = 4;
+constexpr int kMaxShelfDepth = 2;
+
+Paths2 zigzag_bands(const ZigzagInput& in, int depth) {
+    const std::optional<Lines> lines = place_lines(*in.fill_region, in.pitch_um, in.max_margin_um);
+    if (!lines) return {};
+    const std::vector<std::int64_t> cuts =
+        depth > 0
+            ? sliver_shelves(*in.fill_region, *lines, in.pitch_um, in.max_margin_um, kMaxShelfCuts)
+            : std::vector<std::int64_t>{};
+    if (cuts.empty()) return Zigzag(in).run();
+    // Band by band, bottom up: each places its lines between its own extremes, so the
+    // shelf is one of them and its line lies within the margin.
+    std::int64_t xmin = INT64_MAX;
+    std::int64_t xmax = INT64_MIN;
+    for (const Path2& loop : *in.fill_region) {
+        for (const Point2& q : loop) {
+            xmin = std::min(xmin, q.x);
+            xmax = std::max(xmax, q.x);
+        }
+    }
+    const auto [ymin, ymax] = y_extent(*in.fill_region);
+    Paths2 out;
+    std::int64_t lo = ymin - 1;
+    for (std::size_t k = 0; k <= cuts.size(); ++k) {
+        const std::int64_t hi = k < cuts.size() ? cuts[k] : ymax + 1;
+        const Paths2 band = geom2d::intersection_of(
+            *in.fill_region,
+            {Path2{{xmin - 1, lo}, {xmax + 1, lo}, {xmax + 1, hi}, {xmin - 1, hi}}});
+        lo = hi;
+        if (band.empty()) continue;
+        ZigzagInput sub = in;
+        sub.fill_region = &band;
+        for (Path2& line : zigzag_bands(sub, depth - 1)) out.push_back(std::move(line));
+    }
+    return out;
+}
+
+}  // namespace
+
 Paths2 zigzag_fill(const ZigzagInput& in) {
     MAXSLICE_ASSERT(in.fill_region != nullptr && in.link_region != nullptr && in.pitch_um > 0);
-    return Zigzag(in).run();
+    return zigzag_bands(in, kMaxShelfDepth);
 }
 
 }  // namespace maxslice::path::detail
