@@ -496,6 +496,8 @@ struct JobOutcome {
     std::string program;
     std::function<core::Result<void>()> files;  // previews and JSON, when asked for
     bool track_limited = false;
+    /// What a track_limited program misses (the note of a job that falls back says it).
+    std::string goal = "misses 97% coverage with under 5% excess";
     std::string figures;  // "90.77% coverage, 0.05% excess", or why nothing was written
     std::optional<core::Error> short_of_part;  // the kept program leaves the finished part short
 
@@ -522,10 +524,22 @@ struct JobOutcome {
                 figures += fmt::format(", {:.2f}% of the finished part inside beads",
                                        100.0 * report->finished_inside);
             }
-            track_limited =
-                (report->model_open_columns == 0 && (report->coverage < verify::kMinCoverage ||
-                                                     report->excess >= verify::kMaxExcess)) ||
-                report->finished_low();
+            if (report->finished_given && report->finished_judged()) {
+                // A near-net shape is judged by the finished part it holds (decision 0030):
+                // the holes and stock it fills need not all be beads, the finished part does.
+                track_limited =
+                    report->finished_inside < verify::kFinishedInsideTarget ||
+                    (report->model_open_columns == 0 && report->excess >= verify::kMaxExcess);
+                goal = fmt::format(
+                    "holds under {:.1f}% of the finished part inside its beads or "
+                    "{:.0f}% excess or more",
+                    100.0 * verify::kFinishedInsideTarget, 100.0 * verify::kMaxExcess);
+            } else {
+                track_limited =
+                    (report->model_open_columns == 0 && (report->coverage < verify::kMinCoverage ||
+                                                         report->excess >= verify::kMaxExcess)) ||
+                    report->finished_low();
+            }
             if (report->finished_low()) {
                 short_of_part = core::Error{
                     core::ErrorCode::kInvalidInput,
@@ -739,10 +753,10 @@ core::Result<JobOutcome> with_finer_processes(
         JobOutcome f = attempt(*p, n);
         if (f.rc == kExitOk && !f.track_limited) {
             f.printed.err = fmt::format(
-                "maxslice: note: the {:.2f} mm track misses 97% coverage with under 5% excess "
-                "({}); the program uses the profile's finer process {} ({:.2f} mm track, "
-                "{:.2f} mm layers; --finer off keeps the {:.2f} mm track)\n{}",
-                track(profiles), main.figures, n, track(*p), p->process.layer_height_mm,
+                "maxslice: note: the {:.2f} mm track {} ({}); the program uses the profile's "
+                "finer process {} ({:.2f} mm track, {:.2f} mm layers; --finer off keeps the "
+                "{:.2f} mm track)\n{}",
+                track(profiles), main.goal, main.figures, n, track(*p), p->process.layer_height_mm,
                 track(profiles), f.printed.err);
             f.printed.out = fmt::format(
                 "process         finer {}: {:.2f} mm track, {:.2f} mm layers (the {:.2f} mm "
@@ -1232,8 +1246,9 @@ int run(int argc, char** argv) {
                     "Do not replay the written program in the independent verifier");
     slice->add_option("--finer", so.finer,
                       "The profile's finer processes ([[process.finer]]): auto (when the main "
-                      "track leaves the part under 97% covered or lays nothing), off, or N (use "
-                      "finer process N)");
+                      "track's beads hold under 99.5% of the finished part, under 97% of a part "
+                      "without a near-net shape, or lay nothing), off, or N (use finer process "
+                      "N)");
 
     PartOptions plan_opt;
     PlanOptions po;
