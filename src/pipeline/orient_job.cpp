@@ -33,11 +33,13 @@ std::string multiaxis_refusal(const PlannedPart& p, const std::vector<int>& bare
 }
 
 // The layers on the plate whose toolpaths have no track (every feature narrower than the
-// track) when something with a track stands on them, directly or over more such layers: a
-// part standing on a knife edge or a tip. The toolpath stage would leave them bare and cut
-// every track above them (decision 0013), layer after layer. Parts where no track fits
-// anywhere above them (too fine for the track, or in other units) give none: the toolpath
-// stage names that case.
+// track) when something with a track stands on them alone, directly or over more such layers:
+// a part standing on a knife edge or a tip. The toolpath stage would leave them bare and cut
+// every track above them (decision 0013), layer after layer. A layer that also rests on a
+// layer with a track (a sliver at the plate beside the part's foot, which the next layers
+// join) does not hang from them: its tracks are cut to the beads below it, and the verifier
+// judges what is left. Parts where no track fits anywhere above them (too fine for the track,
+// or in other units) give none: the toolpath stage names that case.
 core::Result<std::vector<int>> bare_plate_layers(const plan::Plan& plan,
                                                  const machine::Profiles& profiles) {
     const path::PathSettings settings = path_settings(profiles.process);
@@ -50,20 +52,25 @@ core::Result<std::vector<int>> bare_plate_layers(const plan::Plan& plan,
     }
     auto bare_plate = bare_of(plate);
     if (!bare_plate) return std::unexpected(bare_plate.error());
-    // Up from them, one generation of children at a time, while the children are bare too.
-    std::vector<char> seen(plan.layers.size(), 0);
+    // Up from them, one generation of children at a time: a child hangs from them when all
+    // its parents do; while the hanging children are bare too.
+    std::vector<char> hangs(plan.layers.size(), 0);
     std::vector<int> level = *bare_plate;
-    for (const int id : level) seen[static_cast<std::size_t>(id)] = 1;
+    for (const int id : level) hangs[static_cast<std::size_t>(id)] = 1;
     while (!level.empty()) {
         std::vector<int> children;
         for (const int id : level) {
             for (const int c : plan.layers[static_cast<std::size_t>(id)].children) {
-                if (seen[static_cast<std::size_t>(c)] == 0) {
-                    seen[static_cast<std::size_t>(c)] = 1;
+                if (hangs[static_cast<std::size_t>(c)] != 0) continue;
+                const auto& ps = plan.layers[static_cast<std::size_t>(c)].parents;
+                if (std::all_of(ps.begin(), ps.end(),
+                                [&](int q) { return hangs[static_cast<std::size_t>(q)] != 0; })) {
+                    hangs[static_cast<std::size_t>(c)] = 1;
                     children.push_back(c);
                 }
             }
         }
+        std::sort(children.begin(), children.end());
         auto bare = bare_of(children);
         if (!bare) return std::unexpected(bare.error());
         if (bare->size() < children.size()) return bare_plate;  // a track stands on them

@@ -11,6 +11,7 @@
 
 #include "maxslice/machine/profile.hpp"
 #include "maxslice/pipeline/orient_job.hpp"
+#include "maxslice/pipeline/program_job.hpp"
 #include "support/fixtures.hpp"
 #include "support/planner_fixtures.hpp"
 
@@ -160,6 +161,38 @@ TEST(OrientJob, APartOnAStripNarrowerThanATrackIsStoodOnAFace) {
     ASSERT_TRUE(block.has_value());
     EXPECT_TRUE(block->bare_plate_layers.empty());
     EXPECT_TRUE(block->tries[0].refusal.empty());
+}
+
+// A block with a fin beside its foot: the fin stands on the plate as a strip 0.7 mm wide at
+// the first layer (no track fits), leaning into the block, which it joins 1.2 mm up. What has
+// tracks above the strip rests on the block's layers too: nothing hangs from the strip alone,
+// so the part is not refused for it (its tracks are cut to the beads below, and the verifier
+// judges the program). Without the block the fin stands on the strip alone and is refused.
+TEST(OrientJob, AStripAtThePlateThatJoinsTheFootDoesNotRefuseThePart) {
+    const machine::Profiles profiles = reference_profiles();
+    const std::vector<test::CapPoint> outline{{0, 0},    {20, 0},    {20, 1.2}, {21.5, 0},
+                                              {21.9, 0}, {21.9, 10}, {0, 10}};
+    const mesh::TriangleMesh part = test::extrude_xz(test::polygon_cap(outline), 0.0, 20.0);
+    auto o = orient_multiaxis(part, {0, 0, 1}, OrientPolicy::kGiven, profiles);
+    ASSERT_TRUE(o.has_value()) << o.error().describe();
+    const plan::Plan& plan = o->planned.plan;
+    std::vector<int> plate;
+    for (const plan::Layer& l : plan.layers) {
+        if (l.on_plate) plate.push_back(l.id);
+    }
+    auto bare = trackless_layers(plan, plate, path_settings(profiles.process));
+    ASSERT_TRUE(bare.has_value());
+    EXPECT_EQ(plate.size(), 2u) << "the foot and the strip";
+    EXPECT_EQ(bare->size(), 1u) << "the strip gets no track";
+    EXPECT_TRUE(o->bare_plate_layers.empty());
+    EXPECT_TRUE(o->tries[0].refusal.empty()) << o->tries[0].refusal;
+
+    const std::vector<test::CapPoint> fin{{21.5, 0}, {21.9, 0}, {21.9, 10}, {18.0, 10}};
+    auto alone = orient_multiaxis(test::extrude_xz(test::polygon_cap(fin), 0.0, 20.0), {0, 0, 1},
+                                  OrientPolicy::kGiven, profiles);
+    ASSERT_TRUE(alone.has_value()) << alone.error().describe();
+    EXPECT_FALSE(alone->bare_plate_layers.empty());
+    EXPECT_EQ(alone->tries[0].refusal, "stands on 1 piece(s) where no track fits");
 }
 
 // The 3-axis search: the block builds as given; a check refusing the given stack sends the
