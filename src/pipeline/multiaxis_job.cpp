@@ -11,6 +11,7 @@
 #include "maxslice/machine/program_builder.hpp"
 #include "maxslice/machine/speed_law.hpp"
 #include "maxslice/pipeline/program_job.hpp"
+#include "sideways_support.hpp"
 
 namespace maxslice::pipeline {
 namespace {
@@ -58,32 +59,54 @@ LayerFrame frame_of(const plan::Plan& plan, const plan::Layer& layer) {
     return f;
 }
 
-// Parents built along a direction more than this far from the layer's (degrees) leave the
-// layer as planned: their beads stand sideways under it, and their tops do not outline the
-// material it rests on.
+// Parents built along a direction more than this far from the layer's (degrees) stand
+// sideways under it: their beads carry it only where they reach its bottom plane.
 constexpr double kSupportMaxTurnDeg = 10.0;
 // Track centres may run this many half tracks beyond the parents' track centres: a bead
 // is carried while it reaches the beads below (the planner ignores overhangs narrower than
 // a track, METHOD.md section 3; the verifier asks for material within half a track and a
 // voxel of a bead's centre), kept a little inside that.
 constexpr double kSupportReachHalves = 1.9;
+// A sideways bead carries the layer where it reaches to within this share of the layer's
+// thickness below the layer's bottom plane (the verifier's gap is two thirds of a voxel).
+constexpr double kSideBandShare = 0.5;
 
 // Where a layer's track centres are carried: its parents' tracks lifted onto their tops,
-// projected along the layer's direction into its plane frame and swept by the reach; nullopt when a
-// parent is built along another direction (see above) or the layer stands on the plate.
+// projected along the layer's direction into its plane frame (a parent built along another
+// direction: the parts of its tracks whose beads reach the layer's bottom) and swept by the
+// reach; nullopt when the layer stands on the plate, or is a wedge on sideways parents.
 std::optional<geom2d::Paths2> support_of(const plan::Plan& plan, const plan::Layer& layer,
                                          const std::vector<const path::LayerToolpath*>& done,
-                                         std::int64_t reach_um) {
+                                         std::int64_t reach_um, double half_track_mm) {
     if (layer.on_plate || layer.parents.empty()) return std::nullopt;
     const double cos_max = std::cos(kSupportMaxTurnDeg * std::numbers::pi / 180.0);
     geom2d::Paths2 lines;
+    geom2d::Paths2 side_lines;
     for (const int p : layer.parents) {
         const plan::Layer& parent = plan.layers[static_cast<std::size_t>(p)];
         const path::LayerToolpath* tp = done[static_cast<std::size_t>(p)];
-        if (tp == nullptr || core::dot(parent.top.normal, layer.top.normal) < cos_max) {
-            return std::nullopt;
-        }
+        if (tp == nullptr) return std::nullopt;
         const LayerFrame frame = frame_of(plan, parent);
+        if (core::dot(parent.top.normal, layer.top.normal) < cos_max) {
+            if (layer.tilted) return std::nullopt;
+            detail::SidewaysParent side;
+            side.direction = frame.direction;
+            side.thickness_mm = parent.span.thickness();
+            side.half_track_mm = half_track_mm;
+            for (const path::Stroke& s : tp->strokes) {
+                std::vector<Vec3d>& tips = side.tips.emplace_back();
+                tips.reserve(s.points.size());
+                for (const geom2d::Point2& q : s.points) tips.push_back(frame.tip(q));
+            }
+            const slice::PlaneFrame bottom =
+                layer.plane.shifted(layer.span.bottom - layer.span.cut);
+            for (geom2d::Path2& q :
+                 detail::sideways_support(bottom, layer.span.thickness(), layer.plane, side,
+                                          kSideBandShare * layer.span.thickness())) {
+                side_lines.push_back(std::move(q));
+            }
+            continue;
+        }
         for (const path::Stroke& s : tp->strokes) {
             geom2d::Path2& line = lines.emplace_back();
             line.reserve(s.points.size());
@@ -94,7 +117,14 @@ std::optional<geom2d::Paths2> support_of(const plan::Plan& plan, const plan::Lay
             }
         }
     }
-    return geom2d::sweep_polylines(lines, reach_um);
+    if (side_lines.empty()) return geom2d::sweep_polylines(lines, reach_um);
+    // A sideways bead's material that reaches the bottom plane lies up to half a track from
+    // its centre line: the layer's track centres within half a track of it.
+    geom2d::Paths2 support = geom2d::sweep_polylines(lines, reach_um);
+    for (geom2d::Path2& q : geom2d::sweep_polylines(side_lines, core::mm_to_um(half_track_mm))) {
+        support.push_back(std::move(q));
+    }
+    return geom2d::union_of(support);
 }
 
 // A stroke whose clipped pieces are this much shorter than itself (um) is kept whole.
@@ -307,7 +337,8 @@ core::Result<MultiAxisProgram> plan_multiaxis_program(const plan::Plan& plan,
     std::vector<const path::LayerToolpath*> done(plan.layers.size(), nullptr);
     for (std::size_t i = 0; i < out.order.size(); ++i) {
         const plan::Layer& layer = plan.layers[static_cast<std::size_t>(out.order[i])];
-        if (const auto support = support_of(plan, layer, done, reach_um)) {
+        if (const auto support =
+                support_of(plan, layer, done, reach_um, settings.track_width_mm / 2.0)) {
             const double cut = trim_to_support(out.toolpaths[i], *support, layer.wires, half_um,
                                                core::mm_to_um(settings.track_width_mm / 4.0));
             if (cut > 0.0) {
