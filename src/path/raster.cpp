@@ -118,11 +118,11 @@ std::pair<std::int64_t, std::int64_t> y_extent(const Paths2& loops) {
 }
 
 // As few lines as keep every spacing at most the pitch p with the extreme lines at most m
-// inside the region's extremes: at the pitch and centred when the leftover fits in the two
-// margins, else spread evenly from extreme to extreme (a little closer than the pitch). A
+// inside the region's extremes ymin and ymax: at the pitch and centred when the leftover fits in
+// the two margins, else spread evenly from extreme to extreme (a little closer than the pitch). A
 // region thinner than 2 m gets one line along its middle.
-std::optional<Lines> place_lines(const Paths2& loops, std::int64_t p, std::int64_t m) {
-    const auto [ymin, ymax] = y_extent(loops);
+std::optional<Lines> place_lines(std::int64_t ymin, std::int64_t ymax, std::int64_t p,
+                                 std::int64_t m) {
     if (ymin >= ymax) return std::nullopt;
     const std::int64_t lo = ymin + kLineInsetUm;
     const std::int64_t hi = ymax - kLineInsetUm;
@@ -150,9 +150,9 @@ std::optional<Lines> place_lines(const Paths2& loops, std::int64_t p, std::int64
 // track along the shelf, and a gap narrower than the gap fill takes is left bare. Returns
 // the heights to cut at (a run's lowest point where the region lies below it, its highest
 // where above), sorted, at most max_cuts of them (the longest runs).
-std::vector<std::int64_t> sliver_shelves(const Paths2& loops, const Lines& lines, std::int64_t p,
-                                         std::int64_t m, std::size_t max_cuts) {
-    const auto [ymin, ymax] = y_extent(loops);
+std::vector<std::int64_t> sliver_shelves(const Paths2& loops, std::int64_t ymin, std::int64_t ymax,
+                                         const Lines& lines, std::int64_t p, std::int64_t m,
+                                         std::size_t max_cuts) {
     const std::int64_t level = std::max<std::int64_t>(m / 4, 1);
     std::vector<std::pair<std::int64_t, std::int64_t>> found;  // (length, y)
     const auto consider = [&](std::int64_t length, std::int64_t lo, std::int64_t hi, bool below) {
@@ -204,10 +204,15 @@ std::vector<std::int64_t> sliver_shelves(const Paths2& loops, const Lines& lines
 
 class Zigzag {
 public:
-    explicit Zigzag(const ZigzagInput& in) : in_(in), loops_(*in.fill_region) {}
+    // The fill of in's region along `lines` (place_lines of it).
+    Zigzag(const ZigzagInput& in, const Lines& lines)
+        : in_(in),
+          loops_(*in.fill_region),
+          y0_(lines.y0),
+          spacing_(lines.spacing),
+          line_count_(lines.count) {}
 
     Paths2 run() {
-        if (!make_lines()) return {};
         cross_lines();
         make_segments();
         order_along_loops();
@@ -216,15 +221,6 @@ public:
     }
 
 private:
-    bool make_lines() {
-        const std::optional<Lines> lines = place_lines(loops_, in_.pitch_um, in_.max_margin_um);
-        if (!lines) return false;
-        y0_ = lines->y0;
-        spacing_ = lines->spacing;
-        line_count_ = lines->count;
-        return true;
-    }
-
     [[nodiscard]] std::int64_t line_y(int k) const { return y0_ + k * spacing_; }
 
     void cross_lines() {
@@ -640,13 +636,14 @@ constexpr std::size_t kMaxShelfCuts = 4;
 constexpr int kMaxShelfDepth = 2;
 
 Paths2 zigzag_bands(const ZigzagInput& in, int depth) {
-    const std::optional<Lines> lines = place_lines(*in.fill_region, in.pitch_um, in.max_margin_um);
+    const auto [ymin, ymax] = y_extent(*in.fill_region);
+    const std::optional<Lines> lines = place_lines(ymin, ymax, in.pitch_um, in.max_margin_um);
     if (!lines) return {};
     const std::vector<std::int64_t> cuts =
-        depth > 0
-            ? sliver_shelves(*in.fill_region, *lines, in.pitch_um, in.max_margin_um, kMaxShelfCuts)
-            : std::vector<std::int64_t>{};
-    if (cuts.empty()) return Zigzag(in).run();
+        depth > 0 ? sliver_shelves(*in.fill_region, ymin, ymax, *lines, in.pitch_um,
+                                   in.max_margin_um, kMaxShelfCuts)
+                  : std::vector<std::int64_t>{};
+    if (cuts.empty()) return Zigzag(in, *lines).run();
     // Band by band, bottom up: each places its lines between its own extremes, so the
     // shelf is one of them and its line lies within the margin.
     std::int64_t xmin = INT64_MAX;
@@ -657,7 +654,6 @@ Paths2 zigzag_bands(const ZigzagInput& in, int depth) {
             xmax = std::max(xmax, q.x);
         }
     }
-    const auto [ymin, ymax] = y_extent(*in.fill_region);
     Paths2 out;
     std::int64_t lo = ymin - 1;
     for (std::size_t k = 0; k <= cuts.size(); ++k) {

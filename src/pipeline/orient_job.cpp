@@ -43,39 +43,16 @@ std::string multiaxis_refusal(const PlannedPart& p, const std::vector<int>& bare
 core::Result<std::vector<int>> bare_plate_layers(const plan::Plan& plan,
                                                  const machine::Profiles& profiles) {
     const path::PathSettings settings = path_settings(profiles.process);
-    const auto bare_of = [&](const std::vector<int>& ids) {
-        return trackless_layers(plan, ids, settings);
-    };
     std::vector<int> plate;
     for (const plan::Layer& l : plan.layers) {
         if (l.on_plate) plate.push_back(l.id);
     }
-    auto bare_plate = bare_of(plate);
+    auto bare_plate = trackless_layers(plan, plate, settings);
     if (!bare_plate) return std::unexpected(bare_plate.error());
-    // Up from them, one generation of children at a time: a child hangs from them when all
-    // its parents do; while the hanging children are bare too.
-    std::vector<char> hangs(plan.layers.size(), 0);
-    std::vector<int> level = *bare_plate;
-    for (const int id : level) hangs[static_cast<std::size_t>(id)] = 1;
-    while (!level.empty()) {
-        std::vector<int> children;
-        for (const int id : level) {
-            for (const int c : plan.layers[static_cast<std::size_t>(id)].children) {
-                if (hangs[static_cast<std::size_t>(c)] != 0) continue;
-                const auto& ps = plan.layers[static_cast<std::size_t>(c)].parents;
-                if (std::all_of(ps.begin(), ps.end(),
-                                [&](int q) { return hangs[static_cast<std::size_t>(q)] != 0; })) {
-                    hangs[static_cast<std::size_t>(c)] = 1;
-                    children.push_back(c);
-                }
-            }
-        }
-        std::sort(children.begin(), children.end());
-        auto bare = bare_of(children);
-        if (!bare) return std::unexpected(bare.error());
-        if (bare->size() < children.size()) return bare_plate;  // a track stands on them
-        level = std::move(*bare);
-    }
+    std::vector<char> hangs;
+    auto laden = laden_hanging(plan, *bare_plate, settings, hangs);
+    if (!laden) return std::unexpected(laden.error());
+    if (!laden->empty()) return bare_plate;  // a track stands on them
     return std::vector<int>{};
 }
 

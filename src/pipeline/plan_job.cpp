@@ -173,25 +173,16 @@ core::Result<std::vector<int>> trackless_layers(const plan::Plan& plan, std::spa
     return out;
 }
 
-namespace {
-
-// Moves the plan's layers on nothing that get no track to bare_unsupported_layers, unless a
-// layer with a track hangs from them: one whose parents all hang from them (its tracks would
-// all be cut to the beads below, a feature left out, decision 0013). Such a bare layer stays
-// on nothing: the part (a body floating free, reached through a sliver) needs support.
-core::Result<void> set_aside_bare(plan::Plan& plan, const path::PathSettings& tracks) {
-    if (plan.unsupported_layers.empty()) return {};
-    auto bare = trackless_layers(plan, plan.unsupported_layers, tracks);
-    if (!bare) return std::unexpected(bare.error());
-    if (bare->empty()) return {};
+core::Result<std::vector<int>> laden_hanging(const plan::Plan& plan, std::span<const int> bare,
+                                             const path::PathSettings& tracks,
+                                             std::vector<char>& hangs) {
     const auto at = [&](int id) -> const plan::Layer& {
         return plan.layers[static_cast<std::size_t>(id)];
     };
-    // What hangs from the bare layers, a generation at a time.
-    std::vector<char> hangs(plan.layers.size(), 0);
-    for (const int id : *bare) hangs[static_cast<std::size_t>(id)] = 1;
-    std::vector<int> level = *bare;
-    std::vector<int> laden;  // hanging layers with a track
+    hangs.assign(plan.layers.size(), 0);
+    for (const int id : bare) hangs[static_cast<std::size_t>(id)] = 1;
+    std::vector<int> level(bare.begin(), bare.end());
+    std::vector<int> laden;
     while (!level.empty()) {
         std::vector<int> next;
         for (const int id : level) {
@@ -215,9 +206,29 @@ core::Result<void> set_aside_bare(plan::Plan& plan, const path::PathSettings& tr
         }
         level = std::move(*trackless);  // a layer with a track carries what is above it
     }
+    return laden;
+}
+
+namespace {
+
+// Moves the plan's layers on nothing that get no track to bare_unsupported_layers, unless a
+// layer with a track hangs from them: one whose parents all hang from them (its tracks would
+// all be cut to the beads below, a feature left out, decision 0013). Such a bare layer stays
+// on nothing: the part (a body floating free, reached through a sliver) needs support.
+core::Result<void> set_aside_bare(plan::Plan& plan, const path::PathSettings& tracks) {
+    if (plan.unsupported_layers.empty()) return {};
+    auto bare = trackless_layers(plan, plan.unsupported_layers, tracks);
+    if (!bare) return std::unexpected(bare.error());
+    if (bare->empty()) return {};
+    const auto at = [&](int id) -> const plan::Layer& {
+        return plan.layers[static_cast<std::size_t>(id)];
+    };
+    std::vector<char> hangs;
+    auto laden = laden_hanging(plan, *bare, tracks, hangs);
+    if (!laden) return std::unexpected(laden.error());
     // The bare layers a laden layer hangs from stay on nothing.
     std::vector<char> keep(plan.layers.size(), 0);
-    std::vector<int> up = std::move(laden);
+    std::vector<int> up = std::move(*laden);
     while (!up.empty()) {
         const int id = up.back();
         up.pop_back();

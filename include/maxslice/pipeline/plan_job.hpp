@@ -103,6 +103,15 @@ struct PlannedPart {
                                                               std::span<const int> ids,
                                                               const path::PathSettings& tracks);
 
+/// What hangs from the layers `bare` (sorted; layers without a track): up from them, a
+/// generation of children at a time, a child hangs when all its parents do, and the walk goes
+/// on through hanging children without a track. `hangs` (per layer id) marks the bare layers
+/// and every hanging child; returns the hanging children with a track, sorted per generation.
+[[nodiscard]] core::Result<std::vector<int>> laden_hanging(const plan::Plan& plan,
+                                                           std::span<const int> bare,
+                                                           const path::PathSettings& tracks,
+                                                           std::vector<char>& hangs);
+
 /// Plans the part (see plan::plan_part); with Orient::kAuto plans every candidate and keeps
 /// the one whose plan leaves no layer resting on nothing, then the fewest splits, then the
 /// fewest tilts wanted, then the first tried. With `tracks` set, each plan's layers on
