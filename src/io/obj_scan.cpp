@@ -13,6 +13,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -163,6 +164,50 @@ core::Result<void> check_corner(std::string_view corner, const Counts& counts, s
     return {};
 }
 
+// A 'v' statement's point. Assimp reads 3 numbers as x y z, 4 as x y z w (divided by w) and
+// 6 as x y z r g b, and silently skips a vertex with any other count, or whose numbers it does
+// not take for numbers (".5"): every later index would then name the wrong vertex, a
+// different part without a word. So the point is read here and handed to assimp as
+// "v x y z" in the shortest digits that give back the same float (assimp holds coordinates
+// as 32-bit floats: a larger number would become infinite there, so the range is checked
+// here where the line is known).
+core::Result<std::array<float, 3>> vertex_of(Tokens& tokens, std::size_t line) {
+    constexpr int kMaxNumbers = 7;  // enough to tell 6 from more
+    std::array<float, kMaxNumbers> v{};
+    int numbers = 0;
+    for (std::string_view t = tokens.next(); !t.empty() && numbers < kMaxNumbers;
+         t = tokens.next()) {
+        float value = 0.0f;
+        const NumberRead got = parse_number(t, value);
+        if (got != NumberRead::kOk) {
+            return error_at(line, number_problem("vertex coordinate", t, got,
+                                                 /*single_precision=*/true));
+        }
+        if (!std::isfinite(value)) {
+            return error_at(line, fmt::format("vertex coordinate {} is not finite", shown(t)));
+        }
+        v[static_cast<std::size_t>(numbers++)] = value;
+    }
+    if (numbers < 3) {
+        return error_at(line, fmt::format("a vertex needs 3 coordinates, found {}", numbers));
+    }
+    if (numbers == 5 || numbers > 6) {
+        return error_at(line, fmt::format("a vertex has {} numbers; OBJ vertices have 3 (x y z), "
+                                          "4 (x y z w) or 6 (x y z r g b)",
+                                          numbers > 6 ? "more than 6" : "5"));
+    }
+    std::array<float, 3> p{v[0], v[1], v[2]};
+    if (numbers == 4) {
+        if (v[3] == 0.0f)
+            return error_at(line, "a vertex with weight w = 0 (x y z w) is at infinity");
+        for (float& c : p) c /= v[3];
+        if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
+            return error_at(line, "a vertex divided by its weight w is beyond the float range");
+        }
+    }
+    return p;
+}
+
 }  // namespace
 
 core::Result<ObjScan> scan_obj(std::string_view text) {
@@ -190,31 +235,15 @@ core::Result<ObjScan> scan_obj(std::string_view text) {
     while (reader.next(st)) {
         Tokens tokens(st.text);
         const std::string_view keyword = tokens.next();
-        if (carries_geometry(keyword)) scan.geometry.append(st.text);
-        scan.geometry.append(reader.line() - st.line, '\n');
         const int kind = kind_of(keyword);
         if (kind == 0) {
-            int numbers = 0;
-            for (std::string_view t = tokens.next(); !t.empty(); t = tokens.next()) {
-                // assimp holds coordinates as 32-bit floats: a larger number would become
-                // infinite there, so the range is checked here where the line is known.
-                float value = 0.0f;
-                const NumberRead got = parse_number(t, value);
-                if (got != NumberRead::kOk) {
-                    return error_at(st.line, number_problem("vertex coordinate", t, got,
-                                                            /*single_precision=*/true));
-                }
-                if (!std::isfinite(value)) {
-                    return error_at(st.line,
-                                    fmt::format("vertex coordinate {} is not finite", shown(t)));
-                }
-                ++numbers;
-            }
-            if (numbers < 3) {
-                return error_at(st.line,
-                                fmt::format("a vertex needs 3 coordinates, found {}", numbers));
-            }
+            auto point = vertex_of(tokens, st.line);
+            if (!point) return std::unexpected(point.error());
+            scan.geometry.append(fmt::format("v {} {} {}", (*point)[0], (*point)[1], (*point)[2]));
+        } else if (carries_geometry(keyword)) {
+            scan.geometry.append(st.text);
         }
+        scan.geometry.append(reader.line() - st.line, '\n');
         if (kind >= 0) {
             ++counts.so_far[kind];
             continue;

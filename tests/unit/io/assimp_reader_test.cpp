@@ -320,6 +320,40 @@ TEST(Assimp, ObjCoordinateBeyondFloatRangeIsOutOfRange) {
         << r.error().describe();
 }
 
+TEST(Assimp, ObjVertexIsReadAsWrittenOrRefusedWithItsLine) {
+    // assimp skips a vertex of 5 numbers, or one it does not take for a number (".5"), without
+    // a word: every later index then names the wrong vertex (fuzz/corpus/fuzz_obj/leak-d2abfbd3...
+    // also leaked the first mesh when an index then fell past the end).
+    ScratchDir dir;
+    const std::string faces = "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+    auto r = read_mesh(dir.write("dot.obj", "v 0 0 0\nv .5 0 0\nv 0 1 0\nv 0 0 1\n" + faces));
+    ASSERT_TRUE(r) << r.error().describe();
+    EXPECT_NEAR(mesh::signed_volume(r->mesh), 0.5 / 6.0, 1e-9);
+    // x y z w is divided by w; x y z r g b keeps x y z.
+    r = read_mesh(dir.write("w.obj", "v 0 0 0 2\nv 2 0 0 2\nv 0 4 0 4 \nv 0 0 1 1\n" + faces));
+    ASSERT_TRUE(r) << r.error().describe();
+    EXPECT_NEAR(mesh::signed_volume(r->mesh), 1.0 / 6.0, 1e-9);
+    r = read_mesh(dir.write("rgb.obj",
+                            "v 0 0 0 1 0 0\nv 3 0 0 1 0 0\nv 0 1 0 0 1 0\n"
+                            "v 0 0 1 0 0 1\n" +
+                                faces));
+    ASSERT_TRUE(r) << r.error().describe();
+    EXPECT_NEAR(mesh::signed_volume(r->mesh), 3.0 / 6.0, 1e-9);
+    r = read_mesh(
+        dir.write("five.obj", "v 0 0 0\nv 1 0 0 1 0\nv 0 1 0\nv 0 0 1\nv 0 0 2\n" + faces));
+    ASSERT_FALSE(r);
+    EXPECT_TRUE(contains(r.error().message, "line 2: a vertex has 5 numbers"))
+        << r.error().describe();
+    r = read_mesh(dir.write("eight.obj", "v 0 0 0 1 1 1 1 1\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"));
+    ASSERT_FALSE(r);
+    EXPECT_TRUE(contains(r.error().message, "line 1: a vertex has more than 6 numbers"))
+        << r.error().describe();
+    r = read_mesh(dir.write("w0.obj", "v 0 0 0\nv 1 0 0 0\nv 0 1 0\nf 1 2 3\n"));
+    ASSERT_FALSE(r);
+    EXPECT_TRUE(contains(r.error().message, "line 2: a vertex with weight w = 0"))
+        << r.error().describe();
+}
+
 TEST(Assimp, OffCoordinateBeyondDoubleRangeIsOutOfRange) {
     ScratchDir dir;
     auto r = read_mesh(dir.write("big.off", "OFF\n3 1 0\n0 0 0\n1e999 0 0\n0 1 0\n3 0 1 2\n"));
