@@ -7,7 +7,12 @@
 //    2 r): with D the signed distance of X (negative inside), Y = {D <= r} is X dilated by r;
 //    D1 is Y's own signed distance (a rebuild: where the dilated surfaces of two walls merge,
 //    D - r is no longer a distance); C = {D1 <= -r} is Y eroded by r. C's surface is only as
-//    good as the coarse grid, so the deposit keeps X itself too: X u C.
+//    good as the coarse grid, so the deposit keeps X itself too: X u C. Where X's surface is
+//    flat, C's coarse surface stands out of it by up to about a third of a coarse voxel, in
+//    scattered bumps; grown, they would hang below a flat underside as islands in the air. So
+//    C is taken a little deeper, at D1 <= -(r + e), e = half a coarse voxel but at most s:
+//    the band of width e it then leaves along the walls of a filled hole is within s of both
+//    sides, and the growth fills it.
 // 2. The growth, on the fine grid (voxel ~ s / 2): the union's distance is the smaller of X's
 //    and C's (exact outside, which is all the isovalue s > 0 needs), meshed at s.
 // The closing adds nothing when r <= s (a hole narrower than 2 s is filled by the stock alone:
@@ -48,6 +53,9 @@ constexpr double kVoxelsPerFillRadius = 4.0;
 // coarsened by the surface bound) its band, r deep on both sides of the rebuild, would cost
 // several times the growth's; the threshold is then found to about a coarse voxel.
 constexpr double kCoarseOverFine = 2.0;
+// The closing is taken this many coarse voxels deeper than its radius (at most the stock),
+// below its surface's error where X's surface is flat (header, step 1).
+constexpr double kClosingDepthVoxels = 0.5;
 // A finer voxel is never needed: the machine takes off stock, it does not deposit to 20 um.
 constexpr double kMinVoxelMm = 0.05;
 // Bound on the fine grid's voxels at the surface (its band is a few voxels deep): a larger
@@ -145,7 +153,7 @@ struct IndexPolygons {
 };
 
 core::Result<IndexPolygons> closing(const mesh::TriangleMesh& finished, const core::Vec3d& origin,
-                                    double radius, double voxel, double fine_voxel,
+                                    double radius, double depth, double voxel, double fine_voxel,
                                     Interrupter& interrupter, std::size_t& active) {
     const openvdb::math::Transform::Ptr xform =
         openvdb::math::Transform::createLinearTransform(voxel);
@@ -167,7 +175,7 @@ core::Result<IndexPolygons> closing(const mesh::TriangleMesh& finished, const co
     std::vector<openvdb::Vec3s> points;
     std::vector<openvdb::Vec3I> triangles;
     std::vector<openvdb::Vec4I> quads;
-    openvdb::tools::volumeToMesh(*field, points, triangles, quads, -radius, 0.0, true);
+    openvdb::tools::volumeToMesh(*field, points, triangles, quads, -depth, 0.0, true);
     IndexPolygons out;
     const float scale = static_cast<float>(1.0 / fine_voxel);
     out.points.reserve(points.size());
@@ -223,8 +231,9 @@ core::Result<NearNet> compute(const mesh::TriangleMesh& finished, const NearNetS
     if (radius > stock) {
         if (progress != nullptr) progress->report("near-net", 0.3);
         const double coarse = std::max(radius / kVoxelsPerFillRadius, kCoarseOverFine * voxel);
-        auto closed =
-            closing(finished, origin, radius, coarse, voxel, interrupter, out.report.active_voxels);
+        const double depth = radius + std::min(kClosingDepthVoxels * coarse, stock);
+        auto closed = closing(finished, origin, radius, depth, coarse, voxel, interrupter,
+                              out.report.active_voxels);
         if (!closed) return std::unexpected(closed.error());
         const openvdb::tools::QuadAndTriangleDataAdapter<openvdb::Vec3s, openvdb::Vec4I> c(
             closed->points, closed->polygons);

@@ -551,7 +551,7 @@ TEST(FiveAxis, TheReferenceCellFallsBackToItsFinerTrackWhereItsTrackMissesTheFig
 }
 
 // A near-net job is judged by the finished part its beads hold (decision 0030): NIST FTC-11's
-// near-net shape fills bores and slots the 2.5 mm track leaves partly bare (under 97 % of the
+// near-net shape fills bores and slots the 2.5 mm track leaves partly bare (under 99.5 % of the
 // near-net shape), but the beads hold over 99.5 % of the finished part, so the main process is
 // kept, not the finer one (which takes five times as long to build).
 TEST(FiveAxis, ANearNetJobKeepsItsTrackWhenTheBeadsHoldTheFinishedPart) {
@@ -563,7 +563,8 @@ TEST(FiveAxis, ANearNetJobKeepsItsTrackWhenTheBeadsHoldTheFinishedPart) {
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const Figures f = read_figures(r.out);
     expect_clean(f, r.out);
-    EXPECT_LT(f.coverage_pct, 97.0) << "the near-net shape is not all beads: " << r.out;
+    EXPECT_LT(f.coverage_pct, 100.0 * maxslice::verify::kFinishedInsideTarget)
+        << "the near-net shape is not all beads: " << r.out;
     EXPECT_GE(f.finished_pct, 100.0 * maxslice::verify::kFinishedInsideTarget) << r.out;
     EXPECT_EQ(r.out.find("process         finer"), std::string::npos) << r.out;
     EXPECT_EQ(r.err.find("finer process"), std::string::npos) << r.err;

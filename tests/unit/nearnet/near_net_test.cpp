@@ -140,6 +140,21 @@ TEST(NearNet, HoleNarrowerThanTheThresholdIsFilledAWiderOneStaysOpen) {
     EXPECT_LT(winding(unfilled.mesh, {0.0, 0.0, 0.5 * height}), 0.5);
 }
 
+TEST(NearNet, AFlatFaceStaysFlatWhereTheFillIsOn) {
+    // The fill's closing is found on a coarse grid; where it stood out of a flat face, the
+    // grown shape had bumps up to a third of a coarse voxel beyond the stock, which hung below
+    // a flat underside as islands in the air (counterXP.3MF as given: 8 layers on nothing).
+    const double s = 1.0, fill = 10.0;
+    for (const double t : {5.3, 7.7, 9.1}) {
+        const NearNet n = made(test::box({0, 0, 0}, {60, 40, t}), s, fill);
+        const core::Box3d box = mesh::bounding_box(n.mesh);
+        // (The bump on the 7.7 mm plate was 0.05 mm; on counterXP's underside, 0.5 mm.)
+        EXPECT_NEAR(box.min.z, -s, 0.01 * s) << t;
+        EXPECT_NEAR(box.max.z, t + s, 0.01 * s) << t;
+        EXPECT_NEAR(box.max.x, 60.0 + s, 0.01 * s) << t;
+    }
+}
+
 TEST(NearNet, FillAloneClosesTheHoleWithoutGrowingTheOutside) {
     const NearNet n = made(test::tube(10.0, 1.5, 10.0), 0.0, 4.0);
     expect_closed(n.mesh);
