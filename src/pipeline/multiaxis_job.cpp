@@ -67,22 +67,26 @@ constexpr double kSupportMaxTurnDeg = 10.0;
 // a track, METHOD.md section 3; the verifier asks for material within half a track and a
 // voxel of a bead's centre), kept a little inside that.
 constexpr double kSupportReachHalves = 1.9;
-// A sideways bead carries the layer where it reaches to within this share of the layer's
-// thickness below the layer's bottom plane (the verifier looks for earlier material from a
-// quarter of a voxel to 2.25 voxels below a bead's bottom: 0.34 mm at its 0.15 mm voxels).
+// A sideways bead carries the layer where it lies from kSideGapShare to kSideBandShare of
+// the layer's thickness below the layer's bottom plane, and the layer's track centres within
+// half a track of there: the verifier looks for earlier material from a quarter of a voxel to
+// 2.25 voxels below a bead's bottom (0.04 to 0.34 mm at its 0.15 mm voxels) and within half a
+// track and a voxel of its centre.
 constexpr double kSideBandShare = 0.5;
+constexpr double kSideGapShare = 0.15;
 
 // Where a layer's track centres are carried: its parents' tracks lifted onto their tops,
-// projected along the layer's direction into its plane frame (a parent built along another
-// direction: the parts of its tracks whose beads reach the layer's bottom) and swept by the
-// reach; nullopt when the layer stands on the plate, or is a wedge on sideways parents.
+// projected along the layer's direction into its plane frame and swept by the reach (a parent
+// built along another direction: where its beads lie just below the layer's bottom plane, grown
+// by half a track); nullopt when the layer stands on the plate, or is a wedge on sideways
+// parents.
 std::optional<geom2d::Paths2> support_of(const plan::Plan& plan, const plan::Layer& layer,
                                          const std::vector<const path::LayerToolpath*>& done,
                                          std::int64_t reach_um, double half_track_mm) {
     if (layer.on_plate || layer.parents.empty()) return std::nullopt;
     const double cos_max = std::cos(kSupportMaxTurnDeg * std::numbers::pi / 180.0);
     geom2d::Paths2 lines;
-    geom2d::Paths2 side_lines;
+    geom2d::Paths2 side_cuts;
     for (const int p : layer.parents) {
         const plan::Layer& parent = plan.layers[static_cast<std::size_t>(p)];
         const path::LayerToolpath* tp = done[static_cast<std::size_t>(p)];
@@ -101,10 +105,10 @@ std::optional<geom2d::Paths2> support_of(const plan::Plan& plan, const plan::Lay
             }
             const slice::PlaneFrame bottom =
                 layer.plane.shifted(layer.span.bottom - layer.span.cut);
-            for (geom2d::Path2& q :
-                 detail::sideways_support(bottom, layer.span.thickness(), layer.plane, side,
-                                          kSideBandShare * layer.span.thickness())) {
-                side_lines.push_back(std::move(q));
+            for (geom2d::Path2& q : detail::sideways_support(
+                     bottom, layer.plane, side, kSideBandShare * layer.span.thickness(),
+                     kSideGapShare * layer.span.thickness())) {
+                side_cuts.push_back(std::move(q));
             }
             continue;
         }
@@ -118,12 +122,17 @@ std::optional<geom2d::Paths2> support_of(const plan::Plan& plan, const plan::Lay
             }
         }
     }
-    if (side_lines.empty()) return geom2d::sweep_polylines(lines, reach_um);
-    // A sideways bead's material that reaches the bottom plane lies up to half a track from
-    // its centre line: the layer's track centres within half a track of it.
+    if (side_cuts.empty()) return geom2d::sweep_polylines(lines, reach_um);
+    // The layer's track centres over the sideways beads' material below its bottom plane or
+    // within half a track of it.
     geom2d::Paths2 support = geom2d::sweep_polylines(lines, reach_um);
-    for (geom2d::Path2& q : geom2d::sweep_polylines(side_lines, core::mm_to_um(half_track_mm))) {
+    for (geom2d::Path2& q : side_cuts) q.push_back(q.front());  // closed outlines
+    for (geom2d::Path2& q : geom2d::sweep_polylines(side_cuts, core::mm_to_um(half_track_mm))) {
         support.push_back(std::move(q));
+    }
+    for (geom2d::Path2& q : side_cuts) {
+        q.pop_back();
+        if (q.size() >= 3) support.push_back(std::move(q));
     }
     return geom2d::union_of(support);
 }

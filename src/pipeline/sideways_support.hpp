@@ -19,14 +19,15 @@ struct SidewaysParent {
     double half_track_mm = 0.0;  ///< half its bead's width
 };
 
-/// The parts of the parent's centre lines whose beads reach the layer's bottom plane
-/// `bottom` (its normal the layer's build direction; the layer thickness_mm thick above it),
-/// in the frame of `plane` (the layer's own, um): a bead is taken as a box half a track to each
-/// side of its centre line and its layer's thickness deep, and a centre line is kept where that
-/// box reaches from band_mm below the bottom plane up to the layer's top. Parts are projected
-/// along the layer's direction.
-[[nodiscard]] geom2d::Paths2 sideways_support(const slice::PlaneFrame& bottom, double thickness_mm,
+/// Where the parent's beads lie just below the layer's bottom plane `bottom` (its normal the
+/// layer's build direction), in the frame of `plane` (the layer's own, um): each bead is taken
+/// as the verifier lays it, a box half a track to each side of its centre line and its layer's
+/// thickness deep below it, and each segment's box is cut to the slab from depth_mm to gap_mm
+/// below the bottom plane and projected along the layer's direction (one convex polygon per
+/// segment that reaches the slab; two points where the cut is flat seen along it).
+[[nodiscard]] geom2d::Paths2 sideways_support(const slice::PlaneFrame& bottom,
                                               const slice::PlaneFrame& plane,
-                                              const SidewaysParent& parent, double band_mm);
+                                              const SidewaysParent& parent, double depth_mm,
+                                              double gap_mm);
 
 }  // namespace maxslice::pipeline::detail
