@@ -440,6 +440,13 @@ std::optional<pipeline::OrientPolicy> orient_policy(const SliceOptions& so) {
     return so.direction_given ? pipeline::OrientPolicy::kGiven : pipeline::OrientPolicy::kFallback;
 }
 
+// How the refusal of a base whose program misses the figures begins (decision 0031).
+constexpr std::string_view kShortOfFigures = "its program with the ";
+std::string short_of_figures(double track_width_mm, const std::string& goal,
+                             const std::string& figures) {
+    return fmt::format("{}{:.2f} mm track {} ({})", kShortOfFigures, track_width_mm, goal, figures);
+}
+
 // Says which base direction a job kept when it is not the part as given: a warning and a
 // summary line when the given one could not be built, the summary line with --orient auto;
 // and how to replay the program when the verifier needs more than the part and the profile
@@ -475,7 +482,12 @@ void print_orientation(Printed& o, const std::vector<pipeline::OrientTry>& tries
         replay();
         return;
     }
-    const std::string why = "the part as given cannot be built: " + tries.front().refusal;
+    // A base refused for missing the figures (decision 0031) builds, short of them.
+    const std::string& refusal = tries.front().refusal;
+    const std::string why =
+        (refusal.starts_with(kShortOfFigures) ? "the part as given falls short: "
+                                              : "the part as given cannot be built: ") +
+        refusal;
     o.warn(
         "maxslice: warning: %s; it is built standing along %s instead (--orient given "
         "keeps the file's orientation)\n",
@@ -500,6 +512,7 @@ struct JobOutcome {
     std::string goal = "misses 97% coverage with under 5% excess";
     std::string figures;  // "90.77% coverage, 0.05% excess", or why nothing was written
     std::optional<core::Error> short_of_part;  // the kept program leaves the finished part short
+    bool kept_as_given = false;  // the program builds the part as given (no other base taken)
 
     JobOutcome done(int code) {
         rc = code;
@@ -562,12 +575,15 @@ struct JobOutcome {
 // A table-tilt machine: plan the placed part (regions, tilts, splits), order its layers with
 // the nozzle check, turn them into moves and make the 5-axis program. `finer`: which of the
 // profile's finer processes `profiles` holds (0: the main one). `part` is what is deposited;
-// `finished`, when that is a near-net shape, the finished part (file frame).
+// `finished`, when that is a near-net shape, the finished part (file frame). `given_short`,
+// when not empty (why the part as given falls short): the bases other than the given one are
+// searched, and one whose program misses the figures is refused like one that cannot be built.
 JobOutcome run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
                                const mesh::TriangleMesh& part, const machine::Profiles& profiles,
                                pipeline::StageTimes& times, const core::Vec3d& given,
                                pipeline::OrientPolicy policy, int finer,
-                               const mesh::TriangleMesh* finished) {
+                               const mesh::TriangleMesh* finished, const std::string& given_short) {
+    const bool for_goal = !given_short.empty();
     JobOutcome r;
     Printed& o = r.printed;
     const auto done = [&](int rc) { return r.done(rc); };
@@ -588,6 +604,16 @@ JobOutcome run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
         wo.clear_z_mm = machine::clear_height_mm(profiles.machine, placed.vertices);
         auto refusal = write_and_verify(w, direction, placed, profiles, so, wo, finished, &part);
         checks_s += seconds_since(start);
+        // Looking for a base whose program meets the figures: one that misses them is a
+        // refused try like the others (decision 0031).
+        if (for_goal && refusal && refusal->empty() && w.report) {
+            JobOutcome probe;
+            probe.note_figures(w.report, w.program->uncovered_mm2, w.program->region_area_mm2,
+                               profiles.process.track_width_mm);
+            if (probe.track_limited) {
+                return short_of_figures(profiles.process.track_width_mm, probe.goal, probe.figures);
+            }
+        }
         return refusal;
     };
     auto t0 = std::chrono::steady_clock::now();
@@ -595,9 +621,16 @@ JobOutcome run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
     const std::vector<pipeline::OrientCandidate> candidates =
         finished != nullptr ? pipeline::orientation_candidates(*finished)
                             : std::vector<pipeline::OrientCandidate>{};
-    auto oriented = pipeline::orient_multiaxis(part, given, policy, profiles, progress.get(), check,
-                                               candidates);
+    auto oriented =
+        pipeline::orient_multiaxis(part, given, for_goal ? pipeline::OrientPolicy::kOthers : policy,
+                                   profiles, progress.get(), check, candidates);
     if (!oriented) return done(o.error(oriented.error()));
+    if (for_goal) {  // the part as given, tried before, heads the tries
+        oriented->tries.insert(
+            oriented->tries.begin(),
+            pipeline::OrientTry{core::normalized(given), "as given", given_short});
+        ++oriented->chosen;
+    }
     const mesh::TriangleMesh placed = std::move(oriented->placed);
     const pipeline::PlannedPart& planned = oriented->planned;
     times.slice_s = seconds_since(t0) - checks_s;
@@ -652,6 +685,9 @@ JobOutcome run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
              opt.path}));
     }
     print_orientation(o, oriented->tries, oriented->chosen, so.output, opt.path, finer);
+    r.kept_as_given =
+        oriented->tries.empty() ||
+        oriented->tries[static_cast<std::size_t>(oriented->chosen)].source == "as given";
     // The search stops at the first plan it keeps, so `w` is that plan's program; otherwise
     // (nothing kept: the given plan comes back with its refusal) it is made again here.
     if (!w.kept) {
@@ -718,9 +754,15 @@ void layers_of_process(pipeline::SliceSettings& ss, const machine::ProcessProfil
 // with its finer processes in turn (decision 0019): the first whose program meets the
 // figures is kept, else the main process's job stands, with a note of what the finer ones
 // gave. --finer off keeps the main process, --finer N takes finer process N at once.
+// `other_bases` (the default orientation search): when the part as given misses the figures
+// with the main process, the bases of the search are tried with it first, and the first whose
+// program meets them is kept (decision 0031). attempt(profiles, finer, for_goal): for_goal
+// (non-empty: why the part as given falls short) makes a program that misses the figures a
+// refused base, and the part as given is not tried again.
 core::Result<JobOutcome> with_finer_processes(
     const machine::Profiles& profiles, const SliceOptions& so,
-    const std::function<JobOutcome(const machine::Profiles&, int)>& attempt) {
+    const std::function<JobOutcome(const machine::Profiles&, int, const std::string&)>& attempt,
+    bool other_bases) {
     const auto& finer = profiles.process.finer;
     const auto track = [](const machine::Profiles& p) { return p.process.track_width_mm; };
     if (so.finer != "auto" && so.finer != "off") {
@@ -741,23 +783,32 @@ core::Result<JobOutcome> with_finer_processes(
         }
         auto p = machine::with_finer_process(profiles, n);
         if (!p) return std::unexpected(core::with_context(p.error(), "--finer"));
-        return attempt(*p, n);
+        return attempt(*p, n, "");
     }
-    JobOutcome main = attempt(profiles, 0);
+    JobOutcome main = attempt(profiles, 0, "");
     // --layer is a choice of the main process's layers: the finer ones have their own.
     if (!main.track_limited || finer.empty() || so.finer == "off" || so.layer_given) return main;
+    // The part as given misses the figures with the main track: another base that meets them
+    // with it builds in a fraction of the finer track's time (decision 0031).
+    std::string bases;
+    if (other_bases && main.kept_as_given) {
+        JobOutcome moved =
+            attempt(profiles, 0, short_of_figures(track(profiles), main.goal, main.figures));
+        if (moved.rc == kExitOk && !moved.track_limited && !moved.kept_as_given) return moved;
+        bases = " as given, and no other base does better with it";
+    }
     std::string tried;
     for (int n = 1; n <= static_cast<int>(finer.size()); ++n) {
         auto p = machine::with_finer_process(profiles, n);
         if (!p) return std::unexpected(p.error());
-        JobOutcome f = attempt(*p, n);
+        JobOutcome f = attempt(*p, n, "");
         if (f.rc == kExitOk && !f.track_limited) {
             f.printed.err = fmt::format(
-                "maxslice: note: the {:.2f} mm track {} ({}); the program uses the profile's "
-                "finer process {} ({:.2f} mm track, {:.2f} mm layers; --finer off keeps the "
-                "{:.2f} mm track)\n{}",
-                track(profiles), main.goal, main.figures, n, track(*p), p->process.layer_height_mm,
-                track(profiles), f.printed.err);
+                "maxslice: note: the {:.2f} mm track {} ({}){}; the program uses the "
+                "profile's finer process {} ({:.2f} mm track, {:.2f} mm layers; --finer off "
+                "keeps the {:.2f} mm track)\n{}",
+                track(profiles), main.goal, main.figures, bases, n, track(*p),
+                p->process.layer_height_mm, track(profiles), f.printed.err);
             f.printed.out = fmt::format(
                 "process         finer {}: {:.2f} mm track, {:.2f} mm layers (the {:.2f} mm "
                 "track: {})\n{}",
@@ -1059,17 +1110,19 @@ int run_slice(const PartOptions& opt, const SliceOptions& so) {
     // The planar job takes the part; it gets a copy only when a finer run may follow.
     const bool may_retry =
         !profiles->process.finer.empty() && so.finer == "auto" && !so.layer_given;
-    const auto attempt = [&](const machine::Profiles& p, int finer) {
+    const auto attempt = [&](const machine::Profiles& p, int finer,
+                             const std::string& given_short) {
         if (table_tilt) {
             return run_multiaxis_slice(opt, so, part->imported.mesh, p, times, given, *policy,
-                                       finer, finished_part);
+                                       finer, finished_part, given_short);
         }
         pipeline::SliceSettings pss = ss;
         layers_of_process(pss, p.process, so);
         return run_planar_slice(opt, so, may_retry ? *part : std::move(*part), pss, p, times, given,
                                 *policy, finer, finished_part);
     };
-    auto job = with_finer_processes(*profiles, so, attempt);
+    auto job = with_finer_processes(*profiles, so, attempt,
+                                    table_tilt && *policy == pipeline::OrientPolicy::kFallback);
     if (!job) return report_error(job.error());
     job->printed.out = near_net_line + job->printed.out;
     return finish_job(std::move(*job), so);

@@ -286,15 +286,17 @@ TEST(FiveAxis, FixturesBuildCleanWithTheReferenceProfile) {
 
 // Issue 24's parts as given (--orient given, the reference A/C profile with its plate): the
 // portals and the arch, whose top bridges two bases, the block with a horizontal through-hole,
-// the plate with a holed tab and the demo's bearing seat. Each program verifies clean, a separate
-// `maxslice verify` passes it, at least 99.5% of the finished part lies inside its beads and the
-// excess over the near-net shape stays under 5%.
+// the plate with a holed tab, the wall with a boss (its boss built sideways onto the wall's
+// face; the 2.5 mm track leaves the finished part short there, and the job takes the finer one)
+// and the demo's bearing seat. Each program verifies clean, a separate `maxslice verify` passes
+// it, at least 99.5% of the finished part lies inside its beads and the excess over the near-net
+// shape stays under 5%.
 TEST(FiveAxis, PartsAsGivenBuildWithTheFinishedPartInsideTheBeads) {
     const fs::path dir = temp_dir("as_given");
     for (const PlannerFixture& f :
          {maxslice::test::portal_frame(), maxslice::test::tall_portal(), maxslice::test::arch(),
           maxslice::test::cross_hole_block(), maxslice::test::tab_with_hole(),
-          maxslice::test::bearing_seat()}) {
+          maxslice::test::wall_boss(), maxslice::test::bearing_seat()}) {
         SCOPED_TRACE(f.name);
         const fs::path part = export_fixture(f, dir);
         const fs::path program = dir / (f.name + ".gm");
@@ -305,8 +307,12 @@ TEST(FiveAxis, PartsAsGivenBuildWithTheFinishedPartInsideTheBeads) {
         expect_clean(fig, r.out);
         EXPECT_GE(fig.finished_pct, 99.5) << r.out;
         EXPECT_LT(fig.excess_pct, 5.0) << r.out;
-        const CliRun v = run_cli({"verify", program.string(), "--model", part.string(), "--profile",
-                                  kReference5.string()});
+        std::vector<std::string> verify = {"verify",      program.string(), "--model",
+                                           part.string(), "--profile",      kReference5.string()};
+        if (r.out.find("process         finer 1") != std::string::npos) {
+            verify.insert(verify.end(), {"--finer", "1"});
+        }
+        const CliRun v = run_cli(verify);
         EXPECT_EQ(v.exit_code, 0) << v.out << v.err;
     }
 }
@@ -675,6 +681,39 @@ TEST(FiveAxis, AWideNozzleIsRefusedWithoutAProgram) {
 // (its beam cannot be reached from beside the columns). By default the job then stands it on
 // another candidate base, says so, and writes a program that `maxslice verify` passes with the
 // part placed along that direction; --orient given and --direction keep the refusal.
+// The machine time a job's summary gives ("build time      129.0 min ..."), minutes.
+double build_minutes(const std::string& out) {
+    const std::string key = "build time      ";
+    const auto at = out.find(key);
+    return at == std::string::npos ? NAN : std::stod(out.substr(at + key.size()));
+}
+
+// The wall with a boss as given holds under 99.5 % of its finished part with the 2.5 mm
+// track (its boss is built sideways onto the wall's face, and tracks over the wall's beads are
+// cut to what carries them); the finer track builds it as given. With the default search the
+// job first looks for another base where the 2.5 mm track meets the figures (decision 0031):
+// standing on its boss side, it does, in a fraction of the finer program's machine time.
+TEST(FiveAxis, APartShortAsGivenWithItsTrackIsStoodWhereTheTrackMeetsTheFigures) {
+    const fs::path dir = temp_dir("short_as_given");
+    const fs::path part = export_fixture(maxslice::test::wall_boss(), dir);
+    const CliRun given = run_cli({"slice", part.string(), "--profile", kReference5.string(), "-o",
+                                  (dir / "given.gm").string(), "--orient", "given"});
+    ASSERT_EQ(given.exit_code, 0) << given.out << given.err;
+    EXPECT_NE(given.out.find("process         finer 1"), std::string::npos) << given.out;
+    const CliRun r = run_cli({"slice", part.string(), "--profile", kReference5.string(), "-o",
+                              (dir / "moved.gm").string()});
+    ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+    const Figures f = read_figures(r.out);
+    expect_clean(f, r.out);
+    EXPECT_GE(f.finished_pct, 100.0 * maxslice::verify::kFinishedInsideTarget) << r.out;
+    EXPECT_EQ(r.out.find("process         finer"), std::string::npos) << r.out;
+    EXPECT_NE(r.err.find("the part as given falls short: its program with the 2.50 mm track"),
+              std::string::npos)
+        << r.err;
+    EXPECT_NE(r.out.find("orientation     along "), std::string::npos) << r.out;
+    EXPECT_LT(build_minutes(r.out), 0.5 * build_minutes(given.out)) << r.out << given.out;
+}
+
 TEST(FiveAxis, APartThatCannotBeBuiltAsGivenIsStoodOnAnotherBase) {
     const fs::path dir = temp_dir("fallback");
     const fs::path wide = wide_nozzle_profile(dir);

@@ -22,6 +22,7 @@ enum class OrientPolicy {
     kGiven,     ///< only the given direction
     kFallback,  ///< the given direction; the candidates when it cannot be built
     kAuto,      ///< the candidates from the start (the given direction is not preferred)
+    kOthers,    ///< the candidates but the given direction (a base other than the given one)
 };
 
 /// One base direction the job tried, in the part file's frame.
