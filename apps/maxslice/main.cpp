@@ -625,7 +625,16 @@ JobOutcome run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
         pipeline::orient_multiaxis(part, given, for_goal ? pipeline::OrientPolicy::kOthers : policy,
                                    profiles, progress.get(), check, candidates);
     if (!oriented) return done(o.error(oriented.error()));
-    if (for_goal) {  // the part as given, tried before, heads the tries
+    if (for_goal) {
+        // No other base meets the figures: the caller keeps the part as given, and nothing of
+        // this search is used (its last program need not be the plan it hands back).
+        if (oriented->tries.empty() ||
+            !oriented->tries[static_cast<std::size_t>(oriented->chosen)].refusal.empty()) {
+            r.track_limited = true;
+            return done(o.error({core::ErrorCode::kInvalidInput,
+                                 "no other base meets the figures with this track", opt.path}));
+        }
+        // The part as given, tried before, heads the tries.
         oriented->tries.insert(
             oriented->tries.begin(),
             pipeline::OrientTry{core::normalized(given), "as given", given_short});

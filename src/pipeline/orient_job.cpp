@@ -17,6 +17,11 @@ namespace {
 
 using core::Vec3d;
 
+// Whether the policy tries the part as given (first).
+bool tries_given(OrientPolicy policy) {
+    return policy == OrientPolicy::kGiven || policy == OrientPolicy::kFallback;
+}
+
 // Why a multi-axis plan cannot be built, or "" when it can.
 std::string multiaxis_refusal(const PlannedPart& p, const std::vector<int>& bare_plate) {
     if (!p.plan.unsupported_layers.empty()) {
@@ -193,7 +198,7 @@ core::Result<void> check_fits_machine(const mesh::TriangleMesh& part, const Vec3
         widest.track_width_mm = std::max(widest.track_width_mm, p.track_width_mm);
     }
     std::vector<std::pair<Vec3d, std::string>> directions;
-    if (policy == OrientPolicy::kGiven || policy == OrientPolicy::kFallback) directions.emplace_back(given, "as given");
+    if (tries_given(policy)) directions.emplace_back(given, "as given");
     if (policy != OrientPolicy::kGiven) {
         for (const OrientCandidate& c : orientation_candidates(part)) {
             if (policy == OrientPolicy::kAuto || !same_direction(c.direction, given)) {
@@ -237,7 +242,7 @@ core::Result<OrientedPlan> orient_multiaxis(const mesh::TriangleMesh& part, cons
     OrientedPlan out;
     std::optional<Placed> as_given;
     std::optional<core::Error> given_error;  // the given direction could not be planned
-    if (policy == OrientPolicy::kGiven || policy == OrientPolicy::kFallback) {
+    if (tries_given(policy)) {
         auto g = plan_along(part, given, profiles, progress);
         // Ordered only when nothing refuses the plan already: the order of a plan with layers
         // on nothing is never used, and it is the slow part (seconds to minutes on fine tracks).
@@ -387,7 +392,7 @@ core::Result<OrientedStack> orient_planar(const mesh::TriangleMesh& part, const 
     };
     std::optional<OrientedStack> as_given;
     std::vector<OrientTry> tries;
-    if (policy == OrientPolicy::kGiven || policy == OrientPolicy::kFallback) {
+    if (tries_given(policy)) {
         auto g = slice_along(given, times);
         if (!g) return std::unexpected(g.error());
         std::string refusal = planar_refusal(g->check);
