@@ -40,7 +40,9 @@ private:
         std::array<double, 4> t{};
         std::array<double, 4> r{};
         bool present = false;
+        std::array<double, 4> len{};  // edge i's length, from corner i to i + 1 (set by make)
     };
+    static Piece make(std::array<double, 4> t, std::array<double, 4> r, bool present);
     static double piece_distance(const Piece& p, double t, double r);
 
     Nozzle nozzle_;

@@ -29,6 +29,11 @@ namespace maxslice::plan {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+// How far (um) beyond the distance that can lower a pair's margin the footprint's distance is
+// looked for: a sample's distance, 1-Lipschitz, then rules out the samples near it without a
+// search (samples lie half a track apart; the 1002 tray's order with the 0.8 mm track took
+// 470 million searches without it, 75 million with it).
+constexpr double kLookOnUm = 5000.0;
 constexpr double kDegToRad = std::numbers::pi / 180.0;
 // Material this little above the apex's plane is the layer's own level (mm).
 constexpr double kLevelTolerance = 1e-6;
@@ -316,6 +321,10 @@ Meeting meet(const LayerShape& s2, const LayerShape& s1, const Nozzle& nozzle,
     const Projection pr = projection(s2, s1);
     if (box_bound(s2, pr, s1.box, head) - cover >= cap) return m;
     m.margin = cap;  // below this the samples are measured
+    // The last footprint distance measured (mm) and where: the distance is 1-Lipschitz, so it
+    // bounds the next samples' from below (the head's margin grows with the distance).
+    Vec2 last_q{0.0, 0.0};
+    double last_r = -kInf;
     for (const SampleChunk& chunk : s1.chunks) {
         if (box_bound(s2, pr, chunk.box, head) - cover >= m.margin) continue;
         for (std::size_t k = chunk.begin; k < chunk.end; ++k) {
@@ -328,17 +337,26 @@ Meeting meet(const LayerShape& s2, const LayerShape& s1, const Nozzle& nozzle,
             const double bx = std::max({s2.print_lo.x - q.x, 0.0, q.x - s2.print_hi.x});
             const double by = std::max({s2.print_lo.y - q.y, 0.0, q.y - s2.print_hi.y});
             const double box = std::sqrt(bx * bx + by * by);
-            if (head.bound(t, t, box) - cover >= m.margin) continue;
+            const double near = last_r - std::sqrt((q.x - last_q.x) * (q.x - last_q.x) +
+                                                   (q.y - last_q.y) * (q.y - last_q.y));
+            if (head.bound(t, t, std::max(box, near)) - cover >= m.margin) continue;
             // The distance to the footprint (0 inside) and its closest point, when it can be
             // short enough to lower the margin: below r_max (mm), padded for rounding.
             const double r_max = head.reach_within(t, m.margin + cover);
             if (!(r_max > 0.0)) continue;
+            // Looked for a little beyond that: the distance then bounds the next samples'.
+            const double limit_um =
+                r_max * core::kMicronsPerMm * (1.0 + kLimitPadShare) + kLimitPadUm + kLookOnUm;
             const std::optional<geom2d::ClosestPoint> found = s2.print_index.closest(
-                {q.x * core::kMicronsPerMm, q.y * core::kMicronsPerMm},
-                r_max * core::kMicronsPerMm * (1.0 + kLimitPadShare) + kLimitPadUm);
-            if (!found) continue;
+                {q.x * core::kMicronsPerMm, q.y * core::kMicronsPerMm}, limit_um);
+            last_q = q;
+            if (!found) {
+                last_r = limit_um / core::kMicronsPerMm;  // at least this far
+                continue;
+            }
             const geom2d::ClosestPoint& cp = *found;
             const double r = cp.distance_um / core::kMicronsPerMm;
+            last_r = r;
             bool in_stream = false;
             const double here = head.margin(t, r, cover, &in_stream);
             if (here < m.margin) {
