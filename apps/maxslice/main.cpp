@@ -587,6 +587,10 @@ JobOutcome run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
     JobOutcome r;
     Printed& o = r.printed;
     const auto done = [&](int rc) { return r.done(rc); };
+    // A refusal of this part: the error with its reason, and the job's exit code.
+    const auto refuse = [&](std::string why) {
+        return done(o.error({core::ErrorCode::kInvalidInput, std::move(why), opt.path}));
+    };
     const auto progress = make_progress();
     const std::string name = std::filesystem::path(opt.path).filename().string();
     Written<pipeline::MultiAxisProgram> w;
@@ -631,8 +635,7 @@ JobOutcome run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
         if (oriented->tries.empty() ||
             !oriented->tries[static_cast<std::size_t>(oriented->chosen)].refusal.empty()) {
             r.track_limited = true;
-            return done(o.error({core::ErrorCode::kInvalidInput,
-                                 "no other base meets the figures with this track", opt.path}));
+            return refuse("no other base meets the figures with this track");
         }
         // The part as given, tried before, heads the tries.
         oriented->tries.insert(
@@ -647,12 +650,16 @@ JobOutcome run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
     const plan::Plan& plan = planned.plan;
     if (!plan.unsupported_layers.empty()) {
         const plan::Layer& l = plan.layers[static_cast<std::size_t>(plan.unsupported_layers[0])];
-        return done(o.error({core::ErrorCode::kInvalidInput,
-                             fmt::format("{} layers rest on nothing (the first: layer {} in region "
-                                         "{}, a body or branch the plan cannot reach from the "
-                                         "plate): no program without support is possible{}",
-                                         plan.unsupported_layers.size(), l.id, l.region, tried),
-                             opt.path}));
+        const core::Vec3d at = plan::centroid_of(l);
+        const core::Vec3d d = plan.regions[static_cast<std::size_t>(l.region)].direction;
+        return refuse(fmt::format(
+            "{} layers rest on nothing (the first: a {:.2f} mm2 section at ({:.1f}, {:.1f}, "
+            "{:.1f}), layer {} of region {}, built along ({:.3f}, {:.3f}, {:.3f}): a body or "
+            "branch that starts there with nothing under it that the plan reaches from the "
+            "plate): no program without support is possible; what may help: another base (the "
+            "default search, or --direction){}",
+            plan.unsupported_layers.size(), l.area_mm2, at.x, at.y, at.z, l.id, l.region, d.x, d.y,
+            d.z, tried));
     }
     if (!plan.bare_unsupported_layers.empty()) {
         const plan::Layer& l =
@@ -667,31 +674,24 @@ JobOutcome run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
     if (!oriented->bare_plate_layers.empty()) {
         const plan::Layer& l =
             plan.layers[static_cast<std::size_t>(oriented->bare_plate_layers.front())];
-        const geom2d::Centroid2 c = geom2d::centroid_um(l.wires.paths());
-        const core::Vec3d at = l.plane.to_3d({std::llround(c.x), std::llround(c.y)});
+        const core::Vec3d at = plan::centroid_of(l);
         r.track_limited = true;
-        return done(o.error(
-            {core::ErrorCode::kInvalidInput,
-             fmt::format("the part stands on {} piece(s) where no {:.2f} mm track fits (the first: "
-                         "{:.1f} mm2 near ({:.3f}, {:.3f}, {:.3f}), an edge or a tip): nothing can "
-                         "be laid there, and what stands on it would rest on nothing; stand the "
-                         "part on a face (--direction) or use a narrower track "
-                         "(process.track_width_mm){}",
-                         oriented->bare_plate_layers.size(), profiles.process.track_width_mm,
-                         l.area_mm2, at.x, at.y, at.z, tried),
-             opt.path}));
+        return refuse(fmt::format(
+            "the part stands on {} piece(s) where no {:.2f} mm track fits (the first: {:.1f} mm2 "
+            "near ({:.3f}, {:.3f}, {:.3f}), an edge or a tip): nothing can be laid there, and what "
+            "stands on it would rest on nothing; stand the part on a face (--direction) or use a "
+            "narrower track (process.track_width_mm){}",
+            oriented->bare_plate_layers.size(), profiles.process.track_width_mm, l.area_mm2, at.x,
+            at.y, at.z, tried));
     }
     if (!planned.order->complete()) {
         const plan::Conflict& c = planned.order->conflicts.front();
-        return done(o.error(
-            {core::ErrorCode::kInvalidInput,
-             fmt::format("no collision-free build order exists with this nozzle ({} "
-                         "conflicts), so no program is written: {}. {}. See the partial "
-                         "order: maxslice plan PART --profile FILE --plan plan.json{}",
-                         planned.order->conflicts.size(), c.reason,
-                         plan::describe_refusal(planned.plan, *planned.order, planned.nozzle),
-                         tried),
-             opt.path}));
+        return refuse(fmt::format(
+            "no collision-free build order exists with this nozzle ({} conflicts), so no program "
+            "is written: {}. {}. See the partial order: maxslice plan PART --profile FILE --plan "
+            "plan.json{}",
+            planned.order->conflicts.size(), c.reason,
+            plan::describe_refusal(planned.plan, *planned.order, planned.nozzle), tried));
     }
     print_orientation(o, oriented->tries, oriented->chosen, so.output, opt.path, finer);
     r.kept_as_given =

@@ -92,6 +92,16 @@ plan::PlanSettings plan_settings(const machine::ProcessProfile& process) {
 plan::PlanSettings plan_settings(const machine::Profiles& profiles) {
     plan::PlanSettings s = plan_settings(profiles.process);
     s.head = nozzle_of(profiles.machine, nullptr);
+    // A table that tilts presents a region's direction to the head within its tilt range.
+    const machine::MachineProfile& m = profiles.machine;
+    const char* tilt = m.kinematics == machine::Kinematics::kTableAc   ? "A"
+                       : m.kinematics == machine::Kinematics::kTableBc ? "B"
+                                                                       : nullptr;
+    if (tilt != nullptr) {
+        if (const machine::AxisLimits* a = m.find_axis(tilt)) {
+            s.max_tilt_deg = std::min(180.0, std::max(std::abs(a->min), std::abs(a->max)));
+        }
+    }
     return s;
 }
 
@@ -398,7 +408,8 @@ std::string plan_json(const PlannedPart& planned, const PreparedPart& part) {
                      {"h_max_mm", s.h_max_mm},
                      {"tilt_trigger_deg", s.tilt_trigger_deg},
                      {"max_tilt_tries", s.max_tilt_tries},
-                     {"footing_mm", s.footing_mm}};
+                     {"footing_mm", s.footing_mm},
+                     {"max_tilt_deg", s.max_tilt_deg}};
     ordered_json orient;
     orient["mode"] = planned.candidates.empty() ? "given" : "auto";
     orient["base_direction"] = detail::vec_json(p.base_direction);
@@ -811,7 +822,7 @@ std::string plan_summary(const PlannedPart& planned, const mesh::ValidationRepor
                                 const char* meaning) {
         if (ids.empty()) return;
         const plan::Layer& l = p.layers[static_cast<std::size_t>(ids.front())];
-        const core::Vec3d at = l.plane.origin;
+        const core::Vec3d at = plan::centroid_of(l);
         put(out, "{}{} layers {}, first: layer {} of region {} near ({:.3f}, {:.3f}, {:.3f}){}\n",
             label, ids.size(), what, l.id, l.region, at.x, at.y, at.z, meaning);
     };

@@ -36,6 +36,13 @@ std::string describe(const Plan& plan, const Decision& d) {
                     "keeps its {:.2f} mm clearance)",
                     d.split_lean_deg, d.seed_margin_mm, s.head->clearance_mm);
             }
+            if (s.max_tilt_deg < 180.0 && !plan.regions.empty() &&
+                angle_deg(ns, plan.regions.front().direction) > s.max_tilt_deg - 1e-6) {
+                reach += fmt::format(
+                    "; turned up to the edge of the table's tilt range, {:.0f} deg from the base "
+                    "direction",
+                    s.max_tilt_deg);
+            }
             return fmt::format(
                 "above layer L{}: overhang piece of {:.1f} mm2 with Ang = {:.1f} deg {}: split "
                 "plane through ({:.3f}, {:.3f}, {:.3f}) with normal ({:.4f}, {:.4f}, {:.4f}); "

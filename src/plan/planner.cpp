@@ -11,6 +11,7 @@
 #include <optional>
 #include <string>
 
+#include "maxslice/core/units.hpp"
 #include "planner_state.hpp"
 
 namespace maxslice::plan {
@@ -183,6 +184,14 @@ core::Result<Plan> plan_part(const mesh::TriangleMesh& mesh, const core::Vec3d& 
         return invalid("the base direction must be a non-zero finite vector", "planning");
     }
     return detail::Planner(mesh, settings, progress).run(base_direction);
+}
+
+core::Vec3d centroid_of(const Layer& layer) {
+    const geom2d::Paths2 paths = layer.wires.paths();
+    if (geom2d::signed_area_mm2(paths) <= 0.0) return layer.plane.origin;
+    const geom2d::Centroid2 c = geom2d::centroid_um(paths);
+    return layer.plane.origin + layer.plane.u * (c.x / core::kMicronsPerMm) +
+           layer.plane.v * (c.y / core::kMicronsPerMm);
 }
 
 }  // namespace maxslice::plan

@@ -131,6 +131,7 @@ private:
     core::Result<bool> split(int rid, int lower, const slice::Slice& s, const OverhangPiece& p);
     [[nodiscard]] core::Vec3d sideways_of(int lower, const OverhangPiece& p) const;
     [[nodiscard]] bool has_sideways(int lower, const OverhangPiece& p) const;
+    [[nodiscard]] core::Vec3d within_tilt(const core::Vec3d& d) const;
 
     // reach.cpp: the direction a region split off sideways is built along (decision 0029).
     core::Result<ReachChoice> direction_by_reach(int lower, const OverhangPiece& p,

@@ -161,37 +161,39 @@ Vec3d leaned(const Vec3d& ns, const Vec3d& n, double lean_deg) {
 }
 
 core::Result<ReachChoice> choose_by_reach(
-    const Nozzle& nozzle, const ReachScene& scene, const Vec3d& ns, const Vec3d& n,
-    std::span<const double> leans_deg, double slack_mm,
+    const Nozzle& nozzle, const ReachScene& scene, std::span<const ReachCandidate> candidates,
+    double slack_mm,
     const std::function<core::Result<std::vector<Vec3d>>(const Vec3d&)>& apexes_along) {
+    if (candidates.empty()) {
+        return core::fail(core::ErrorCode::kInvalidInput, "no direction to try", "head reach");
+    }
     const double wanted = nozzle.clearance_mm + slack_mm;
     // Margins are looked for only this far above what is wanted: enough to tell.
     const double enough = wanted + 1.0;
     ReachChoice out;
-    out.direction = ns;
+    out.direction = candidates.front().direction;
     // The direction with the largest margin, for when none keeps the slack too.
     ReachChoice best;
     best.margin_mm = -std::numeric_limits<double>::infinity();
-    for (std::size_t k = 0; k <= leans_deg.size(); ++k) {
-        const double lean = k == 0 ? 0.0 : leans_deg[k - 1];
-        const Vec3d d = k == 0 ? ns : leaned(ns, n, lean);
-        auto apexes = apexes_along(d);
+    for (std::size_t k = 0; k < candidates.size(); ++k) {
+        const ReachCandidate& c = candidates[k];
+        auto apexes = apexes_along(c.direction);
         if (!apexes) return std::unexpected(apexes.error());
-        const double m = reach_margin(nozzle, scene, *apexes, d, enough);
+        const double m = reach_margin(nozzle, scene, *apexes, c.direction, enough);
         if (k == 0) {
             out.seed_margin_mm = m;
             out.margin_mm = m;
         }
         if (m >= wanted) {
-            out.direction = d;
-            out.lean_deg = lean;
+            out.direction = c.direction;
+            out.lean_deg = c.lean_deg;
             out.margin_mm = m;
             out.clears = true;
             return out;
         }
         if (m > best.margin_mm) {
-            best.direction = d;
-            best.lean_deg = lean;
+            best.direction = c.direction;
+            best.lean_deg = c.lean_deg;
             best.margin_mm = m;
         }
     }
@@ -203,6 +205,9 @@ core::Result<ReachChoice> choose_by_reach(
     }
     return out;
 }
+
+// Two directions closer than this (deg) are one candidate.
+constexpr double kSameTowardsDeg = 1.0;
 
 // The sideways region's apexes are sampled on this many planes at most along a direction.
 constexpr int kReachPlanes = 48;
@@ -249,12 +254,23 @@ core::Result<ReachChoice> Planner::direction_by_reach(int lower, const OverhangP
     const double max_lean =
         std::min(60.0, std::atan(2.0 * std::tan(s_.alpha_deg * std::numbers::pi / 180.0)) * 180.0 /
                            std::numbers::pi);
-    std::vector<double> leans;
-    for (const double a : {15.0, 30.0, 40.0, 45.0, 50.0, 60.0}) {
-        if (a <= max_lean + 1e-9) leans.push_back(a);
+    // N_s, then N_s leaned towards L's normal (away from what L stands on); after a chain of
+    // sideways splits L's normal may lie across the plate, so then also towards the base
+    // direction (away from the plate). Each within the table's tilt range, each once.
+    const Vec3d up = plan_.regions.front().direction;
+    std::vector<ReachCandidate> candidates{{within_tilt(ns), 0.0}};
+    for (const Vec3d& towards : {l.top.normal, up}) {
+        for (const double a : {15.0, 30.0, 40.0, 45.0, 50.0, 60.0}) {
+            if (a > max_lean + 1e-9) break;
+            const Vec3d d = within_tilt(leaned(ns, towards, a));
+            const bool seen = std::any_of(candidates.begin(), candidates.end(), [&](const auto& c) {
+                return angle_deg(c.direction, d) < kSameTowardsDeg;
+            });
+            if (!seen) candidates.push_back({d, a});
+        }
     }
     return choose_by_reach(
-        *s_.head, scene, ns, l.top.normal, leans, slack,
+        *s_.head, scene, candidates, slack,
         [&](const Vec3d& d) -> core::Result<std::vector<Vec3d>> {
             std::vector<HalfSpace> c = cell;
             c.push_back({p.contact_center, d});

@@ -79,14 +79,20 @@ struct ReachChoice {
     bool clears = false;          ///< margin_mm >= the nozzle's clearance
 };
 
-/// Tries N_s (ns), then ns leaned towards n by each of `leans_deg` (increasing), and keeps
-/// the first along which the head, standing on every apex apexes_along(direction) gives,
-/// keeps the nozzle's clearance plus slack_mm (the samples' error) from the scene; none: the
-/// one with the largest margin if it keeps the clearance, else N_s with clears = false.
-/// Errors: those of apexes_along.
+/// A direction to try: the seed's N_s (lean_deg 0) or N_s leaned by lean_deg.
+struct ReachCandidate {
+    core::Vec3d direction;
+    double lean_deg = 0.0;
+};
+
+/// Tries the candidates in turn (the first is N_s itself), and keeps the first along which
+/// the head, standing on every apex apexes_along(direction) gives, keeps the nozzle's
+/// clearance plus slack_mm (the samples' error) from the scene; none: the one with the
+/// largest margin if it keeps the clearance, else the first with clears = false.
+/// Errors: those of apexes_along; kInvalidInput for no candidate.
 [[nodiscard]] core::Result<ReachChoice> choose_by_reach(
-    const Nozzle& nozzle, const ReachScene& scene, const core::Vec3d& ns, const core::Vec3d& n,
-    std::span<const double> leans_deg, double slack_mm,
+    const Nozzle& nozzle, const ReachScene& scene, std::span<const ReachCandidate> candidates,
+    double slack_mm,
     const std::function<core::Result<std::vector<core::Vec3d>>(const core::Vec3d&)>& apexes_along);
 
 }  // namespace maxslice::plan::detail

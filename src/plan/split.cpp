@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include <numbers>
 #include <string>
 #include <utility>
 
@@ -30,6 +31,19 @@ bool Planner::has_sideways(int lower, const OverhangPiece& p) const {
     return core::norm(sideways_of(lower, p)) >= kMinSidewaysNorm;
 }
 
+// Direction d turned towards the base direction as far as the table's tilt range needs (in
+// the plane of the two; straight against the base direction, about the lower layer's u axis).
+core::Vec3d Planner::within_tilt(const core::Vec3d& d) const {
+    const core::Vec3d up = plan_.regions.front().direction;
+    const double limit = s_.max_tilt_deg * std::numbers::pi / 180.0;
+    if (!(limit < std::numbers::pi) || angle_deg(d, up) * std::numbers::pi / 180.0 <= limit) {
+        return d;
+    }
+    core::Vec3d across = d - up * core::dot(d, up);
+    if (core::norm(across) < kMinSidewaysNorm) across = plan_.regions.front().base.u;
+    return core::normalized(up * std::cos(limit) + core::normalized(across) * std::sin(limit));
+}
+
 // Splits region rid above its layer `lower` for piece p (METHOD.md section 5). Returns
 // true when rid had no layer yet: its own cell was narrowed to the near side and it
 // must be walked again; false when rid ends at `lower` and a continuation region
@@ -50,9 +64,9 @@ core::Result<bool> Planner::split(int rid, int lower, const slice::Slice& s,
     const HalfSpace above{l.top.origin, n};
     std::vector<HalfSpace> above_cell = parent.cell;
     above_cell.push_back(above);
-    auto reach = direction_by_reach(lower, p, core::normalized(sideways), above_cell);
+    auto reach = direction_by_reach(lower, p, within_tilt(core::normalized(sideways)), above_cell);
     if (!reach) return std::unexpected(reach.error());
-    const core::Vec3d ns = reach->direction;
+    const core::Vec3d ns = within_tilt(reach->direction);
     const HalfSpace beyond{p.contact_center, ns};
     const HalfSpace near{p.contact_center, -ns};
 

@@ -242,7 +242,9 @@ core::Result<Next> Planner::march(int rid, int lower) {
                     t_min = std::min(t_min, tx);
                     t_max = std::max(t_max, tx);
                 }
-                ok = t_min >= s_.h_min_mm - 1e-9 && t_max <= s_.h_max_mm + 1e-9;
+                // Within [h_min, h_max], and the head's axis within the table's tilt range.
+                ok = t_min >= s_.h_min_mm - 1e-9 && t_max <= s_.h_max_mm + 1e-9 &&
+                     angle_deg(n_new, plan_.regions.front().direction) <= s_.max_tilt_deg + 1e-9;
                 if (!ok) delta *= 0.5;
             }
             if (!ok) {

@@ -24,6 +24,7 @@
 #include "cli_runner.hpp"
 #include "maxslice/io/read_mesh.hpp"
 #include "maxslice/verify/verify.hpp"
+#include "support/fixtures.hpp"
 #include "support/planner_fixtures.hpp"
 
 namespace fs = std::filesystem;
@@ -659,6 +660,39 @@ TEST(FiveAxis, APartLargerThanThePlateIsRefusedNamingThePlate) {
     EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
     EXPECT_NE(r.err.find("beyond the substrate plate (10.0 x 10.0 mm"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(program));
+}
+
+// A body floating beside the part (a 10 mm cube 10 mm above the plate and 10 mm beside a
+// block standing on it) cannot be built as given: the refusal says how big the section that
+// rests on nothing is and where, within the floating cube's underside, and what may help.
+TEST(FiveAxis, ABodyFloatingFreeIsRefusedNamingWhereItStarts) {
+    const fs::path dir = temp_dir("floating");
+    maxslice::mesh::TriangleMesh part = maxslice::test::box({-20, -10, 0}, {20, 10, 10});
+    const maxslice::mesh::TriangleMesh cube = maxslice::test::box({30, -5, 20}, {40, 5, 30});
+    const auto base = static_cast<std::uint32_t>(part.vertices.size());
+    part.vertices.insert(part.vertices.end(), cube.vertices.begin(), cube.vertices.end());
+    for (const maxslice::mesh::Triangle& t : cube.triangles) {
+        part.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+    }
+    const fs::path stl = dir / "floating.stl";
+    ASSERT_TRUE(maxslice::io::write_stl_binary(stl, part).has_value());
+    const fs::path program = dir / "p.gm";
+    const CliRun r = run_cli({"slice", stl.string(), "--profile", kReference5, "--orient", "given",
+                              "-o", program.string()});
+    EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+    EXPECT_FALSE(fs::exists(program));
+    const std::regex said(R"(layers rest on nothing \(the first: a ([0-9.]+) mm2 section at )"
+                          R"(\((-?[0-9.]+), (-?[0-9.]+), (-?[0-9.]+)\))");
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(r.err, m, said)) << r.err;
+    // Placed with its box centred on the plate's centre (0, 0): the cube spans x 20 to 30, y -5
+    // to 5, z 20 to 30; grown by the machining stock (under 1 mm), and the section's centroid
+    // within a track of it.
+    EXPECT_GT(std::stod(m[1]), 0.0);
+    EXPECT_NEAR(std::stod(m[2]), 25.0, 6.5) << r.err;
+    EXPECT_NEAR(std::stod(m[3]), 0.0, 6.5) << r.err;
+    EXPECT_NEAR(std::stod(m[4]), 25.0, 6.5) << r.err;
+    EXPECT_NE(r.err.find("what may help: another base"), std::string::npos) << r.err;
 }
 
 // A nozzle with a 60 degree half angle cannot reach under the portal's beam: no build order,

@@ -338,13 +338,12 @@ TEST(PlanCli, ALayerOnNothingWhereNoTrackFitsIsLeftBare) {
 }
 
 // A refusal names a region split off pointing down (a piece hanging below the sideways region
-// it grows from) and says so: NIST FTC-09 as given, a thin plate standing on its edge, splits
-// off a piece near its top along a direction more than 90 degrees from the plate's normal.
+// it grows from) and says so: NIST FTC-10 as given splits a piece off a region built sideways
+// and slightly down, along a direction more than 90 degrees from the plate's normal, and the
+// only way to it the nozzle has is from below.
 TEST(PlanCli, ARefusalSaysWhenTheRegionInTheWayPointsDown) {
-    // The two-turn helical ring as given: the piece of its second turn that hangs over the
-    // first is split off sideways, and the only way to it the nozzle has is from below.
+    const fs::path part = kTestData / "step" / "nist" / "nist_ftc_10_asme1_rb.stp";
     const fs::path dir = temp_dir("points_down");
-    const fs::path part = fixture_stl(dir, "helical_ring", maxslice::test::helical_ring().mesh);
     const fs::path plan = dir / "plan.json";
     const CliRun r = run_cli({"plan", part.string(), "--profile", reference_profile().string(),
                               "--orient", "given", "--plan", plan.string()});

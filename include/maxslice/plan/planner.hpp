@@ -35,6 +35,9 @@ struct PlanSettings {
     /// leans more than this from the build direction (0 = never tilt).
     double tilt_trigger_deg = 10.0;
     int max_tilt_tries = 8;  ///< halvings of a tilt that breaks [h_min, h_max] before giving up
+    /// The largest angle (deg) between a region's direction and the base direction: the
+    /// table's tilt range (decision 0032). A sideways direction beyond it is turned up to it.
+    double max_tilt_deg = 180.0;
     /// The footing (decision 0017): the base region's layers whose top lies within this
     /// height of the plate are laid over the footprint of the part up to the first layer
     /// above it (every later section of that band united with their own), so a rounded or
@@ -216,6 +219,10 @@ struct PlanarCheck {
 /// left as they were and the first check is returned. Errors: those of check_planar.
 [[nodiscard]] core::Result<PlanarCheck> check_planar_on_footing(std::vector<slice::Slice>& slices,
                                                                 const PlanSettings& settings);
+
+/// Where a layer is: the area centroid of its section on its plane (mm, part frame); the
+/// plane's origin for an empty section.
+[[nodiscard]] core::Vec3d centroid_of(const Layer& layer);
 
 /// The layers in an order that respects the graph (Kahn's algorithm, smallest id first);
 /// empty when the graph has a cycle.

@@ -11,6 +11,7 @@
 #include <numbers>
 #include <vector>
 
+#include "maxslice/plan/analysis.hpp"
 #include "maxslice/plan/order.hpp"
 #include "maxslice/plan/planner.hpp"
 #include "support/fixtures.hpp"
@@ -180,6 +181,38 @@ TEST(Reach, EveryFixtureTurnedAboutZKeepsItsRegionsAndItsVerdict) {
             EXPECT_TRUE(borderline(refused)) << refused.conflicts.front().reason;
         }
     }
+}
+
+// A table that tilts at most 60 degrees (decision 0032): every region of every fixture is
+// built along a direction within 60 degrees of the plate's normal, and every layer's top (the
+// head's axis) lies within it too; where the seed's N_s lies beyond (the sideways regions of
+// the fixtures, 90 degrees), the region is turned up to the edge of the range, no further.
+TEST(Reach, EveryRegionIsBuiltWithinTheTablesTiltRange) {
+    constexpr double kRange = 60.0;
+    int turned = 0;
+    for (const auto& f : test::all_planner_fixtures()) {
+        SCOPED_TRACE(f.name);
+        PlanSettings s = settings(true);
+        const Plan free = plan_of(f.mesh, s);
+        s.max_tilt_deg = kRange;
+        const Plan p = plan_of(f.mesh, s);
+        for (const Region& r : p.regions) {
+            EXPECT_LE(angle_deg(r.direction, {0, 0, 1}), kRange + 1e-9) << "region " << r.id;
+        }
+        for (const Layer& l : p.layers) {  // tilted layers too: the head stands along them
+            EXPECT_LE(angle_deg(l.top.normal, {0, 0, 1}), kRange + 1e-9) << "layer " << l.id;
+        }
+        const auto beyond = [&](const Region& r) {
+            return angle_deg(r.direction, {0, 0, 1}) > kRange + 1e-6;
+        };
+        if (std::any_of(free.regions.begin(), free.regions.end(), beyond)) {
+            ++turned;
+            EXPECT_TRUE(std::any_of(p.regions.begin(), p.regions.end(), [&](const Region& r) {
+                return std::abs(angle_deg(r.direction, {0, 0, 1}) - kRange) < 1e-6;
+            }));
+        }
+    }
+    EXPECT_GT(turned, 0);  // some fixture has a sideways region beyond the range
 }
 
 // A refusal names the feature in the way (its region, where its piece is, how big, how far it
