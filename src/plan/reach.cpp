@@ -258,11 +258,12 @@ core::Result<ReachChoice> Planner::direction_by_reach(int lower, const OverhangP
     // sideways splits L's normal may lie across the plate, so then also towards the base
     // direction (away from the plate). Each within the table's tilt range, each once.
     const Vec3d up = plan_.regions.front().direction;
-    std::vector<ReachCandidate> candidates{{within_tilt(ns), 0.0}};
+    const Vec3d seed = within_tilt(ns);
+    std::vector<ReachCandidate> candidates{{seed, 0.0}};
     for (const Vec3d& towards : {l.top.normal, up}) {
         for (const double a : {15.0, 30.0, 40.0, 45.0, 50.0, 60.0}) {
             if (a > max_lean + 1e-9) break;
-            const Vec3d d = within_tilt(leaned(ns, towards, a));
+            const Vec3d d = within_tilt(leaned(seed, towards, a));
             const bool seen = std::any_of(candidates.begin(), candidates.end(), [&](const auto& c) {
                 return angle_deg(c.direction, d) < kSameTowardsDeg;
             });

@@ -32,7 +32,8 @@ bool Planner::has_sideways(int lower, const OverhangPiece& p) const {
 }
 
 // Direction d turned towards the base direction as far as the table's tilt range needs (in
-// the plane of the two; straight against the base direction, about the lower layer's u axis).
+// the plane of the two; d straight against the base direction turns towards the base plane's
+// u axis).
 core::Vec3d Planner::within_tilt(const core::Vec3d& d) const {
     const core::Vec3d up = plan_.regions.front().direction;
     const double limit = s_.max_tilt_deg * std::numbers::pi / 180.0;
@@ -64,7 +65,7 @@ core::Result<bool> Planner::split(int rid, int lower, const slice::Slice& s,
     const HalfSpace above{l.top.origin, n};
     std::vector<HalfSpace> above_cell = parent.cell;
     above_cell.push_back(above);
-    auto reach = direction_by_reach(lower, p, within_tilt(core::normalized(sideways)), above_cell);
+    auto reach = direction_by_reach(lower, p, core::normalized(sideways), above_cell);
     if (!reach) return std::unexpected(reach.error());
     const core::Vec3d ns = within_tilt(reach->direction);
     const HalfSpace beyond{p.contact_center, ns};
