@@ -25,6 +25,8 @@ using geom2d::Paths2;
 // A first layer rests on a layer of another region when their footprints on its base plane
 // overlap by at least this share of a track width squared.
 constexpr double kContactAreaShare = 0.05;
+// ... or, for a piece smaller than that, by this share of its own area.
+constexpr double kSmallPieceShare = 0.5;
 // A layer whose wires lie this far (mm) outside the strip behind a base plane has nothing in
 // it: far beyond the rounding of the strip's trace to micrometres.
 constexpr double kStripSlackMm = 0.01;
@@ -113,17 +115,15 @@ public:
             }
         }
         tbb::parallel_for(std::size_t{0}, tasks.size(), [&](std::size_t k) { rests_on(tasks[k]); });
-        std::size_t next_task = 0;
-        for (const Region& r : plan_.regions) {
-            for (; next_task < tasks.size() && tasks[next_task].region == r.id; ++next_task) {
-                const LinkTask& t = tasks[next_task];
-                for (std::size_t k = 0; k < t.uppers.size(); ++k) {
-                    if (t.rests[k] != 0) link(t.lower, t.uppers[k]);
-                }
+        for (const LinkTask& t : tasks) {
+            for (std::size_t k = 0; k < t.uppers.size(); ++k) {
+                if (t.rests[k] != 0) link(t.lower, t.uppers[k]);
             }
-            if (r.layers.empty()) continue;
-            // A sideways region's first layer: on the layers of other regions across its base.
-            if (r.parent < 0 ||
+        }
+        // A sideways region's first layer: on the layers of other regions across its base.
+        std::vector<Contacts> contacts;
+        for (const Region& r : plan_.regions) {
+            if (r.layers.empty() || r.parent < 0 ||
                 r.direction == plan_.regions[static_cast<std::size_t>(r.parent)].direction) {
                 continue;
             }
@@ -142,21 +142,21 @@ public:
                 // the base plane touches it (a body beside the part, reached across the air).
                 if (first.after_gap) continue;
                 const Box2 first_box = box2_of(first.wires.paths());
+                // A piece smaller than the contact area rests where half of it touches.
+                const double least = std::min(min_area, kSmallPieceShare * first.area_mm2);
                 std::vector<char> touches(others.size(), 0);
                 tbb::parallel_for(std::size_t{0}, others.size(), [&](std::size_t k) {
                     const Layer& q = layers[static_cast<std::size_t>(others[k])];
-                    touches[k] = contact_mm2(q, first, first_box, r) >= min_area ? 1 : 0;
+                    touches[k] = contact_mm2(q, first, first_box, r) >= least ? 1 : 0;
                 });
+                Contacts& c = contacts.emplace_back();
+                c.first = id;
                 for (std::size_t k = 0; k < others.size(); ++k) {
-                    // Two first layers may touch each other across both base planes (sideways
-                    // regions meeting at a corner): the edge that would close a cycle is left
-                    // out, so the earlier-made one goes first and the graph stays acyclic.
-                    if (touches[k] != 0 && !reaches(first.id, others[k])) {
-                        link(others[k], first.id);
-                    }
+                    if (touches[k] != 0) c.others.push_back(others[k]);
                 }
             }
         }
+        link_first_layers(contacts);
         for (Layer& l : layers) {
             std::sort(l.parents.begin(), l.parents.end());
             std::sort(l.children.begin(), l.children.end());
@@ -204,6 +204,97 @@ private:
             if (r == ancestor) return true;
         }
         return false;
+    }
+
+    // The layers of other regions a sideways region's first-layer piece touches across its
+    // base plane, and which of those contacts are decided.
+    struct Contacts {
+        int first = -1;
+        std::vector<int> others;
+        std::vector<char> done;
+    };
+
+    // The edges of the first-layer pieces' contacts. The edges from layers the plate already
+    // carries (through the edges made so far) come first, so that a piece rests on the built
+    // part. Two first-layer pieces may touch each other across both base planes (sideways
+    // regions side by side): of the two edges only one can be made, and it is made only for
+    // a piece nothing else carries (from the other, when the plate carries that one); when
+    // both are carried otherwise, neither is made and the build order puts them in the order
+    // the nozzle allows. The contacts with layers the plate does not carry come last, in the
+    // order the regions were made. An edge that would close a cycle is left out, so the
+    // graph stays acyclic.
+    void link_first_layers(std::vector<Contacts>& contacts) {
+        std::vector<Layer>& layers = plan_.layers;
+        std::vector<int> index(layers.size(), -1);
+        for (std::size_t i = 0; i < contacts.size(); ++i) {
+            index[static_cast<std::size_t>(contacts[i].first)] = static_cast<int>(i);
+            contacts[i].done.assign(contacts[i].others.size(), 0);
+        }
+        const auto mutual = [&](int f, int q) {
+            const int i = index[static_cast<std::size_t>(q)];
+            if (i < 0) return false;
+            const std::vector<int>& o = contacts[static_cast<std::size_t>(i)].others;
+            return std::find(o.begin(), o.end(), f) != o.end();
+        };
+        std::vector<char> grounded(layers.size(), 0);
+        const auto ground = [&](int from) {
+            std::vector<int> stack{from};
+            while (!stack.empty()) {
+                const int id = stack.back();
+                stack.pop_back();
+                if (grounded[static_cast<std::size_t>(id)] != 0) continue;
+                grounded[static_cast<std::size_t>(id)] = 1;
+                for (const int c : layers[static_cast<std::size_t>(id)].children)
+                    stack.push_back(c);
+            }
+        };
+        const auto edge = [&](Contacts& c, std::size_t k) {
+            c.done[k] = 1;
+            const int q = c.others[k];
+            if (reaches(c.first, q)) return false;
+            layers[static_cast<std::size_t>(q)].children.push_back(c.first);
+            layers[static_cast<std::size_t>(c.first)].parents.push_back(q);
+            if (grounded[static_cast<std::size_t>(q)] != 0) ground(c.first);
+            return true;
+        };
+        for (const Layer& l : layers) {
+            if (l.on_plate) ground(l.id);
+        }
+        for (bool took = true; took;) {
+            for (bool more = true; more;) {
+                more = false;
+                for (Contacts& c : contacts) {
+                    for (std::size_t k = 0; k < c.others.size(); ++k) {
+                        const int q = c.others[k];
+                        if (c.done[k] == 0 && grounded[static_cast<std::size_t>(q)] != 0 &&
+                            !mutual(c.first, q)) {
+                            more = edge(c, k) || more;
+                        }
+                    }
+                }
+            }
+            took = false;
+            for (Contacts& c : contacts) {
+                if (grounded[static_cast<std::size_t>(c.first)] != 0) continue;
+                for (std::size_t k = 0; k < c.others.size() && !took; ++k) {
+                    if (c.done[k] == 0 && grounded[static_cast<std::size_t>(c.others[k])] != 0) {
+                        took = edge(c, k);
+                    }
+                }
+                if (took) break;
+            }
+        }
+        for (Contacts& c : contacts) {
+            for (std::size_t k = 0; k < c.others.size(); ++k) {
+                const int q = c.others[k];
+                if (c.done[k] != 0 ||
+                    (mutual(c.first, q) && grounded[static_cast<std::size_t>(q)] != 0 &&
+                     grounded[static_cast<std::size_t>(c.first)] != 0)) {
+                    continue;
+                }
+                edge(c, k);
+            }
+        }
     }
 
     // The uppers of one slice that rest on one lower layer (overlap_mm2 > 0).

@@ -367,6 +367,51 @@ TEST(PlanCli, ARefusalSaysWhenTheRegionInTheWayPointsDown) {
     EXPECT_NEAR(std::acos(c) * 180.0 / 3.14159265358979, deg, 0.6);
 }
 
+// The helical ring as given, with its near-net shape: the split plane of a sideways region
+// can cut that region's own branch in a sliver (0.19 mm2 there) smaller than the 5 % of a
+// track's square a contact needs; such a piece rests where half of it touches, and of two
+// first-layer pieces that touch each other, the one the plate carries goes first (decision
+// 0033). No layer of the plan rests on nothing, and every first-layer piece of a sideways
+// region rests on the layers of other regions.
+TEST(PlanCli, EveryFirstPieceOfTheHelicalRingsSidewaysRegionsRestsOnAnotherRegion) {
+    const fs::path dir = temp_dir("helical_first_pieces");
+    const fs::path part = dir / "helical_ring.stl";
+    ASSERT_TRUE(
+        maxslice::io::write_stl_binary(part, maxslice::test::helical_ring().mesh).has_value());
+    const fs::path plan = dir / "plan.json";
+    const CliRun r = run_cli({"plan", part.string(), "--profile", reference_profile().string(),
+                              "--orient", "given", "--plan", plan.string()});
+    ASSERT_TRUE(fs::exists(plan)) << r.err;
+    check_plan_file(plan);
+    const auto j = nlohmann::json::parse(slurp(plan));
+    EXPECT_TRUE(j.at("unsupported_layers").empty()) << r.err;
+    const double track = j.at("settings").at("track_width_mm").get<double>();
+    const auto& layers = j.at("layers");
+    const auto& regions = j.at("regions");
+    int pieces = 0, slivers = 0;
+    for (const auto& reg : regions) {
+        const int parent = reg.at("parent").get<int>();
+        if (parent < 0 || reg.at("layers").empty()) continue;
+        if (reg.at("direction") == regions.at(static_cast<std::size_t>(parent)).at("direction")) {
+            continue;
+        }
+        const auto& ids = reg.at("layers");
+        const int step = layers.at(ids.at(0).get<std::size_t>()).at("index_in_region").get<int>();
+        for (const auto& id : ids) {
+            const auto& l = layers.at(id.get<std::size_t>());
+            if (l.at("index_in_region").get<int>() != step) break;
+            ++pieces;
+            if (l.at("area_mm2").get<double>() < 0.05 * track * track) ++slivers;
+            EXPECT_FALSE(l.at("parents").empty()) << "layer " << id;
+            for (const auto& q : l.at("parents")) {
+                EXPECT_NE(layers.at(q.get<std::size_t>()).at("region"), reg.at("id"));
+            }
+        }
+    }
+    EXPECT_GT(pieces, 1);
+    EXPECT_GT(slivers, 0) << "a sideways region of the ring starts with a sliver";
+}
+
 // `maxslice verify` measures coverage against what the model's surface encloses: with a body
 // of the model facing inwards it says so (the program deposits that body; the replay counts it
 // as excess).
