@@ -91,8 +91,8 @@ public:
         };
         // Within each region (and from a continuation's seed): each piece on the pieces of
         // the slice below whose projection it overlaps. Pure geometry, so the pairs are
-        // tested in parallel; the edges are made region by region below, in the order the
-        // sideways links' cycle check relies on.
+        // tested in parallel; these edges are all made before the first layers' contacts,
+        // whose cycle check and passes (link_first_layers) rely on them.
         std::vector<LinkTask> tasks;
         for (const Region& r : plan_.regions) {
             if (r.layers.empty()) continue;
