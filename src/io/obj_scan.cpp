@@ -2,11 +2,14 @@
 // "3.1+e2" as 3.1 and stops, and its index checks report no line; both would let a damaged
 // file through as a different shape or fail without saying where. This pass checks the
 // 'v', 'f', 'p' and 'l' statements, joins lines continued with a trailing backslash, and
-// hands assimp only the statements that carry geometry (vertices, texture coordinates,
-// normals, elements, objects, groups, smoothing groups), each on one line, with every other
-// statement (materials, curves, unknown keywords) left as blank lines so that line numbers
-// stay the file's: assimp's parser writes through wild pointers on some of those (a material
-// library with an unknown statement before a face; found by fuzz/fuzz_obj). Faces with more
+// hands assimp only the statements that carry surface geometry (vertices, texture
+// coordinates, normals, faces of 3 or more corners, objects, groups, smoothing groups), each
+// on one line, with every other statement (points, lines, shorter faces, materials, curves,
+// unknown keywords) left as blank lines so that line numbers stay the file's. maxslice reads
+// only faces, and assimp mishandles some of the rest: its parser writes through wild pointers
+// on a material library with an unknown statement before a face, and leaks the mesh of an
+// object or group holding a one-point line after a face (both found by fuzz/fuzz_obj). The
+// points, lines and short faces are counted here for the warnings. Faces with more
 // corners than the PLY and OFF readers take (kMaxPolygonCorners) are refused here, before
 // anything triangulates them.
 
@@ -82,7 +85,7 @@ private:
 
 // Statements assimp is given (the rest become blank lines).
 bool carries_geometry(std::string_view keyword) {
-    for (const std::string_view k : {"v", "vt", "vn", "f", "l", "p", "o", "g", "s"}) {
+    for (const std::string_view k : {"v", "vt", "vn", "o", "g", "s"}) {
         if (keyword == k) return true;
     }
     return false;
@@ -243,8 +246,9 @@ core::Result<ObjScan> scan_obj(std::string_view text) {
         } else if (carries_geometry(keyword)) {
             scan.geometry.append(st.text);
         }
-        scan.geometry.append(reader.line() - st.line, '\n');
+        const std::size_t lines_taken = reader.line() - st.line;
         if (kind >= 0) {
+            scan.geometry.append(lines_taken, '\n');
             ++counts.so_far[kind];
             continue;
         }
@@ -269,8 +273,10 @@ core::Result<ObjScan> scan_obj(std::string_view text) {
                 if (scan.short_faces++ == 0) scan.first_short_face_line = st.line;
             } else {
                 ++scan.faces;
+                scan.geometry.append(st.text);
             }
         }
+        scan.geometry.append(lines_taken, '\n');
     }
     scan.vertices = counts.total[0];
     return scan;

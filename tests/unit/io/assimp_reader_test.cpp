@@ -184,6 +184,20 @@ TEST(Assimp, ObjStatementsWithoutGeometryAreNotHandedToAssimp) {
     EXPECT_TRUE(contains(r.error().message, "line 6: vertex index 9")) << r.error().describe();
 }
 
+TEST(Assimp, ObjPointsLinesAndShortFacesAreCountedNotHandedToAssimp) {
+    // assimp leaked the mesh of a group holding a one-point line after a face
+    // (fuzz/corpus/fuzz_obj/regress-one-point-line-in-a-group). Points, lines and faces of
+    // fewer than 3 corners are counted by maxslice's scan and left out of what assimp reads.
+    ScratchDir dir;
+    const auto r = read_mesh(dir.write(
+        "l.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\ng e\nl 3\ng k\np 1 2\nf 1 2\nl 1 2 3\n"));
+    ASSERT_TRUE(r) << r.error().describe();
+    EXPECT_EQ(r->mesh.triangles.size(), 1u);
+    const std::string warnings = joined(r->warnings);
+    EXPECT_TRUE(contains(warnings, "ignored 2 points and 2 lines")) << warnings;
+    EXPECT_TRUE(contains(warnings, "fewer than 3 corners (the first at line 9)")) << warnings;
+}
+
 TEST(Assimp, ObjLineContinuation) {
     ScratchDir dir;
     auto r = read_mesh(dir.write("c.obj",
