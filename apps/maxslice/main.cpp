@@ -1174,6 +1174,15 @@ int run_plan(const PartOptions& opt, const PlanOptions& po, bool layer_given) {
     }
     ps.direction = {po.direction[0], po.direction[1], po.direction[2]};
     ps.tracks = pipeline::path_settings(profiles->process);
+    // A table machine's plan is the program job's: the part placed on the plate along each
+    // direction, in the table's part frame.
+    std::string placed_line;
+    if (machine::is_table_tilt(profiles->machine.kinematics)) {
+        ps.plate_center = machine::plate_center(profiles->machine);
+        placed_line =
+            "frame           the table's part frame (the part placed on the plate along its base "
+            "direction, which is +Z there, as a program job places it)\n";
+    }
 
     pipeline::StageTimes times;
     auto part = pipeline::prepare_part(opt.path, *settings, &times);
@@ -1239,7 +1248,8 @@ int run_plan(const PartOptions& opt, const PlanOptions& po, bool layer_given) {
         }
     }
     if (const int rc =
-            print_out(near_net_line + pipeline::plan_summary(*planned, part->final_report()));
+            print_out(near_net_line + placed_line +
+                      pipeline::plan_summary(*planned, part->final_report()));
         rc != kExitOk) {
         return rc;
     }

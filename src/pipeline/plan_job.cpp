@@ -14,6 +14,7 @@
 #include <tbb/parallel_for.h>
 
 #include "maxslice/core/units.hpp"
+#include "maxslice/pipeline/program_job.hpp"
 #include "output.hpp"
 
 namespace maxslice::pipeline {
@@ -261,9 +262,14 @@ core::Result<void> set_aside_bare(plan::Plan& plan, const path::PathSettings& tr
 core::Result<PlannedPart> plan_mesh(const mesh::TriangleMesh& mesh, const PlanJobSettings& s,
                                     const core::Progress* progress) {
     const auto t0 = std::chrono::steady_clock::now();
+    const auto plan_along = [&](const core::Vec3d& direction) {
+        if (!s.plate_center) return plan::plan_part(mesh, direction, s.plan, progress);
+        return plan::plan_part(place_on_plate(mesh, direction, *s.plate_center), {0.0, 0.0, 1.0},
+                               s.plan, progress);
+    };
     PlannedPart out;
     if (s.orient == Orient::kGiven) {
-        auto p = plan::plan_part(mesh, s.direction, s.plan, progress);
+        auto p = plan_along(s.direction);
         if (!p) return std::unexpected(p.error());
         if (s.tracks) {
             if (auto ok = set_aside_bare(*p, *s.tracks); !ok) return std::unexpected(ok.error());
@@ -275,7 +281,7 @@ core::Result<PlannedPart> plan_mesh(const mesh::TriangleMesh& mesh, const PlanJo
         // the candidates' order.
         std::vector<std::optional<core::Result<plan::Plan>>> plans(out.candidates.size());
         tbb::parallel_for(std::size_t{0}, out.candidates.size(), [&](std::size_t i) {
-            plans[i] = plan::plan_part(mesh, out.candidates[i].direction, s.plan, progress);
+            plans[i] = plan_along(out.candidates[i].direction);
         });
         std::optional<core::Error> first_error;
         for (std::size_t i = 0; i < out.candidates.size(); ++i) {

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 #include <tuple>
+#include <vector>
 
 #include "cli_runner.hpp"
 #include "maxslice/io/read_mesh.hpp"
@@ -410,6 +411,52 @@ TEST(PlanCli, EveryFirstPieceOfTheHelicalRingsSidewaysRegionsRestsOnAnotherRegio
     }
     EXPECT_GT(pieces, 1);
     EXPECT_GT(slivers, 0) << "a sideways region of the ring starts with a sliver";
+}
+
+// With a table profile, `maxslice plan` plans what the program job plans: the part placed on
+// the plate along its base direction. Where the file puts the part changes nothing: the
+// bearing seat moved far from the file's origin gets the same regions, directions and layer
+// counts, in the table's part frame (its base direction +Z).
+TEST(PlanCli, ATablePlanIsTheJobsWhereverTheFilePutsThePart) {
+    const fs::path dir = temp_dir("placed");
+    const maxslice::test::PlannerFixture seat = maxslice::test::bearing_seat();
+    const fs::path near = dir / "near.stl";
+    const fs::path far = dir / "far.stl";
+    ASSERT_TRUE(maxslice::io::write_stl_binary(near, seat.mesh).has_value());
+    ASSERT_TRUE(maxslice::io::write_stl_binary(
+                    far, maxslice::test::translated(seat.mesh, {-412.5, 233.25, -97.125}))
+                    .has_value());
+    std::vector<nlohmann::json> plans;
+    for (const fs::path& part : {near, far}) {
+        const fs::path plan = dir / (part.stem().string() + ".json");
+        const CliRun r = run_cli({"plan", part.string(), "--profile", reference_profile().string(),
+                                  "--orient", "given", "--plan", plan.string()});
+        ASSERT_EQ(r.exit_code, 0) << r.err;
+        EXPECT_NE(r.out.find("the table's part frame"), std::string::npos) << r.out;
+        plans.push_back(nlohmann::json::parse(slurp(plan)));
+    }
+    const auto& a = plans[0].at("regions");
+    const auto& b = plans[1].at("regions");
+    ASSERT_GT(a.size(), 1u) << "the bearing seat is built on more than one region";
+    ASSERT_EQ(a.size(), b.size());
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        EXPECT_EQ(a[i].at("layers").size(), b[i].at("layers").size()) << "region " << i;
+        for (std::size_t k = 0; k < 3; ++k) {
+            EXPECT_NEAR(a[i].at("direction").at(k).get<double>(),
+                        b[i].at("direction").at(k).get<double>(), 1e-9)
+                << "region " << i;
+        }
+    }
+    EXPECT_DOUBLE_EQ(a[0].at("direction").at(2).get<double>(), 1.0);
+    // Placed: the lowest layer's bottom is on the plate (Z = 0) in both.
+    for (const nlohmann::json& j : plans) {
+        double lowest = 1e9;
+        for (const auto& l : j.at("layers")) {
+            if (l.at("region") != 0) continue;
+            lowest = std::min(lowest, l.at("plane").at("origin").at(2).get<double>());
+        }
+        EXPECT_LT(std::abs(lowest), 2.0);
+    }
 }
 
 // `maxslice verify` measures coverage against what the model's surface encloses: with a body

@@ -60,6 +60,11 @@ struct PlanJobSettings {
     /// planned. A job that plans a near-net shape gives the finished part's (its flat faces
     /// are the near-net shape's, which is meshed from voxels and has none exactly flat).
     std::vector<OrientCandidate> candidates;
+    /// When set (a table machine), each direction's plan is made as a program job makes it:
+    /// on the part placed on the plate along that direction (place_on_plate, centred here),
+    /// built along +Z in the table's part frame. Unset: the part as the file has it, built
+    /// along the direction.
+    std::optional<core::Vec3d> plate_center;
 };
 
 struct PlannedPart {
