@@ -1247,9 +1247,8 @@ int run_plan(const PartOptions& opt, const PlanOptions& po, bool layer_given) {
             return report_error(ok.error());
         }
     }
-    if (const int rc =
-            print_out(near_net_line + placed_line +
-                      pipeline::plan_summary(*planned, part->final_report()));
+    if (const int rc = print_out(near_net_line + placed_line +
+                                 pipeline::plan_summary(*planned, part->final_report()));
         rc != kExitOk) {
         return rc;
     }
