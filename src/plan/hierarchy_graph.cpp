@@ -147,7 +147,9 @@ public:
                 std::vector<char> touches(others.size(), 0);
                 tbb::parallel_for(std::size_t{0}, others.size(), [&](std::size_t k) {
                     const Layer& q = layers[static_cast<std::size_t>(others[k])];
-                    touches[k] = contact_mm2(q, first, first_box, r) >= least ? 1 : 0;
+                    touches[k] =
+                        contact_mm2(q, first, first_box, r.base.origin, r.direction) >= least ? 1
+                                                                                              : 0;
                 });
                 Contacts& c = contacts.emplace_back();
                 c.first = id;
@@ -155,6 +157,37 @@ public:
                     if (touches[k] != 0) c.others.push_back(others[k]);
                 }
             }
+        }
+        // A piece of any later slice that rests on nothing of its own region (material the
+        // region's cell holds whose base lies in another cell: a wall cut at a slant by a
+        // split plane starts as a tip there) rests, like a first layer, on the layers of
+        // other regions just behind its own bottom plane along its region's direction.
+        const std::vector<int> orphans = orphan_pieces(contacts);
+        std::vector<Contacts> found(orphans.size());
+        for (std::size_t i = 0; i < orphans.size(); ++i) {
+            const Layer& o = layers[static_cast<std::size_t>(orphans[i])];
+            const Region& r = plan_.regions[static_cast<std::size_t>(o.region)];
+            std::vector<int> others;
+            for (const Region& other : plan_.regions) {
+                if (other.id == r.id || descends_from(other.id, r.id)) continue;
+                others.insert(others.end(), other.layers.begin(), other.layers.end());
+            }
+            const Box2 box = box2_of(o.wires.paths());
+            const double least = std::min(min_area, kSmallPieceShare * o.area_mm2);
+            const core::Vec3d bottom =
+                o.plane.origin + o.plane.normal * (o.span.bottom - o.span.cut);
+            std::vector<char> touches(others.size(), 0);
+            tbb::parallel_for(std::size_t{0}, others.size(), [&](std::size_t k) {
+                const Layer& q = layers[static_cast<std::size_t>(others[k])];
+                touches[k] = contact_mm2(q, o, box, bottom, o.plane.normal) >= least ? 1 : 0;
+            });
+            found[i].first = o.id;
+            for (std::size_t k = 0; k < others.size(); ++k) {
+                if (touches[k] != 0) found[i].others.push_back(others[k]);
+            }
+        }
+        for (Contacts& c : found) {
+            if (!c.others.empty()) contacts.push_back(std::move(c));
         }
         link_first_layers(contacts);
         for (Layer& l : layers) {
@@ -213,6 +246,21 @@ private:
         std::vector<int> others;
         std::vector<char> done;
     };
+
+    // The pieces without a parent (after the within-region edges) that are neither on the
+    // plate nor first-layer pieces with contacts already sought (`firsts`), in id order.
+    std::vector<int> orphan_pieces(const std::vector<Contacts>& firsts) const {
+        std::vector<char> sought(plan_.layers.size(), 0);
+        for (const Contacts& c : firsts) sought[static_cast<std::size_t>(c.first)] = 1;
+        std::vector<int> out;
+        for (const Layer& l : plan_.layers) {
+            if (l.on_plate || !l.parents.empty() || sought[static_cast<std::size_t>(l.id)] != 0) {
+                continue;
+            }
+            out.push_back(l.id);
+        }
+        return out;
+    }
 
     // The edges of the first-layer pieces' contacts. The edges from layers the plate already
     // carries (through the edges made so far) come first, so that a piece rests on the built
@@ -371,12 +419,11 @@ private:
                b.lo.y <= a.hi.y + gap;
     }
 
-    // Area (mm2) where layer q's material just behind the base plane of region r meets the
-    // footprint of r's first layer.
+    // Area (mm2) where layer q's material just behind the plane through s with normal ns (a
+    // region's base plane, or a piece's bottom plane) meets the footprint of the layer
+    // `first` that stands on that plane.
     double contact_mm2(const Layer& q, const Layer& first, const Box2& first_box,
-                       const Region& r) const {
-        const core::Vec3d ns = r.direction;
-        const core::Vec3d s = r.base.origin;
+                       const core::Vec3d& s, const core::Vec3d& ns) const {
         const double depth = std::max(s_.layer_mm, q.span.thickness());
         // Most layers lie wholly in front of the base plane or far behind it: their box
         // tells, without clipping.

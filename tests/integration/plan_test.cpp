@@ -413,6 +413,41 @@ TEST(PlanCli, EveryFirstPieceOfTheHelicalRingsSidewaysRegionsRestsOnAnotherRegio
     EXPECT_GT(slivers, 0) << "a sideways region of the ring starts with a sliver";
 }
 
+// NIST FTC-09 as given (a 3 mm plate standing on its edge) with its near-net shape: the
+// split planes of its sideways regions cut the plate at a slant, so that some of the plate
+// in one region's cell starts as a tip part-way up that region, with its base in another
+// region's cell. Such a piece rests on the other region's layers just behind its bottom plane
+// (decision 0033), as a sideways region's first layer does: no layer rests on nothing.
+TEST(PlanCli, APieceStartingPartWayUpARegionRestsOnTheRegionBehindIt) {
+    const fs::path part = kTestData / "step" / "nist" / "nist_ftc_09_asme1_rd.stp";
+    const fs::path dir = temp_dir("orphans");
+    const fs::path plan = dir / "plan.json";
+    const CliRun r =
+        run_cli({"plan", part.string(), "--repair", "--profile", reference_profile().string(),
+                 "--orient", "given", "--plan", plan.string()});
+    ASSERT_TRUE(fs::exists(plan)) << r.err;
+    check_plan_file(plan);
+    const auto j = nlohmann::json::parse(slurp(plan));
+    EXPECT_TRUE(j.at("unsupported_layers").empty()) << j.at("unsupported_layers").dump();
+    const auto& layers = j.at("layers");
+    int across = 0;
+    for (const auto& reg : j.at("regions")) {
+        const auto& ids = reg.at("layers");
+        if (ids.empty()) continue;
+        const int first = layers.at(ids.at(0).get<std::size_t>()).at("index_in_region").get<int>();
+        for (const auto& id : ids) {
+            const auto& l = layers.at(id.get<std::size_t>());
+            if (l.at("index_in_region").get<int>() == first) continue;
+            bool own = false, other = false;
+            for (const auto& q : l.at("parents")) {
+                (layers.at(q.get<std::size_t>()).at("region") == reg.at("id") ? own : other) = true;
+            }
+            if (other && !own) ++across;
+        }
+    }
+    EXPECT_GT(across, 0) << "a piece part-way up a region rests only on another region";
+}
+
 // With a table profile, `maxslice plan` plans what the program job plans: the part placed on
 // the plate along its base direction. Where the file puts the part changes nothing: the
 // bearing seat moved far from the file's origin gets the same regions, directions and layer
