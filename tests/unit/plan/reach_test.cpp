@@ -152,11 +152,11 @@ TEST(Reach, ASidewaysRegionTheHeadReachesKeepsTheSeedsDirection) {
     }
 }
 
-// Turning a part about Z (the plate's normal) changes neither what the head can reach nor the
-// plate under it: every fixture keeps its number of regions and its layers on nothing, and its
-// verdict on a collision-free order, but for conflicts within the order's sampling of the
-// clearance (toolpaths turn with the part, and so do the samples: a conflict 0.04 mm inside
-// the clearance one way may be 0.02 mm outside it the other).
+// Turning a part about Z (the plate's normal) and moving it change neither what the head can
+// reach nor the plate under it: every fixture keeps its number of regions and its layers on
+// nothing, and its verdict on a collision-free order, but for conflicts within the order's
+// sampling of the clearance (toolpaths turn with the part, and so do the samples: a conflict
+// 0.04 mm inside the clearance one way may be 0.02 mm outside it the other).
 TEST(Reach, EveryFixtureTurnedAboutZKeepsItsRegionsAndItsVerdict) {
     OrderSettings os;
     os.nozzle = reference_head();
@@ -171,14 +171,20 @@ TEST(Reach, EveryFixtureTurnedAboutZKeepsItsRegionsAndItsVerdict) {
         SCOPED_TRACE(f.name);
         const Plan given = plan_of(f.mesh, settings(true));
         const Plan turned = plan_of(test::rotated(f.mesh, {0, 0, 1}, 37.0), settings(true));
-        EXPECT_EQ(given.regions.size(), turned.regions.size());
-        EXPECT_EQ(given.unsupported_layers.size(), turned.unsupported_layers.size());
+        const Plan moved =
+            plan_of(test::translated(f.mesh, {173.25, -61.5, 42.125}), settings(true));
         const auto a = order_layers(given, os);
-        const auto b = order_layers(turned, os);
-        ASSERT_TRUE(a.has_value() && b.has_value());
-        if (a->complete() != b->complete()) {
-            const BuildOrder& refused = a->complete() ? *b : *a;
-            EXPECT_TRUE(borderline(refused)) << refused.conflicts.front().reason;
+        ASSERT_TRUE(a.has_value());
+        for (const Plan* other : {&turned, &moved}) {
+            SCOPED_TRACE(other == &turned ? "turned 37 degrees about Z" : "moved");
+            EXPECT_EQ(given.regions.size(), other->regions.size());
+            EXPECT_EQ(given.unsupported_layers.size(), other->unsupported_layers.size());
+            const auto b = order_layers(*other, os);
+            ASSERT_TRUE(b.has_value());
+            if (a->complete() != b->complete()) {
+                const BuildOrder& refused = a->complete() ? *b : *a;
+                EXPECT_TRUE(borderline(refused)) << refused.conflicts.front().reason;
+            }
         }
     }
 }
