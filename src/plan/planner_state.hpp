@@ -138,7 +138,8 @@ private:
                                                  const core::Vec3d& ns,
                                                  const std::vector<HalfSpace>& cell);
     // Whether region rid was split off with its direction leaned up from N_s for the head's
-    // reach: its layers do not tilt towards the centroid chain (decision 0029).
+    // reach, or continues such a region after a later split: its layers do not tilt towards
+    // the centroid chain (decision 0029).
     [[nodiscard]] bool leaned_by_reach(int rid) const;
     [[nodiscard]] double reach_spacing() const;
     ReachScene reach_scene(int lower, PointCloud& top);

@@ -234,7 +234,11 @@ ReachScene Planner::reach_scene(int lower, PointCloud& top) {
 
 bool Planner::leaned_by_reach(int rid) const {
     return std::any_of(plan_.decisions.begin(), plan_.decisions.end(), [&](const Decision& d) {
-        return d.new_region == rid && d.head_checked && d.split_lean_deg > 0.0;
+        if (d.new_region == rid) return d.head_checked && d.split_lean_deg > 0.0;
+        // A leaned region split again goes on along its direction in its continuation, which
+        // must not march either: its tilted layers would turn the head back onto what the
+        // lean cleared.
+        return d.continuation == rid && d.region != rid && leaned_by_reach(d.region);
     });
 }
 
