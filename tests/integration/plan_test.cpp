@@ -413,21 +413,28 @@ TEST(PlanCli, EveryFirstPieceOfTheHelicalRingsSidewaysRegionsRestsOnAnotherRegio
     EXPECT_GT(slivers, 0) << "a sideways region of the ring starts with a sliver";
 }
 
+// The plan file of NIST FTC-09 as given with the reference A/C profile (the job reads parts
+// with --repair), checked for the properties every plan file has; written in `name`.
+nlohmann::json ftc09_plan_as_given(const std::string& name) {
+    const fs::path part = kTestData / "step" / "nist" / "nist_ftc_09_asme1_rd.stp";
+    const fs::path plan = temp_dir(name) / "plan.json";
+    const CliRun r =
+        run_cli({"plan", part.string(), "--repair", "--profile", reference_profile().string(),
+                 "--orient", "given", "--plan", plan.string()});
+    EXPECT_TRUE(fs::exists(plan)) << r.err;
+    if (!fs::exists(plan)) return nlohmann::json::object();
+    check_plan_file(plan);
+    return nlohmann::json::parse(slurp(plan));
+}
+
 // NIST FTC-09 as given (a 3 mm plate standing on its edge) with its near-net shape: the
 // split planes of its sideways regions cut the plate at a slant, so that some of the plate
 // in one region's cell starts as a tip part-way up that region, with its base in another
 // region's cell. Such a piece rests on the other region's layers just behind its bottom plane
 // (decision 0033), as a sideways region's first layer does: no layer rests on nothing.
 TEST(PlanCli, APieceStartingPartWayUpARegionRestsOnTheRegionBehindIt) {
-    const fs::path part = kTestData / "step" / "nist" / "nist_ftc_09_asme1_rd.stp";
-    const fs::path dir = temp_dir("orphans");
-    const fs::path plan = dir / "plan.json";
-    const CliRun r =
-        run_cli({"plan", part.string(), "--repair", "--profile", reference_profile().string(),
-                 "--orient", "given", "--plan", plan.string()});
-    ASSERT_TRUE(fs::exists(plan)) << r.err;
-    check_plan_file(plan);
-    const auto j = nlohmann::json::parse(slurp(plan));
+    const nlohmann::json j = ftc09_plan_as_given("orphans");
+    ASSERT_FALSE(j.empty());
     EXPECT_TRUE(j.at("unsupported_layers").empty()) << j.at("unsupported_layers").dump();
     const auto& layers = j.at("layers");
     int across = 0;
@@ -453,14 +460,8 @@ TEST(PlanCli, APieceStartingPartWayUpARegionRestsOnTheRegionBehindIt) {
 // turn the head back onto what the lean cleared (NIST FTC-09 as given: the continuation of a
 // region leaned 45 degrees marched, and its nozzle came 0.98 mm from the part).
 TEST(PlanCli, TheContinuationOfALeanedRegionKeepsItsDirection) {
-    const fs::path part = kTestData / "step" / "nist" / "nist_ftc_09_asme1_rd.stp";
-    const fs::path dir = temp_dir("leaned_continuation");
-    const fs::path plan = dir / "plan.json";
-    const CliRun r =
-        run_cli({"plan", part.string(), "--repair", "--profile", reference_profile().string(),
-                 "--orient", "given", "--plan", plan.string()});
-    ASSERT_TRUE(fs::exists(plan)) << r.err;
-    const auto j = nlohmann::json::parse(slurp(plan));
+    const nlohmann::json j = ftc09_plan_as_given("leaned_continuation");
+    ASSERT_FALSE(j.empty());
     const auto& layers = j.at("layers");
     const auto& regions = j.at("regions");
     const auto& decisions = j.at("decisions");
