@@ -84,7 +84,6 @@ public:
         boxes_.resize(layers.size());
         tbb::parallel_for(std::size_t{0}, layers.size(),
                           [&](std::size_t i) { boxes_[i] = box_of(layers[i]); });
-        const double min_area = kContactAreaShare * s_.track_width_mm * s_.track_width_mm;
         const auto link = [&](int from, int to) {
             layers[static_cast<std::size_t>(from)].children.push_back(to);
             layers[static_cast<std::size_t>(to)].parents.push_back(from);
@@ -127,11 +126,7 @@ public:
                 r.direction == plan_.regions[static_cast<std::size_t>(r.parent)].direction) {
                 continue;
             }
-            std::vector<int> others;
-            for (const Region& other : plan_.regions) {
-                if (other.id == r.id || descends_from(other.id, r.id)) continue;
-                others.insert(others.end(), other.layers.begin(), other.layers.end());
-            }
+            const std::vector<int> others = others_of(r.id);
             // Every piece of the first slice (the slice may cut the part in several).
             const int first_step =
                 layers[static_cast<std::size_t>(r.layers.front())].index_in_region;
@@ -141,21 +136,7 @@ public:
                 // Empty sections between the base plane and the first layer: nothing across
                 // the base plane touches it (a body beside the part, reached across the air).
                 if (first.after_gap) continue;
-                const Box2 first_box = box2_of(first.wires.paths());
-                // A piece smaller than the contact area rests where half of it touches.
-                const double least = std::min(min_area, kSmallPieceShare * first.area_mm2);
-                std::vector<char> touches(others.size(), 0);
-                tbb::parallel_for(std::size_t{0}, others.size(), [&](std::size_t k) {
-                    const Layer& q = layers[static_cast<std::size_t>(others[k])];
-                    touches[k] =
-                        contact_mm2(q, first, first_box, r.base.origin, r.direction) >= least ? 1
-                                                                                              : 0;
-                });
-                Contacts& c = contacts.emplace_back();
-                c.first = id;
-                for (std::size_t k = 0; k < others.size(); ++k) {
-                    if (touches[k] != 0) c.others.push_back(others[k]);
-                }
+                contacts.push_back(contacts_across(first, r.base.origin, r.direction, others));
             }
         }
         // A piece of any later slice that rests on nothing of its own region (material the
@@ -163,30 +144,11 @@ public:
         // split plane starts as a tip there) rests, like a first layer, on the layers of
         // other regions just behind its own bottom plane along its region's direction.
         const std::vector<int> orphans = orphan_pieces(contacts);
-        std::vector<Contacts> found(orphans.size());
-        for (std::size_t i = 0; i < orphans.size(); ++i) {
-            const Layer& o = layers[static_cast<std::size_t>(orphans[i])];
-            const Region& r = plan_.regions[static_cast<std::size_t>(o.region)];
-            std::vector<int> others;
-            for (const Region& other : plan_.regions) {
-                if (other.id == r.id || descends_from(other.id, r.id)) continue;
-                others.insert(others.end(), other.layers.begin(), other.layers.end());
-            }
-            const Box2 box = box2_of(o.wires.paths());
-            const double least = std::min(min_area, kSmallPieceShare * o.area_mm2);
+        for (const int id : orphans) {
+            const Layer& o = layers[static_cast<std::size_t>(id)];
             const core::Vec3d bottom =
                 o.plane.origin + o.plane.normal * (o.span.bottom - o.span.cut);
-            std::vector<char> touches(others.size(), 0);
-            tbb::parallel_for(std::size_t{0}, others.size(), [&](std::size_t k) {
-                const Layer& q = layers[static_cast<std::size_t>(others[k])];
-                touches[k] = contact_mm2(q, o, box, bottom, o.plane.normal) >= least ? 1 : 0;
-            });
-            found[i].first = o.id;
-            for (std::size_t k = 0; k < others.size(); ++k) {
-                if (touches[k] != 0) found[i].others.push_back(others[k]);
-            }
-        }
-        for (Contacts& c : found) {
+            Contacts c = contacts_across(o, bottom, o.plane.normal, others_of(o.region));
             if (!c.others.empty()) contacts.push_back(std::move(c));
         }
         link_first_layers(contacts);
@@ -246,6 +208,37 @@ private:
         std::vector<int> others;
         std::vector<char> done;
     };
+
+    // The layers of the regions other than rid and those split from it.
+    std::vector<int> others_of(int rid) const {
+        std::vector<int> out;
+        for (const Region& other : plan_.regions) {
+            if (other.id == rid || descends_from(other.id, rid)) continue;
+            out.insert(out.end(), other.layers.begin(), other.layers.end());
+        }
+        return out;
+    }
+
+    // The layers among `others` that piece `first`, standing on the plane through s with
+    // normal ns, rests on: contact over 5 % of a track's square, or, for a piece smaller than
+    // that, over half its own area.
+    Contacts contacts_across(const Layer& first, const core::Vec3d& s, const core::Vec3d& ns,
+                             const std::vector<int>& others) const {
+        const Box2 box = box2_of(first.wires.paths());
+        const double least = std::min(kContactAreaShare * s_.track_width_mm * s_.track_width_mm,
+                                      kSmallPieceShare * first.area_mm2);
+        std::vector<char> touches(others.size(), 0);
+        tbb::parallel_for(std::size_t{0}, others.size(), [&](std::size_t k) {
+            const Layer& q = plan_.layers[static_cast<std::size_t>(others[k])];
+            touches[k] = contact_mm2(q, first, box, s, ns) >= least ? 1 : 0;
+        });
+        Contacts c;
+        c.first = first.id;
+        for (std::size_t k = 0; k < others.size(); ++k) {
+            if (touches[k] != 0) c.others.push_back(others[k]);
+        }
+        return c;
+    }
 
     // The pieces without a parent (after the within-region edges) that are neither on the
     // plate nor first-layer pieces with contacts already sought (`firsts`), in id order.
