@@ -9,14 +9,18 @@
 # inside the beads and the smallest machining stock, and the job's wall time; then counts.
 # Parts are read with --repair (the shared set has open scans); those MANIFEST.md says are
 # in other units run a second time with --units. The process column says which of the
-# profile's processes the program uses: main, or finer N (decision 0019).
+# profile's processes the program uses: main, or finer N (decision 0019). A part the profile's
+# plate cannot hold (the job refuses it before planning) runs once more on the large cell's
+# profile, in rows labelled "[large cell]" (decision 0034).
 #
-#   bench/verify_all.sh [-b MAXSLICE] [-x EXPORT_FIXTURES] [-p PROFILE] [-d TESTDATA_DIR] [-s]
+#   bench/verify_all.sh [-b MAXSLICE] [-x EXPORT_FIXTURES] [-p PROFILE] [-l LARGE_PROFILE]
+#                       [-d TESTDATA_DIR] [-s]
 set -euo pipefail
 repo=$(cd "$(dirname "$0")/.." && pwd)
 maxslice=$repo/build/release/apps/maxslice/maxslice
 export_fixtures=""
 profile=$repo/examples/profiles/reference_5axis_ac.toml
+large=$repo/examples/profiles/large_5axis_ac.toml
 data=${MAXSLICE_TESTDATA_DIR:-$repo/../shared/testdata}
 step=0
 while [ $# -gt 0 ]; do
@@ -24,14 +28,16 @@ while [ $# -gt 0 ]; do
         -b) maxslice=${2:?}; shift 2 ;;
         -x) export_fixtures=${2:?}; shift 2 ;;
         -p) profile=${2:?}; shift 2 ;;
+        -l) large=${2:?}; shift 2 ;;
         -d) data=${2:?}; shift 2 ;;
         -s) step=1; shift ;;
         -h|--help)
-            sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//'
+            sed -n '2,18p' "$0" | sed 's/^# \{0,1\}//'
             echo
             echo "  -b  the maxslice binary (default build/release/apps/maxslice/maxslice)"
             echo "  -x  the fixture exporter (default: bench/maxslice_export_fixtures of -b's build)"
             echo "  -p  the machine profile (default examples/profiles/reference_5axis_ac.toml)"
+            echo "  -l  the profile for parts beyond -p's plate (default examples/profiles/large_5axis_ac.toml)"
             echo "  -d  the shared test data (default \$MAXSLICE_TESTDATA_DIR or ../shared/testdata)"
             echo "  -s  also every STEP file under step/"
             exit 0 ;;
@@ -51,16 +57,22 @@ done
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 "$export_fixtures" "$work/fixtures" > /dev/null
-plate="no [machine.substrate]: the head is only warned of below the plate's level (note column)"
-if grep -q '^\[machine.substrate\]' "$profile"; then
-    plate="substrate $(awk '/^\[machine.substrate\]/ { on = 1; next } /^\[/ { on = 0 }
-        on && /^(size_x_mm|size_y_mm|thickness_mm)/ { v[$1] = $3 }
-        END { printf "%s x %s x %s mm", v["size_x_mm"], v["size_y_mm"], v["thickness_mm"] }' "$profile") (the verifier checks the head against it)"
-fi
+# The plate a profile models, in words.
+plate_of() {
+    if grep -q '^\[machine.substrate\]' "$1"; then
+        echo "substrate $(awk '/^\[machine.substrate\]/ { on = 1; next } /^\[/ { on = 0 }
+            on && /^(size_x_mm|size_y_mm|thickness_mm)/ { v[$1] = $3 }
+            END { printf "%s x %s x %s mm", v["size_x_mm"], v["size_y_mm"], v["thickness_mm"] }' "$1") (the verifier checks the head against it)"
+    else
+        echo "no [machine.substrate]: the head is only warned of below the plate's level (note column)"
+    fi
+}
 
 echo "# maxslice 5-axis job with the verifier  ($(date -u '+%Y-%m-%d %H:%M UTC'), commit $(git -C "$repo" rev-parse --short HEAD 2>/dev/null || echo unknown))"
 echo
-echo "machine: $(nproc) cores, load $(cut -d' ' -f1-3 /proc/loadavg); profile: ${profile#"$repo/"}, $plate; parts read with --repair"
+echo "machine: $(nproc) cores, load $(cut -d' ' -f1-3 /proc/loadavg); profile: ${profile#"$repo/"}, $(plate_of "$profile"); parts read with --repair"
+echo
+echo "[large cell] rows: parts beyond that plate, on ${large#"$repo/"}, $(plate_of "$large")"
 echo
 echo "| part | exit | base | process | regions | layers (tilted) | collisions / unsupported / limit | < clearance | coverage % | excess % | finished % | stock mm | build time min | job wall s | note |"
 echo "|---|---:|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"
@@ -72,17 +84,17 @@ stated_units() {
     esac
 }
 
-# One job: run_job FILE LABEL ORIENT [EXTRA ...]; prints the table row and appends a
+# One job: run_job PROFILE FILE LABEL ORIENT [EXTRA ...]; prints the table row and appends a
 # tab-separated record (label, exit, verified clean, coverage, excess, finished, wall) to
 # $work/rows for the counts.
 run_job() {
-    local f=$1 label=$2 orient=$3
-    shift 3
+    local job_profile=$1 f=$2 label=$3 orient=$4
+    shift 4
     local args=("$@")
     [ "$orient" = given ] && args+=(--orient given)
     local t0 t1 rc=0 wall note="" vs below
     t0=$EPOCHREALTIME
-    "$maxslice" slice "$f" --repair "${args[@]}" --profile "$profile" -o "$work/p.gm" --timings \
+    "$maxslice" slice "$f" --repair "${args[@]}" --profile "$job_profile" -o "$work/p.gm" --timings \
         > "$work/out" 2> "$work/err" || rc=$?
     t1=$EPOCHREALTIME
     wall=$(awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.2f", b - a }')
@@ -152,8 +164,16 @@ run_job() {
         extra=(--units "$units")
         rel="$rel --units $units"
     fi
-    run_job "$f" "$rel" search "${extra[@]}"
-    run_job "$f" "$rel (as given)" given "${extra[@]}"
+    for orient in search given; do
+        label=$rel
+        [ "$orient" = search ] || label="$rel (as given)"
+        run_job "$profile" "$f" "$label" "$orient" "${extra[@]}"
+        # Refused before planning because the part's footprint reaches beyond the plate
+        # (pipeline::check_fits_machine): the large cell's plate may hold it.
+        if grep -q "the part's footprint on the plate" "$work/err"; then
+            run_job "$large" "$f" "${label/#"$rel"/"$rel [large cell]"}" "$orient" "${extra[@]}"
+        fi
+    done
 done
 
 # The counts under the table: per run, the programs written, those that verify clean, those
@@ -161,16 +181,22 @@ done
 # 99.5 % inside the beads; the fixtures that build; the wall time and the slowest job.
 echo
 awk -F'\t' '
-    { given = ($1 ~ / \(as given\)$/); k = given ? "g" : "s"; part = $1; sub(/ \(as given\)$/, "", part)
+    { given = ($1 ~ / \(as given\)$/); large = ($1 ~ / \[large cell\]/)
+      k = (large ? "L" : "") (given ? "g" : "s"); part = $1; sub(/ \(as given\)$/, "", part)
       n[k]++; if ($2 == 0) { w[k]++; c[k] += $3; if ($4 >= 97 && $5 < 5) m[k]++; if ($6 != "" && $6 >= 99.5) f[k]++ }
       if (part ~ /^fixture /) { fx[k]++; if ($2 == 0) fb[k]++ }
       wall[k] += $7; if ($7 > slow) { slow = $7; slowest = $1 } }
     function line(k, what) {
-        printf "- %s: %d of %d rows write a program (%d refused); %d of %d verify with 0 collisions, 0 unsupported beads, 0 limit violations and none closer than the clearance; %d reach 97 %% coverage with under 5 %% excess; %d have the finished part at least 99.5 %% inside beads; %d of %d fixtures build; wall time %.1f s.\n",
-            what, w[k], n[k], n[k] - w[k], c[k], w[k], m[k], f[k], fb[k], fx[k], wall[k]
+        printf "- %s: %d of %d rows write a program (%d refused); %d of %d verify with 0 collisions, 0 unsupported beads, 0 limit violations and none closer than the clearance; %d reach 97 %% coverage with under 5 %% excess; %d have the finished part at least 99.5 %% inside beads; %swall time %.1f s.\n",
+            what, w[k], n[k], n[k] - w[k], c[k], w[k], m[k], f[k],
+            fx[k] ? sprintf("%d of %d fixtures build; ", fb[k], fx[k]) : "", wall[k]
     }
     END {
         line("s", "default search")
         line("g", "as given (--orient given)")
+        if (n["Ls"] + n["Lg"] > 0) {
+            line("Ls", "default search, [large cell] rows")
+            line("Lg", "as given, [large cell] rows")
+        }
         printf "- slowest job: %s (%.2f s).\n", slowest, slow
     }' "$work/rows"

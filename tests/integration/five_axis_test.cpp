@@ -182,12 +182,14 @@ fs::path net_shape_copy(const fs::path& profile, const fs::path& dir) {
 // collision, no unsupported bead, no axis-limit violation, coverage >= 97%, excess < 5%; a
 // separate `maxslice verify` of the written file passes and its JSON says the same.
 void expect_clean_job(const fs::path& part, const fs::path& profile, const fs::path& dir,
-                      const std::string& dialect) {
+                      const std::string& dialect, const std::vector<std::string>& extra = {}) {
     SCOPED_TRACE(part.filename().string() + " with " + profile.filename().string());
     const fs::path program = dir / (part.stem().string() + "." + dialect);
     fs::remove(program);
-    const CliRun r =
-        run_cli({"slice", part.string(), "--profile", profile.string(), "-o", program.string()});
+    std::vector<std::string> args{"slice",          part.string(), "--profile",
+                                  profile.string(), "-o",          program.string()};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const CliRun r = run_cli(args);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     ASSERT_TRUE(fs::exists(program));
     EXPECT_GT(fs::file_size(program), 10000u);
@@ -625,6 +627,41 @@ TEST(FiveAxis, TheFineProfileRunsOnTheReferenceMachine) {
     const std::string reference = machine_part(kReference5);
     EXPECT_GT(reference.size(), 500u);
     EXPECT_EQ(machine_part(kProfiles / "fine_5axis_ac.toml"), reference);
+}
+
+// The large cell (decision 0034) differs from the reference only in its table: the same head,
+// codes and processes, a larger plate and travel.
+TEST(FiveAxis, TheLargeCellHasTheReferenceHeadAndProcesses) {
+    const auto from = [](const std::string& text, const std::string& table) {
+        const std::size_t at = text.find(table);
+        EXPECT_NE(at, std::string::npos) << table;
+        return at == std::string::npos ? std::string() : text.substr(at);
+    };
+    const auto between = [&](const std::string& text, const std::string& a, const std::string& b) {
+        const std::string tail = from(text, a);
+        return tail.substr(0, tail.find(b));
+    };
+    const std::string reference = slurp(kReference5);
+    const std::string large = slurp(kProfiles / "large_5axis_ac.toml");
+    EXPECT_EQ(from(large, "[process]\n"), from(reference, "[process]\n"));
+    EXPECT_EQ(between(large, "[machine.codes]\n", "[machine.substrate]\n"),
+              between(reference, "[machine.codes]\n", "[machine.substrate]\n"));
+    EXPECT_GT(between(reference, "[machine.codes]\n", "[machine.substrate]\n").size(), 300u);
+    EXPECT_NE(between(large, "[machine.substrate]\n", "[process]\n"),
+              between(reference, "[machine.substrate]\n", "[process]\n"));
+    // What it is for: a bar longer than the reference plate, laid flat as given, is refused
+    // there for the plate, before planning, and builds clean on the large cell.
+    const fs::path dir = temp_dir("large_cell");
+    const fs::path bar = dir / "bar_420mm.stl";
+    ASSERT_TRUE(maxslice::io::write_stl_binary(bar, maxslice::test::box({0, 0, 0}, {420, 40, 6}))
+                    .has_value());
+    const CliRun refused = run_cli({"slice", bar.string(), "--profile", kReference5.string(),
+                                    "--orient", "given", "-o", (dir / "bar.gm").string()});
+    EXPECT_EQ(refused.exit_code, 2) << refused.err;
+    EXPECT_NE(refused.err.find("the part's footprint on the plate"), std::string::npos)
+        << refused.err;
+    EXPECT_FALSE(fs::exists(dir / "bar.gm"));
+    expect_clean_job(bar, kProfiles / "large_5axis_ac.toml", dir, "gm", {"--orient", "given"});
 }
 
 // A profile (the reference one by default) with a nozzle of 60 degree half angle, written into
