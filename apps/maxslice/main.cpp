@@ -652,14 +652,30 @@ JobOutcome run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
         const plan::Layer& l = plan.layers[static_cast<std::size_t>(plan.unsupported_layers[0])];
         const core::Vec3d at = plan::centroid_of(l);
         const core::Vec3d d = plan.regions[static_cast<std::size_t>(l.region)].direction;
+        // How far the split that made the region lies: a region's cell takes in all of the
+        // part beyond its split plane, features far from the overhang it was made for too.
+        std::string split;
+        for (const plan::Decision& dec : plan.decisions) {
+            if (dec.new_region == l.region && dec.region != l.region) {
+                const core::Vec3d& q = dec.split_plane.point;
+                split = fmt::format(
+                    ", {:.1f} mm from the split at ({:.1f}, {:.1f}, {:.1f}) that "
+                    "made that region",
+                    core::norm(at - q), q.x, q.y, q.z);
+            }
+        }
+        const plan::HangingLoad load = plan::hanging_from(plan, l.id);
+        const double whole = plan.volume_mm3();
         return refuse(fmt::format(
             "{} layers rest on nothing (the first: a {:.2f} mm2 section at ({:.1f}, {:.1f}, "
-            "{:.1f}), layer {} of region {}, built along ({:.3f}, {:.3f}, {:.3f}): a body or "
+            "{:.1f}), layer {} of region {}, built along ({:.3f}, {:.3f}, {:.3f}){}: a body or "
             "branch that starts there with nothing under it that the plan reaches from the "
-            "plate): no program without support is possible; what may help: another base (the "
-            "default search, or --direction){}",
+            "plate; {} layers, {:.0f} mm3 ({:.1f}% of the part), stand on it and on nothing the "
+            "plate carries): no program without support is possible; what may help: another "
+            "base (the default search, or --direction){}",
             plan.unsupported_layers.size(), l.area_mm2, at.x, at.y, at.z, l.id, l.region, d.x, d.y,
-            d.z, tried));
+            d.z, split, load.layers, load.volume_mm3,
+            whole > 0.0 ? 100.0 * load.volume_mm3 / whole : 0.0, tried));
     }
     if (!plan.bare_unsupported_layers.empty()) {
         const plan::Layer& l =

@@ -529,6 +529,40 @@ core::Result<void> build_graph(Plan& plan) {
 
 }  // namespace detail
 
+HangingLoad hanging_from(const Plan& plan, int id) {
+    const std::size_t n = plan.layers.size();
+    const auto at = [&](int i) -> const Layer& { return plan.layers[static_cast<std::size_t>(i)]; };
+    // What the plate carries: every layer a path joins to a layer on the plate.
+    std::vector<char> carried(n, 0);
+    std::vector<int> stack;
+    for (const Layer& l : plan.layers) {
+        if (l.on_plate) stack.push_back(l.id);
+    }
+    while (!stack.empty()) {
+        const int i = stack.back();
+        stack.pop_back();
+        if (carried[static_cast<std::size_t>(i)] != 0) continue;
+        carried[static_cast<std::size_t>(i)] = 1;
+        for (const int c : at(i).children) stack.push_back(c);
+    }
+    HangingLoad out;
+    if (id < 0 || static_cast<std::size_t>(id) >= n) return out;
+    std::vector<char> seen(n, 0);
+    stack.push_back(id);
+    while (!stack.empty()) {
+        const int i = stack.back();
+        stack.pop_back();
+        if (seen[static_cast<std::size_t>(i)] != 0 || carried[static_cast<std::size_t>(i)] != 0) {
+            continue;
+        }
+        seen[static_cast<std::size_t>(i)] = 1;
+        ++out.layers;
+        out.volume_mm3 += at(i).area_mm2 * at(i).thickness_mean_mm;
+        for (const int c : at(i).children) stack.push_back(c);
+    }
+    return out;
+}
+
 std::vector<int> topological_order(const Plan& plan) {
     std::vector<int> indegree(plan.layers.size(), 0);
     for (const Layer& l : plan.layers)

@@ -701,7 +701,8 @@ TEST(FiveAxis, APartLargerThanThePlateIsRefusedNamingThePlate) {
 
 // A body floating beside the part (a 10 mm cube 10 mm above the plate and 10 mm beside a
 // block standing on it) cannot be built as given: the refusal says how big the section that
-// rests on nothing is and where, within the floating cube's underside, and what may help.
+// rests on nothing is and where, within the floating cube's underside, how much of the part
+// stands on it (the cube: its near-net shape, at most 12 mm a side), and what may help.
 TEST(FiveAxis, ABodyFloatingFreeIsRefusedNamingWhereItStarts) {
     const fs::path dir = temp_dir("floating");
     maxslice::mesh::TriangleMesh part = maxslice::test::box({-20, -10, 0}, {20, 10, 10});
@@ -730,6 +731,18 @@ TEST(FiveAxis, ABodyFloatingFreeIsRefusedNamingWhereItStarts) {
     EXPECT_NEAR(std::stod(m[3]), 0.0, 6.5) << r.err;
     EXPECT_NEAR(std::stod(m[4]), 25.0, 6.5) << r.err;
     EXPECT_NE(r.err.find("what may help: another base"), std::string::npos) << r.err;
+    const std::regex load(
+        R"(; ([0-9]+) layers, ([0-9]+) mm3 \(([0-9.]+)% of the part\), stand on it )");
+    ASSERT_TRUE(std::regex_search(r.err, m, load)) << r.err;
+    // The cube grown by under 1 mm a side: 10 to 21 mm (12 mm x sqrt 3) along its region's
+    // direction, in 0.5 mm layers (a slice may cut it in two pieces); 1000 to 1728 mm3; the
+    // block below (40 x 20 x 10 mm, grown) is most of the rest.
+    EXPECT_GE(std::stoi(m[1]), 20) << r.err;
+    EXPECT_LE(std::stoi(m[1]), 84) << r.err;
+    EXPECT_GE(std::stod(m[2]), 1000.0) << r.err;
+    EXPECT_LE(std::stod(m[2]), 1728.0) << r.err;
+    EXPECT_GT(std::stod(m[3]), 10.0) << r.err;
+    EXPECT_LT(std::stod(m[3]), 25.0) << r.err;
 }
 
 // A nozzle with a 60 degree half angle cannot reach under the portal's beam: no build order,

@@ -228,4 +228,15 @@ struct PlanarCheck {
 /// empty when the graph has a cycle.
 [[nodiscard]] std::vector<int> topological_order(const Plan& plan);
 
+/// What stands on a layer and on nothing the plate carries: the layer and every layer above
+/// it in the graph that no path of the graph joins to a layer on the plate.
+struct HangingLoad {
+    int layers = 0;
+    double volume_mm3 = 0.0;  ///< sum of area x mean thickness, as Plan::volume_mm3
+};
+
+/// The load hanging from layer `id` (a layer on nothing, say): what cannot be built without
+/// it, nor with it while it rests on nothing.
+[[nodiscard]] HangingLoad hanging_from(const Plan& plan, int id);
+
 }  // namespace maxslice::plan

@@ -146,6 +146,13 @@ TEST(Planner, ABodyAboveAGapRestsOnNothing) {
     const Plan p = plan_of(m);
     ASSERT_EQ(p.unsupported_layers.size(), 1u);
     const Layer& l = p.layers[static_cast<std::size_t>(p.unsupported_layers[0])];
+    // The whole upper block hangs from its first layer (40 layers, 8000 mm3); nothing hangs
+    // from a layer the plate carries.
+    const HangingLoad load = hanging_from(p, l.id);
+    EXPECT_EQ(load.layers, 40);
+    EXPECT_NEAR(load.volume_mm3, 8000.0, 1.0);
+    EXPECT_EQ(hanging_from(p, 0).layers, 0);
+    EXPECT_EQ(hanging_from(p, -1).layers, 0);
     EXPECT_TRUE(l.after_gap);
     EXPECT_TRUE(l.parents.empty());
     EXPECT_NEAR(l.span.bottom, 25.0, 1e-6);
