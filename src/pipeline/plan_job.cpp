@@ -825,17 +825,26 @@ std::string plan_summary(const PlannedPart& planned, const mesh::ValidationRepor
     put(out, "layers          {}\n", p.layers.size());
     // A list of layers on nothing: its count and where the first is, then what it means.
     const auto on_nothing = [&](const char* label, const std::vector<int>& ids, const char* what,
-                                const char* meaning) {
+                                const std::string& meaning) {
         if (ids.empty()) return;
         const plan::Layer& l = p.layers[static_cast<std::size_t>(ids.front())];
         const core::Vec3d at = plan::centroid_of(l);
         put(out, "{}{} layers {}, first: layer {} of region {} near ({:.3f}, {:.3f}, {:.3f}){}\n",
             label, ids.size(), what, l.id, l.region, at.x, at.y, at.z, meaning);
     };
+    std::string load;
+    if (!p.unsupported_layers.empty()) {
+        const plan::HangingLoad h = plan::hanging_from(p, p.unsupported_layers.front());
+        const double whole = p.volume_mm3();
+        load = fmt::format(
+            "; {} layers, {:.0f} mm3 ({:.1f}% of the plan), stand on it and on "
+            "nothing the plate carries",
+            h.layers, h.volume_mm3, whole > 0.0 ? 100.0 * h.volume_mm3 / whole : 0.0);
+    }
     on_nothing("unsupported     ", p.unsupported_layers,
                "rest on nothing (a body floating free of the rest, or material reached across a "
                "gap)",
-               "; they need support or another base (--orient auto)");
+               load + "; they need support or another base (--orient auto)");
     on_nothing("left bare       ", p.bare_unsupported_layers, "without parents where no track fits",
                ": nothing is laid there (narrower than the track), and tracks above them only "
                "over beads");

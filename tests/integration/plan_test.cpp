@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <regex>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -336,6 +337,22 @@ TEST(PlanCli, ALayerOnNothingWhereNoTrackFitsIsLeftBare) {
     ASSERT_EQ(f.exit_code, 0) << f.err;
     EXPECT_NE(f.out.find("unsupported     1 layers rest on nothing"), std::string::npos) << f.out;
     EXPECT_EQ(f.out.find("left bare"), std::string::npos) << f.out;
+    // What stands on it: the pyramid, 8 mm tall, 8 x 8 x 8 / 3 = 171 mm3, in 0.5 mm layers
+    // (wedges here: the slices tilt after the chain of centroids, so the count and the sum of
+    // area x mean thickness differ a little), and its share of the plan's own volume.
+    const std::regex load(
+        R"(; ([0-9]+) layers, ([0-9]+) mm3 \(([0-9.]+)% of the plan\), stand on it )");
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(f.out, m, load)) << f.out;
+    EXPECT_GE(std::stoi(m[1]), 14) << f.out;
+    EXPECT_LE(std::stoi(m[1]), 24) << f.out;
+    EXPECT_GT(std::stod(m[2]), 140.0) << f.out;
+    EXPECT_LT(std::stod(m[2]), 260.0) << f.out;
+    const std::string key = "plan volume     ";
+    const auto at = f.out.find(key);
+    ASSERT_NE(at, std::string::npos) << f.out;
+    const double whole = std::stod(f.out.substr(at + key.size()));
+    EXPECT_NEAR(std::stod(m[3]), 100.0 * std::stod(m[2]) / whole, 0.06) << f.out;
 }
 
 // A refusal names a region split off pointing down (a piece hanging below the sideways region
