@@ -664,18 +664,14 @@ JobOutcome run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
                     core::norm(at - q), q.x, q.y, q.z);
             }
         }
-        const plan::HangingLoad load = plan::hanging_from(plan, l.id);
-        const double whole = plan.volume_mm3();
         return refuse(fmt::format(
             "{} layers rest on nothing (the first: a {:.2f} mm2 section at ({:.1f}, {:.1f}, "
             "{:.1f}), layer {} of region {}, built along ({:.3f}, {:.3f}, {:.3f}){}: a body or "
             "branch that starts there with nothing under it that the plan reaches from the "
-            "plate; {} layers, {:.0f} mm3 ({:.1f}% of the part), stand on it and on nothing the "
-            "plate carries): no program without support is possible; what may help: another "
-            "base (the default search, or --direction){}",
+            "plate; {}): no program without support is possible; what may help: another base "
+            "(the default search, or --direction){}",
             plan.unsupported_layers.size(), l.area_mm2, at.x, at.y, at.z, l.id, l.region, d.x, d.y,
-            d.z, split, load.layers, load.volume_mm3,
-            whole > 0.0 ? 100.0 * load.volume_mm3 / whole : 0.0, tried));
+            d.z, split, plan::describe_hanging(plan, l.id, "part"), tried));
     }
     if (!plan.bare_unsupported_layers.empty()) {
         const plan::Layer& l =

@@ -832,15 +832,10 @@ std::string plan_summary(const PlannedPart& planned, const mesh::ValidationRepor
         put(out, "{}{} layers {}, first: layer {} of region {} near ({:.3f}, {:.3f}, {:.3f}){}\n",
             label, ids.size(), what, l.id, l.region, at.x, at.y, at.z, meaning);
     };
-    std::string load;
-    if (!p.unsupported_layers.empty()) {
-        const plan::HangingLoad h = plan::hanging_from(p, p.unsupported_layers.front());
-        const double whole = p.volume_mm3();
-        load = fmt::format(
-            "; {} layers, {:.0f} mm3 ({:.1f}% of the plan), stand on it and on "
-            "nothing the plate carries",
-            h.layers, h.volume_mm3, whole > 0.0 ? 100.0 * h.volume_mm3 / whole : 0.0);
-    }
+    const std::string load =
+        p.unsupported_layers.empty()
+            ? std::string()
+            : "; " + plan::describe_hanging(p, p.unsupported_layers.front(), "plan");
     on_nothing("unsupported     ", p.unsupported_layers,
                "rest on nothing (a body floating free of the rest, or material reached across a "
                "gap)",

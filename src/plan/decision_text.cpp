@@ -78,6 +78,15 @@ std::string describe(const Plan& plan, const Decision& d) {
     return "unknown decision";
 }
 
+std::string describe_hanging(const Plan& plan, int id, std::string_view whole) {
+    const HangingLoad h = hanging_from(plan, id);
+    const double v = plan.volume_mm3();
+    return fmt::format(
+        "{} layers, {:.0f} mm3 ({:.1f}% of the {}), stand on it and on nothing the "
+        "plate carries",
+        h.layers, h.volume_mm3, v > 0.0 ? 100.0 * h.volume_mm3 / v : 0.0, whole);
+}
+
 std::string describe(const Plan& plan, const Region& r) {
     if (r.parent < 0) return "base region: the part stands on the plate along the base direction";
     for (const Decision& d : plan.decisions) {

@@ -5,6 +5,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "maxslice/core/progress.hpp"
@@ -238,5 +239,9 @@ struct HangingLoad {
 /// The load hanging from layer `id` (a layer on nothing, say): what cannot be built without
 /// it, nor with it while it rests on nothing.
 [[nodiscard]] HangingLoad hanging_from(const Plan& plan, int id);
+
+/// hanging_from(plan, id) for people: "N layers, V mm3 (P% of the <whole>), stand on it and on
+/// nothing the plate carries", P against plan.volume_mm3().
+[[nodiscard]] std::string describe_hanging(const Plan& plan, int id, std::string_view whole);
 
 }  // namespace maxslice::plan
