@@ -47,6 +47,11 @@ constexpr double kSupportDepthVoxels = 2.0;
 constexpr double kSupportReachSlackVoxels = 1.0;
 /// A bead bottom this many voxels above the plate (part z = 0) or lower rests on the plate.
 constexpr double kPlateToleranceVoxels = 1.0;
+/// The automatic grid is coarsened by this factor at a time ...
+constexpr double kCoarsenStep = 1.25;
+/// ... until it holds this many voxels (about 160 MB), unless the layers need it finer
+/// (VerifySettings::max_voxels bounds it then).
+constexpr double kPreferredVoxels = 4.0e8;
 /// Without a substrate, a head reaching less than this below the plate's level is not noted.
 constexpr double kBelowPlateToleranceMm = 1e-6;
 /// Axis values within this of a limit pass (the program rounds to 3 decimals).
@@ -252,10 +257,12 @@ private:
             }
         }
         double reach = 0.0;
+        double thinnest = std::numeric_limits<double>::infinity();
         for (const ReplayBlock& b : replay.blocks) {
             if (b.kind != ReplayBlock::Kind::kMove || !b.laser_on || !b.pose_known) continue;
             const double h = law_.height_mm(b.feed_mm_min);
             reach = std::max(reach, std::max(h, 0.5 * process_.track_width_mm));
+            if (h > 0.0) thinnest = std::min(thinnest, h);
             box.add(b.tip_mm);
             box.add(kin_.forward(b.from).tip_mm);
             // A joint-space deposit that turns the table (the contract has none) lays an arc.
@@ -275,12 +282,42 @@ private:
         double v = settings_.voxel_mm;
         const bool automatic = v <= 0.0;
         if (automatic) v = std::min(process_.track_width_mm / 4.0, process_.h_min_mm / 2.0);
+        // The support check sees the layer under a bead only through voxel centres between
+        // kSupportGapVoxels voxels under the bead's bottom and the layer's own bottom: a voxel
+        // finer than the thinnest bead by that share puts one in every column.
+        const double resolves = thinnest / (1.0 + kSupportGapVoxels);
+        const auto unresolved = [&](const Vec3d& size) {
+            const std::string need = fmt::format(
+                "its thinnest bead is {:.3f} mm high, so the support check needs voxels of at most "
+                "{:.3f} mm",
+                thinnest, resolves);
+            if (!automatic) {
+                return core::fail(ErrorCode::kInvalidInput,
+                                  fmt::format("the verifier cannot see this program's layers "
+                                              "with {:g} mm voxels: {}",
+                                              v, need),
+                                  "--voxel");
+            }
+            return core::fail(
+                ErrorCode::kInvalidInput,
+                fmt::format("the verifier cannot see this program's layers: {}, and over {:.1f} x "
+                            "{:.1f} x {:.1f} mm those are more than the {:.3g} voxels it may hold; "
+                            "a model read in the wrong unit (--units) makes the grid this large",
+                            need, size.x, size.y, size.z, settings_.max_voxels),
+                "verify grid");
+        };
+        if (automatic) v = std::min(v, resolves);
         for (;;) {
             const double margin = reach * 1.5 + 3.0 * v;
             const Vec3d lo = box.min - Vec3d{margin, margin, margin};
             const Vec3d size = box.size() + Vec3d{2 * margin, 2 * margin, 2 * margin};
             const double n = std::ceil(size.x / v) * std::ceil(size.y / v) * std::ceil(size.z / v);
-            if (n <= settings_.max_voxels) {
+            // The automatic grid coarsens to hold kPreferredVoxels, but no further than the
+            // layers allow: then it may hold up to max_voxels.
+            const bool may_coarsen = automatic && v * kCoarsenStep <= resolves;
+            if (n <= (may_coarsen ? std::min(kPreferredVoxels, settings_.max_voxels)
+                                  : settings_.max_voxels)) {
+                if (v > resolves) return unresolved(size);
                 // A fixed small shift of the origin keeps voxel centres off round coordinates,
                 // where axis-aligned model faces usually lie.
                 origin_ = lo - Vec3d{v * 0.01234567, v * 0.02345678, v * 0.01357913};
@@ -296,7 +333,8 @@ private:
                                               v, size.x, size.y, size.z, n, settings_.max_voxels),
                                   "--voxel");
             }
-            v *= 1.25;
+            if (!may_coarsen) return unresolved(size);
+            v *= kCoarsenStep;
         }
         voxel_ = v;
         rep.voxel_mm = v;

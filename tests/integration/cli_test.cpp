@@ -254,21 +254,24 @@ TEST(Cli, VerifyRefusesUnsafeAndWrongProgramsWithExitThree) {
     refused(verify(write("empty.gm", ""), gm_profile), "nothing_deposited");
     refused(verify(write("comments.ngc", "(nothing)\n; still nothing\n"), lc_profile),
             "unfinished");
-    // Nothing deposited measurably: the model read in metres, a voxel coarser than the beads.
-    // Its near-net shape (the profile's 1 mm stock, decision 0025) cannot be made at that size:
-    // the program is still replayed, against the model itself, and the warning says why.
+    // A grid too coarse to see the layers (the model read in metres, a voxel coarser than the
+    // beads) gives no verdict: exit 2, saying why. Its near-net shape (the profile's 1 mm stock,
+    // decision 0025) cannot be made at that size either, and the warning says so first.
+    const auto unseen = [&](const CliRun& r, const std::string& where) {
+        EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
+        EXPECT_NE(r.err.find(where + ": the verifier cannot see this program's layers"),
+                  std::string::npos)
+            << r.err;
+        EXPECT_EQ(r.out.find("verification    PASSED"), std::string::npos) << r.out;
+    };
     const CliRun metres = verify(gm, gm_profile, {"--units", "m"});
-    refused(metres, "nothing_deposited");
+    unseen(metres, "verify grid");
     EXPECT_NE(metres.err.find("warning: --model: the near-net shape the profile asks for (1.00 mm "
                               "stock, holes under 10.00 mm filled) cannot be made"),
               std::string::npos)
         << metres.err;
     EXPECT_NE(metres.err.find("(--units)"), std::string::npos) << metres.err;
-    EXPECT_NE(metres.out.find("near-net shape  none: the program is replayed against the model "
-                              "itself"),
-              std::string::npos)
-        << metres.out;
-    refused(verify(gm, gm_profile, {"--voxel", "1e9"}), "nothing_deposited");
+    unseen(verify(gm, gm_profile, {"--voxel", "1e9"}), "--voxel");
     // -700 W, 800 g/min on a machine whose maximum is 30.
     std::string negative = lc_text;
     for (auto at = negative.find("M68 E0 Q700.00"); at != std::string::npos;

@@ -24,11 +24,14 @@ inline constexpr double kFinishedInsideTarget = 0.995;
 
 /// How to verify a program (docs/verifier.md).
 struct VerifySettings {
-    /// Voxel edge in mm; 0 = automatic: min(track / 4, h_min / 2), coarsened until the grid
-    /// holds at most max_voxels.
+    /// Voxel edge in mm; 0 = automatic: min(track / 4, h_min / 2), coarsened by 1.25x until
+    /// the grid holds at most 4e8 voxels, but never beyond the thinnest bead / 1.25 (then up
+    /// to max_voxels). Either is refused when coarser than that: the support check could not
+    /// see the layer under a bead.
     double voxel_mm = 0.0;
-    /// Largest number of voxels of the automatic grid (a given voxel_mm is refused above it).
-    double max_voxels = 4.0e8;
+    /// Largest number of voxels of the grid (a given voxel_mm is refused above it): about
+    /// 0.4 bytes each, 2.4 GB at the bound.
+    double max_voxels = 6.0e9;
     /// Largest distance (mm) the tool tip, or the far end of the nozzle, moves between two
     /// checked poses; 0 = automatic: half a track, at most 1 mm, at least one voxel.
     double sample_mm = 0.0;

@@ -129,20 +129,35 @@ TEST(VerifyChecks, EmptyAndCommentOnlyProgramsFail) {
 }
 
 // A model read in metres (1000 times too large) or a voxel coarser than the beads: the beads
-// fill no voxel, 0 mm3 deposited, which was reported PASSED.
-TEST(VerifyChecks, ProgramsThatDepositNothingMeasurableFail) {
+// filled no voxel, 0 mm3 deposited, which was once reported PASSED; and a voxel a little
+// coarser than a layer hid the layer under an overhanging bead (NIST CTC-05 on the large cell:
+// 14 beads "on nothing" at 0.89 mm voxels, none at 0.30 mm). The verifier refuses a grid that
+// cannot see the thinnest bead's layer (voxel above its height / 1.25), automatic or given.
+TEST(VerifyChecks, AGridThatCannotSeeTheLayersGivesNoVerdict) {
     const machine::Profiles p = load("reference_lmd.toml");
     const std::string text = clean_block(p, ProgramDialect::kGm);
-    const Report metres = verified(text, p, placed(p, test::box({0, 0, 0}, {30000, 30000, 6000})));
-    EXPECT_EQ(metres.deposited_volume_mm3, 0.0) << report_text(metres);
-    EXPECT_TRUE(metres.deposits_nothing());
-    EXPECT_FALSE(metres.accepted());
+    const auto unseen = [](const core::Result<Report>& r, const std::string& where) {
+        ASSERT_FALSE(r.has_value()) << report_text(*r);
+        EXPECT_EQ(r.error().code, core::ErrorCode::kInvalidInput);
+        EXPECT_EQ(r.error().context, where);
+        EXPECT_NE(r.error().message.find("cannot see this program's layers"), std::string::npos)
+            << r.error().describe();
+    };
+    unseen(verify_program(text, placed(p, test::box({0, 0, 0}, {30000, 30000, 6000})), p, {}),
+           "verify grid");
+    const Report fine = verified(text, p, block(p));
+    const double h = fine.bead_height_min_mm;
+    ASSERT_GT(h, 0.0) << report_text(fine);
+    EXPECT_LE(fine.voxel_mm, h / 1.25);
     VerifySettings coarse;
-    coarse.voxel_mm = 1e9;
-    const Report huge = verified(text, p, block(p), coarse);
-    EXPECT_TRUE(huge.deposits_nothing()) << report_text(huge);
-    EXPECT_FALSE(huge.matches_part());
-    EXPECT_NE(report_text(huge).find("deposits nothing measurable"), std::string::npos);
+    for (const double v : {1e9, 1.3 * h / 1.25}) {
+        coarse.voxel_mm = v;
+        unseen(verify_program(text, block(p), p, coarse), "--voxel");
+    }
+    coarse.voxel_mm = 0.95 * h / 1.25;
+    const Report just = verified(text, p, block(p), coarse);
+    EXPECT_TRUE(just.passed()) << report_text(just);
+    EXPECT_FALSE(just.deposits_nothing());
 }
 
 // -700 W laser power and 800 g/min powder on a machine whose maximum is 30, in gm's columns
