@@ -152,6 +152,22 @@ core::Result<Placed> plan_along(const mesh::TriangleMesh& part, const Vec3d& dir
     auto bare = bare_plate_layers(out.planned.plan, profiles);
     if (!bare) return std::unexpected(bare.error());
     out.bare_plate = std::move(*bare);
+    // A part whose first layers no track fits (a near-net shape's rounded bottom edge, a part
+    // standing on an edge) and that got no footing, since no split at the plate asked for it:
+    // planned again with the footing laid from the plate, kept when tracks then stand on it
+    // (decision 0017).
+    if (!out.bare_plate.empty() && ps.plan.footing_mm > 0.0 &&
+        out.planned.plan.footing.layers == 0) {
+        ps.plan.footing_always = true;
+        auto again = plan_mesh(out.placed, ps, progress);
+        if (!again) return out;  // the first plan and its refusal stand
+        auto still = bare_plate_layers(again->plan, profiles);
+        if (!still) return std::unexpected(still.error());
+        if (still->empty()) {
+            out.planned = std::move(*again);
+            out.bare_plate.clear();
+        }
+    }
     return out;
 }
 

@@ -415,6 +415,7 @@ std::string plan_json(const PlannedPart& planned, const PreparedPart& part) {
                      {"tilt_trigger_deg", s.tilt_trigger_deg},
                      {"max_tilt_tries", s.max_tilt_tries},
                      {"footing_mm", s.footing_mm},
+                     {"footing_always", s.footing_always},
                      {"max_tilt_deg", s.max_tilt_deg}};
     ordered_json orient;
     orient["mode"] = planned.candidates.empty() ? "given" : "auto";

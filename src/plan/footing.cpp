@@ -47,7 +47,7 @@ core::Result<std::vector<Paths2>> footing_pads(
 // the footing would only move the split up and add material: walked again without it, for
 // good. Every layer and decision of the walk is dropped first. True when a walk again is due.
 bool Planner::retry_footing(int rid, int ref) {
-    if (rid != 0 || footing_ == FootingState::kDropped) return false;
+    if (rid != 0 || footing_ == FootingState::kDropped || s_.footing_always) return false;
     const Layer& l = plan_.layers[static_cast<std::size_t>(ref)];
     if (l.span.top > footing_zone_mm(s_)) return false;
     footing_ = footing_ == FootingState::kUntried ? FootingState::kOn : FootingState::kDropped;

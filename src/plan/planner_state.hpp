@@ -154,7 +154,9 @@ private:
     AnalysisSettings analysis_;
     int look_back_ = 1;  // layers in a track's height: the look-back distance
     enum class FootingState { kUntried, kOn, kDropped };
-    FootingState footing_ = s_.footing_mm > 0.0 ? FootingState::kUntried : FootingState::kDropped;
+    FootingState footing_ = !(s_.footing_mm > 0.0)
+                                ? FootingState::kDropped
+                                : (s_.footing_always ? FootingState::kOn : FootingState::kUntried);
     // Per layer id: the area x thickness its footing pad adds, or -1 (not a footing layer).
     std::vector<double> footing_added_;
     Plan plan_;

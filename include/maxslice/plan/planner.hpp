@@ -45,6 +45,11 @@ struct PlanSettings {
     /// chamfered bottom edge, or a part touching the plate along a line or at a point, stands
     /// on a straight pad machined off with the plate; 0 = off.
     double footing_mm = 1.0;
+    /// Lay the footing from the plate up whatever the walk finds (it is laid only where it
+    /// saves a split at the plate otherwise): for a part whose first layers no track fits (a
+    /// rounded near-net bottom edge, a part standing on an edge), which the program job plans
+    /// again with it (decision 0017).
+    bool footing_always = false;
     /// The head the machine builds with: a region split off sideways is built along the
     /// seed's N_s only where the head, standing on it, clears what is built before it and the
     /// plate; otherwise along N_s leaned up (decision 0029). Unset: N_s always.
