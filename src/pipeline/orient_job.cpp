@@ -160,7 +160,13 @@ core::Result<Placed> plan_along(const mesh::TriangleMesh& part, const Vec3d& dir
         out.planned.plan.footing.layers == 0) {
         ps.plan.footing_always = true;
         auto again = plan_mesh(out.placed, ps, progress);
-        if (!again) return out;  // the first plan and its refusal stand
+        if (!again) {
+            // A refusal of the plan with the footing: the first plan and its refusal stand.
+            if (again.error().code != core::ErrorCode::kInvalidInput) {
+                return std::unexpected(again.error());  // cancelled, or a bug
+            }
+            return out;
+        }
         auto still = bare_plate_layers(again->plan, profiles);
         if (!still) return std::unexpected(still.error());
         if (still->empty()) {

@@ -271,6 +271,10 @@ TEST(Cli, VerifyRefusesUnsafeAndWrongProgramsWithExitThree) {
               std::string::npos)
         << metres.err;
     EXPECT_NE(metres.err.find("(--units)"), std::string::npos) << metres.err;
+    EXPECT_NE(metres.out.find("near-net shape  none: the program is replayed against the model "
+                              "itself"),
+              std::string::npos)
+        << metres.out;
     unseen(verify(gm, gm_profile, {"--voxel", "1e9"}), "--voxel");
     // -700 W, 800 g/min on a machine whose maximum is 30.
     std::string negative = lc_text;
