@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <numbers>
@@ -165,17 +166,25 @@ std::vector<std::string> replay_options(const std::string& out) {
 // A copy of `profile` in `dir` with its machining stock and fill at 0: the job deposits the
 // part as it is, no near-net shape (decision 0025). For tests about the track against the
 // part's own features, which the reference profiles' near-net shape fills.
-fs::path net_shape_copy(const fs::path& profile, const fs::path& dir) {
+// A copy of the profile in dir (named after it and `suffix`) with the first value of each key
+// set to 0.
+fs::path zeroed_copy(const fs::path& profile, const fs::path& dir,
+                     std::initializer_list<std::string> keys, const std::string& suffix) {
     std::string text = slurp(profile);
-    for (const std::string key : {"machining_stock_mm = ", "fill_below_mm = "}) {
+    for (const std::string& name : keys) {
+        const std::string key = name + " = ";
         const std::size_t at = text.find(key);
         EXPECT_NE(at, std::string::npos) << key << " in " << profile;
         if (at == std::string::npos) continue;
         text.replace(at, text.find(' ', at + key.size()) - at, key + "0.0");
     }
-    const fs::path copy = dir / (profile.stem().string() + "_net_shape.toml");
+    const fs::path copy = dir / (profile.stem().string() + suffix + ".toml");
     std::ofstream(copy) << text;
     return copy;
+}
+
+fs::path net_shape_copy(const fs::path& profile, const fs::path& dir) {
+    return zeroed_copy(profile, dir, {"machining_stock_mm", "fill_below_mm"}, "_net_shape");
 }
 
 // A clean 5-axis job: slice exits 0 and writes the program; the printed figures say no
@@ -973,13 +982,7 @@ TEST(FiveAxis, APartStandingOnAnEdgeStandsOnAFooting) {
     expect_clean(f, r.out);
     EXPECT_GE(f.coverage_pct, 97.0) << r.out;
 
-    std::string text = slurp(kReference5);
-    const std::string key = "footing_mm = ";
-    const std::size_t at = text.find(key);
-    ASSERT_NE(at, std::string::npos);
-    text.replace(at, text.find('\n', at) - at, key + "0.0");
-    const fs::path bare = dir / "no_footing.toml";
-    std::ofstream(bare) << text;
+    const fs::path bare = zeroed_copy(kReference5, dir, {"footing_mm"}, "_no_footing");
     const fs::path none = dir / "none.gm";
     const CliRun g = run_cli({"slice", part.string(), "--profile", bare.string(), "-o",
                               none.string(), "--orient", "given", "--finer", "off"});
