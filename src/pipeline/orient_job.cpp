@@ -256,10 +256,24 @@ core::Result<OrientedPlan> orient_multiaxis(const mesh::TriangleMesh& part, cons
                                             const core::Progress* progress,
                                             const ProgramCheck& check,
                                             const std::vector<OrientCandidate>& candidates_of) {
-    // "" when `p` (buildable as planned) passes `check` too.
+    // "" when `p` (buildable as planned) passes `check` too. A program this machine cannot run
+    // along that base (a pose beyond the axis limits, a retract above the Z travel) is a refused
+    // try like a plan that cannot be built, and the search goes on; with kGiven it is the answer.
     const auto checked = [&](const Placed& p) -> core::Result<std::string> {
         if (!check) return std::string();
-        return check(p.direction, p.placed, p.planned);
+        auto c = check(p.direction, p.placed, p.planned);
+        if (!c && c.error().code == core::ErrorCode::kInvalidInput &&
+            policy != OrientPolicy::kGiven) {
+            // "move N (layer, region): why" names the move, then why.
+            const std::string& m = c.error().message;
+            const std::size_t colon = m.find(": ");
+            return "no program: " + (colon == std::string::npos
+                                         ? m
+                                         : m.substr(0, colon) + ": " +
+                                               first_clause({c.error().code,
+                                                             m.substr(colon + 2), {}}));
+        }
+        return c;
     };
     OrientedPlan out;
     std::optional<Placed> as_given;

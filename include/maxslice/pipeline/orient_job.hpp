@@ -65,7 +65,8 @@ struct OrientedPlan {
 
 /// A further judgement of a plan the search would keep (the program job writes its program and
 /// replays it in the verifier): "" keeps it, anything else is why not, and the search goes on
-/// as for a plan that cannot be built. Errors end the search.
+/// as for a plan that cannot be built. Errors end the search, except a kInvalidInput one (a
+/// program the machine cannot run along that base) outside kGiven: that base is refused.
 /// `direction`: the part file's direction the plan builds upwards.
 using ProgramCheck = std::function<core::Result<std::string>(
     const core::Vec3d& direction, const mesh::TriangleMesh& placed, const PlannedPart& planned)>;

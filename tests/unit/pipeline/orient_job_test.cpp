@@ -124,7 +124,8 @@ TEST(OrientJob, PlansWithLayersOnNothingAreRefusedWithoutAnOrder) {
     }
 }
 
-// An error of the check ends the search with that error.
+// An error of the check (not a refusal of the base: a bug, a cancellation, a file) ends the
+// search with that error.
 TEST(OrientJob, AnErrorOfTheCheckEndsTheSearch) {
     const machine::Profiles profiles = reference_profiles();
     auto o = orient_multiaxis(
@@ -135,6 +136,36 @@ TEST(OrientJob, AnErrorOfTheCheckEndsTheSearch) {
         });
     ASSERT_FALSE(o.has_value());
     EXPECT_EQ(o.error().message, "test error");
+}
+
+// A program the machine cannot run along a base (the check's kInvalidInput: a pose beyond the
+// axis limits, a retract above the Z travel) refuses that base, and the search goes on; with
+// --orient given it is the answer.
+TEST(OrientJob, AProgramTheMachineCannotRunRefusesThatBaseOnly) {
+    const machine::Profiles profiles = reference_profiles();
+    const mesh::TriangleMesh part = test::l_bracket().mesh;
+    auto given = orient_multiaxis(part, {0, 0, 1}, OrientPolicy::kGiven, profiles);
+    ASSERT_TRUE(given.has_value()) << given.error().describe();
+    const double given_height = top_z(given->placed);
+    const auto check = [&](const core::Vec3d&, const mesh::TriangleMesh& m,
+                           const PlannedPart&) -> core::Result<std::string> {
+        if (std::abs(top_z(m) - given_height) < 1e-6) {
+            return core::fail(core::ErrorCode::kInvalidInput,
+                              "move 7 (layer 0, region 0): no pose reaches it: the A axis ends",
+                              "machine");
+        }
+        return std::string();
+    };
+    auto o = orient_multiaxis(part, {0, 0, 1}, OrientPolicy::kFallback, profiles, nullptr, check);
+    ASSERT_TRUE(o.has_value()) << o.error().describe();
+    EXPECT_EQ(o->tries[0].refusal, "no program: move 7 (layer 0, region 0): no pose reaches it");
+    ASSERT_GT(o->chosen, 0);
+    EXPECT_TRUE(o->tries[static_cast<std::size_t>(o->chosen)].refusal.empty());
+    EXPECT_GT(std::abs(top_z(o->placed) - given_height), 1e-6);
+
+    auto g = orient_multiaxis(part, {0, 0, 1}, OrientPolicy::kGiven, profiles, nullptr, check);
+    ASSERT_FALSE(g.has_value());
+    EXPECT_EQ(g.error().code, core::ErrorCode::kInvalidInput);
 }
 
 // A wedge standing on a strip 0.5 mm wide, wider above: its plate layer has no track and
