@@ -267,11 +267,11 @@ core::Result<OrientedPlan> orient_multiaxis(const mesh::TriangleMesh& part, cons
             // "move N (layer, region): why" names the move, then why.
             const std::string& m = c.error().message;
             const std::size_t colon = m.find(": ");
-            return "no program: " + (colon == std::string::npos
-                                         ? m
-                                         : m.substr(0, colon) + ": " +
-                                               first_clause({c.error().code,
-                                                             m.substr(colon + 2), {}}));
+            return "no program: " +
+                   (colon == std::string::npos
+                        ? m
+                        : m.substr(0, colon) + ": " +
+                              first_clause({c.error().code, m.substr(colon + 2), {}}));
         }
         return c;
     };
