@@ -595,8 +595,21 @@ JobOutcome run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
     const std::string name = std::filesystem::path(opt.path).filename().string();
     Written<pipeline::MultiAxisProgram> w;
     double checks_s = 0.0;  // all of them, out of the planning time
-    const auto check = [&](const core::Vec3d& direction, const mesh::TriangleMesh& placed,
-                           const pipeline::PlannedPart& planned) -> core::Result<std::string> {
+    // The build time of a plan's program before it is written and verified: the search takes
+    // the base with the shortest verified build time (decision 0015).
+    const auto estimate =
+        [&](const core::Vec3d&, const mesh::TriangleMesh& placed,
+            const pipeline::PlannedPart& planned) -> core::Result<pipeline::ProgramVerdict> {
+        const auto start = std::chrono::steady_clock::now();
+        auto p = pipeline::plan_multiaxis_program(planned.plan, *planned.order, placed, profiles,
+                                                  name, progress.get());
+        checks_s += seconds_since(start);
+        if (!p) return std::unexpected(p.error());
+        return pipeline::ProgramVerdict{{}, p->summary.build_time_s};
+    };
+    const auto check =
+        [&](const core::Vec3d& direction, const mesh::TriangleMesh& placed,
+            const pipeline::PlannedPart& planned) -> core::Result<pipeline::ProgramVerdict> {
         const auto start = std::chrono::steady_clock::now();
         w = {};
         auto p = pipeline::plan_multiaxis_program(planned.plan, *planned.order, placed, profiles,
@@ -609,16 +622,22 @@ JobOutcome run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
         auto refusal = write_and_verify(w, direction, placed, profiles, so, wo, finished, &part);
         checks_s += seconds_since(start);
         // Looking for a base whose program meets the figures: one that misses them is a
-        // refused try like the others (decision 0031).
-        if (for_goal && refusal && refusal->empty() && w.report) {
+        // refused try like the others (decision 0031); elsewhere the search prefers a base that
+        // meets them.
+        bool short_of = false;
+        if (refusal && refusal->empty() && w.report) {
             JobOutcome probe;
             probe.note_figures(w.report, w.program->uncovered_mm2, w.program->region_area_mm2,
                                profiles.process.track_width_mm);
-            if (probe.track_limited) {
+            short_of = probe.track_limited;
+            if (for_goal && short_of) {
                 return short_of_figures(profiles.process.track_width_mm, probe.goal, probe.figures);
             }
         }
-        return refusal;
+        if (!refusal) return std::unexpected(refusal.error());
+        return pipeline::ProgramVerdict{
+            std::move(*refusal),
+            w.report ? w.report->build_time_s : std::numeric_limits<double>::quiet_NaN(), short_of};
     };
     auto t0 = std::chrono::steady_clock::now();
     // A near-net shape is stood on the flat faces of its finished part (decision 0025).
@@ -627,7 +646,7 @@ JobOutcome run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
                             : std::vector<pipeline::OrientCandidate>{};
     auto oriented =
         pipeline::orient_multiaxis(part, given, for_goal ? pipeline::OrientPolicy::kOthers : policy,
-                                   profiles, progress.get(), check, candidates);
+                                   profiles, progress.get(), check, candidates, estimate);
     if (!oriented) return done(o.error(oriented.error()));
     if (for_goal) {
         // No other base meets the figures: the caller keeps the part as given, and nothing of

@@ -255,26 +255,31 @@ core::Result<OrientedPlan> orient_multiaxis(const mesh::TriangleMesh& part, cons
                                             OrientPolicy policy, const machine::Profiles& profiles,
                                             const core::Progress* progress,
                                             const ProgramCheck& check,
-                                            const std::vector<OrientCandidate>& candidates_of) {
-    // "" when `p` (buildable as planned) passes `check` too. A program this machine cannot run
-    // along that base (a pose beyond the axis limits, a retract above the Z travel) is a refused
-    // try like a plan that cannot be built, and the search goes on; with kGiven it is the answer.
-    const auto checked = [&](const Placed& p) -> core::Result<std::string> {
-        if (!check) return std::string();
-        auto c = check(p.direction, p.placed, p.planned);
+                                            const std::vector<OrientCandidate>& candidates_of,
+                                            const ProgramCheck& estimate) {
+    // What `ask` (check or estimate) says of `p`, buildable as planned. A program this machine
+    // cannot run along that base (a pose beyond the axis limits, a retract above the Z travel)
+    // is a refused try like a plan that cannot be built, and the search goes on; with kGiven it
+    // is the answer.
+    const auto answer = [&](const ProgramCheck& ask,
+                            const Placed& p) -> core::Result<ProgramVerdict> {
+        if (!ask) return ProgramVerdict{};
+        auto c = ask(p.direction, p.placed, p.planned);
         if (!c && c.error().code == core::ErrorCode::kInvalidInput &&
             policy != OrientPolicy::kGiven) {
             // "move N (layer, region): why" names the move, then why.
             const std::string& m = c.error().message;
             const std::size_t colon = m.find(": ");
-            return "no program: " +
-                   (colon == std::string::npos
-                        ? m
-                        : m.substr(0, colon) + ": " +
-                              first_clause({c.error().code, m.substr(colon + 2), {}}));
+            return ProgramVerdict{
+                "no program: " +
+                (colon == std::string::npos
+                     ? m
+                     : m.substr(0, colon) + ": " +
+                           first_clause({c.error().code, m.substr(colon + 2), {}}))};
         }
         return c;
     };
+    const auto checked = [&](const Placed& p) { return answer(check, p); };
     OrientedPlan out;
     std::optional<Placed> as_given;
     std::optional<core::Error> given_error;  // the given direction could not be planned
@@ -297,7 +302,7 @@ core::Result<OrientedPlan> orient_multiaxis(const mesh::TriangleMesh& part, cons
         if (g && refusal.empty()) {
             auto c = checked(*g);
             if (!c) return std::unexpected(c.error());
-            refusal = std::move(*c);
+            refusal = std::move(c->refusal);
         }
         out.tries.push_back({core::normalized(given), "as given", refusal});
         if (g && (refusal.empty() || policy == OrientPolicy::kGiven)) {
@@ -345,7 +350,29 @@ core::Result<OrientedPlan> orient_multiaxis(const mesh::TriangleMesh& part, cons
     std::stable_sort(ranked.begin(), ranked.end(), [](const Ranked& a, const Ranked& b) {
         return orientation_rank(a.placed.planned.plan) < orientation_rank(b.placed.planned.plan);
     });
-    for (Ranked& r : ranked) {
+    // With an estimate: the bases that can be built, by their program's build time.
+    struct Buildable {
+        std::size_t ranked = 0;    // index into ranked
+        std::size_t tried = 0;     // index into out.tries
+        double estimate_s = 0.0;   // the program's build time
+        double verified_s = -1.0;  // the check's build time (-1: not checked, or refused)
+        bool short_of_figures = false;
+    };
+    // Meets the figures first, then the shorter verified build time.
+    const auto better = [](const Buildable& a, const Buildable& b) {
+        if (a.short_of_figures != b.short_of_figures) return !a.short_of_figures;
+        return a.verified_s < b.verified_s;
+    };
+    std::vector<Buildable> buildable;
+    const auto keep = [&](Ranked& r, std::size_t tried) {
+        out.placed = std::move(r.placed.placed);
+        out.planned = std::move(r.placed.planned);
+        out.bare_plate_layers = std::move(r.placed.bare_plate);
+        out.chosen = static_cast<int>(tried);
+        return std::move(out);
+    };
+    for (std::size_t i = 0; i < ranked.size(); ++i) {
+        Ranked& r = ranked[i];
         std::string refusal = multiaxis_refusal(r.placed.planned, r.placed.bare_plate);
         if (refusal.empty()) {
             if (auto ok = order(r.placed, profiles, progress); !ok) {
@@ -354,19 +381,65 @@ core::Result<OrientedPlan> orient_multiaxis(const mesh::TriangleMesh& part, cons
                 refusal = multiaxis_refusal(r.placed.planned, r.placed.bare_plate);
             }
         }
+        double estimate_s = 0.0;
         if (refusal.empty()) {
-            auto c = checked(r.placed);
+            auto c = answer(check && estimate ? estimate : check, r.placed);
             if (!c) return std::unexpected(c.error());
-            refusal = std::move(*c);
+            refusal = std::move(c->refusal);
+            estimate_s = c->build_time_s;
         }
         out.tries.push_back({r.candidate.direction, r.candidate.source, refusal});
-        if (refusal.empty()) {
-            out.placed = std::move(r.placed.placed);
-            out.planned = std::move(r.placed.planned);
-            out.bare_plate_layers = std::move(r.placed.bare_plate);
-            out.chosen = static_cast<int>(out.tries.size()) - 1;
-            return out;
+        if (!refusal.empty()) continue;
+        if (!(check && estimate)) return keep(r, out.tries.size() - 1);  // the first that builds
+        buildable.push_back({i, out.tries.size() - 1, estimate_s, -1.0});
+    }
+    // Checked from the shortest estimate up, until the next estimate is no shorter than the
+    // shortest verified build time (ties: the candidates' rank).
+    std::stable_sort(
+        buildable.begin(), buildable.end(),
+        [](const Buildable& a, const Buildable& b) { return a.estimate_s < b.estimate_s; });
+    const Buildable* fastest = nullptr;
+    const Buildable* last = nullptr;  // the last one checked
+    for (Buildable& b : buildable) {
+        if (fastest != nullptr && !fastest->short_of_figures &&
+            !(b.estimate_s < fastest->verified_s)) {
+            break;
         }
+        auto c = checked(ranked[b.ranked].placed);
+        if (!c) return std::unexpected(c.error());
+        last = &b;
+        if (!c->refusal.empty()) {
+            out.tries[b.tried].refusal = std::move(c->refusal);
+            continue;
+        }
+        b.verified_s = std::isfinite(c->build_time_s) ? c->build_time_s : b.estimate_s;
+        b.short_of_figures = c->short_of_figures;
+        if (fastest == nullptr || better(b, *fastest)) fastest = &b;
+    }
+    if (fastest != nullptr) {
+        for (const Buildable& b : buildable) {
+            if (&b == fastest || !out.tries[b.tried].refusal.empty()) continue;
+            out.tries[b.tried].refusal =
+                b.verified_s >= 0.0
+                    ? fmt::format("builds in {:.1f} min, {}", b.verified_s / 60.0,
+                                  b.short_of_figures ? "short of the figures"
+                                                     : "no shorter than the base kept")
+                    : fmt::format(
+                          "its program takes {:.1f} min before verification, no "
+                          "shorter than the {:.1f} min of the base kept",
+                          b.estimate_s / 60.0, fastest->verified_s / 60.0);
+        }
+        // The caller's last program is the one of the plan kept.
+        if (last != fastest) {
+            auto c = checked(ranked[fastest->ranked].placed);
+            if (!c) return std::unexpected(c.error());
+            if (!c->refusal.empty()) {
+                return core::fail(core::ErrorCode::kInternal,
+                                  "the base kept was refused when checked again: " + c->refusal,
+                                  "orientation search");
+            }
+        }
+        return keep(ranked[fastest->ranked], fastest->tried);
     }
     // Nothing builds: the given direction's plan (kAuto: the best ranked) carries the refusal.
     if (as_given) {

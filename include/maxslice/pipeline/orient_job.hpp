@@ -3,7 +3,9 @@
 #pragma once
 
 #include <functional>
+#include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "maxslice/core/progress.hpp"
@@ -63,12 +65,27 @@ struct OrientedPlan {
     int chosen = 0;  ///< index into tries: the direction kept
 };
 
+/// What a program check says of a plan: `refusal` "" keeps it, anything else is why not;
+/// `build_time_s` the build time of its program (s; NaN when the check does not know it);
+/// `short_of_figures`: a program kept that misses the job's coverage figures (another base
+/// that meets them is preferred, however long).
+struct ProgramVerdict {
+    ProgramVerdict(std::string why = {}, double seconds = std::numeric_limits<double>::quiet_NaN(),
+                   bool short_of = false)
+        : refusal(std::move(why)), build_time_s(seconds), short_of_figures(short_of) {}
+    std::string refusal;
+    double build_time_s;
+    bool short_of_figures;
+};
+
 /// A further judgement of a plan the search would keep (the program job writes its program and
-/// replays it in the verifier): "" keeps it, anything else is why not, and the search goes on
-/// as for a plan that cannot be built. Errors end the search, except a kInvalidInput one (a
-/// program the machine cannot run along that base) outside kGiven: that base is refused.
-/// `direction`: the part file's direction the plan builds upwards.
-using ProgramCheck = std::function<core::Result<std::string>(
+/// replays it in the verifier, whose build time it gives): "" keeps it, anything else is why
+/// not, and the search goes on as for a plan that cannot be built. Errors end the search,
+/// except a kInvalidInput one (a program the machine cannot run along that base) outside
+/// kGiven: that base is refused. `direction`: the part file's direction the plan builds
+/// upwards. The same signature serves the estimate of orient_multiaxis: the build time of the
+/// program a plan gives, before it is written and verified.
+using ProgramCheck = std::function<core::Result<ProgramVerdict>(
     const core::Vec3d& direction, const mesh::TriangleMesh& placed, const PlannedPart& planned)>;
 
 /// Plans and orders the part for a table-tilt machine. kGiven: along `given` only. kFallback:
@@ -83,10 +100,19 @@ using ProgramCheck = std::function<core::Result<std::string>(
 /// `check`, when given, is asked about every plan before it is kept (kGiven: its answer is
 /// recorded and the given plan kept). `candidates_of`, when not empty, replaces
 /// orientation_candidates(part) (a near-net shape is searched along its finished part's).
+/// `estimate`, when given with `check`, makes the search of the candidates keep the base with
+/// the shortest verified build time among those that meet the figures (decision 0015): every
+/// candidate that can be built is ordered and estimated, they are checked from the shortest
+/// estimate up, and the search stops once one meets the figures and the next estimate is no
+/// shorter than its verified time (the check's own build time, else the estimate); when none
+/// meets them, the shortest of those that verify. The caller's last check is of the plan kept.
+/// Bases that build but take longer carry that as their refusal. The part as given, when it builds,
+/// is still kept first (kFallback).
 [[nodiscard]] core::Result<OrientedPlan> orient_multiaxis(
     const mesh::TriangleMesh& part, const core::Vec3d& given, OrientPolicy policy,
     const machine::Profiles& profiles, const core::Progress* progress = nullptr,
-    const ProgramCheck& check = {}, const std::vector<OrientCandidate>& candidates_of = {});
+    const ProgramCheck& check = {}, const std::vector<OrientCandidate>& candidates_of = {},
+    const ProgramCheck& estimate = {});
 
 /// A planar stack of the part standing on the plate along a chosen direction.
 struct OrientedStack {

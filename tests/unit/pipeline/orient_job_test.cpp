@@ -3,6 +3,7 @@
 // standing on a strip where no track fits.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <filesystem>
@@ -166,6 +167,72 @@ TEST(OrientJob, AProgramTheMachineCannotRunRefusesThatBaseOnly) {
     auto g = orient_multiaxis(part, {0, 0, 1}, OrientPolicy::kGiven, profiles, nullptr, check);
     ASSERT_FALSE(g.has_value());
     EXPECT_EQ(g.error().code, core::ErrorCode::kInvalidInput);
+}
+
+// With an estimate the search keeps, among the bases that build, the one with the shortest
+// verified build time (decision 0015). Test figures: a base's estimate is 1000 s plus 10 s a
+// millimetre of the part's height on the plate, its verified time 1 s more; the check refuses
+// the lowest base, and calls a base "short of the figures" where the test says so.
+TEST(OrientJob, TheSearchKeepsTheShortestVerifiedBuildTime) {
+    const machine::Profiles profiles = reference_profiles();
+    const mesh::TriangleMesh part = test::l_bracket().mesh;
+    const auto seconds = [](const mesh::TriangleMesh& m) { return 1000.0 + 10.0 * top_z(m); };
+    for (const bool lowest_kept_short : {false, true}) {
+        SCOPED_TRACE(lowest_kept_short ? "the fastest is short of the figures" : "plain");
+        std::vector<double> estimated, checked;  // heights, in call order
+        double refused_height = 1e300;           // the lowest, known after the estimates
+        core::Vec3d last_direction;
+        const auto estimate = [&](const core::Vec3d&, const mesh::TriangleMesh& m,
+                                  const PlannedPart& p) -> core::Result<ProgramVerdict> {
+            EXPECT_TRUE(p.order.has_value()) << "only ordered plans are estimated";
+            estimated.push_back(top_z(m));
+            refused_height = std::min(refused_height, top_z(m));
+            return ProgramVerdict{{}, seconds(m)};
+        };
+        const auto check = [&](const core::Vec3d& d, const mesh::TriangleMesh& m,
+                               const PlannedPart&) -> core::Result<ProgramVerdict> {
+            checked.push_back(top_z(m));
+            last_direction = d;
+            if (std::abs(top_z(m) - refused_height) < 1e-6) return ProgramVerdict{"refused"};
+            // Among the others, the lowest is short of the figures in the second round.
+            double next_lowest = 1e300;
+            for (double h : estimated) {
+                if (h > refused_height + 1e-6) next_lowest = std::min(next_lowest, h);
+            }
+            const bool short_of = lowest_kept_short && std::abs(top_z(m) - next_lowest) < 1e-6;
+            return ProgramVerdict{{}, seconds(m) + 1.0, short_of};
+        };
+        auto o = orient_multiaxis(part, {0, 0, 1}, OrientPolicy::kAuto, profiles, nullptr, check,
+                                  {}, estimate);
+        ASSERT_TRUE(o.has_value()) << o.error().describe();
+        ASSERT_GE(estimated.size(), 3u) << "the bracket builds on several bases";
+        const OrientTry& kept = o->tries[static_cast<std::size_t>(o->chosen)];
+        EXPECT_TRUE(kept.refusal.empty()) << kept.refusal;
+        const double kept_height = top_z(o->placed);
+        EXPECT_LT(core::norm(last_direction - kept.direction), 1e-12)
+            << "the last check is of the base kept";
+        // The kept base is the lowest of those the check passed and that meet the figures.
+        std::vector<double> sorted = estimated;
+        std::sort(sorted.begin(), sorted.end());
+        std::vector<double> passing;
+        for (double h : sorted) {
+            if (h > refused_height + 1e-6) passing.push_back(h);
+        }
+        ASSERT_GE(passing.size(), 2u);
+        const double expected = lowest_kept_short
+                                    ? *std::find_if(passing.begin(), passing.end(),
+                                                    [&](double h) { return h > passing[0] + 1e-6; })
+                                    : passing[0];
+        EXPECT_NEAR(kept_height, expected, 1e-6);
+        // Nothing taller than the kept base's verified time allows is checked.
+        for (double h : checked)
+            EXPECT_LT((1000.0 + 10.0 * h), (1000.0 + 10.0 * kept_height) + 1.0 + 1e-9);
+        int longer = 0;
+        for (const OrientTry& t : o->tries) {
+            if (t.refusal.find("no shorter than") != std::string::npos) ++longer;
+        }
+        EXPECT_GE(longer, 1) << "the bases that build but take longer say so";
+    }
 }
 
 // A wedge standing on a strip 0.5 mm wide, wider above: its plate layer has no track and
