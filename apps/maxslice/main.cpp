@@ -728,8 +728,8 @@ JobOutcome run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
     r.kept_as_given =
         oriented->tries.empty() ||
         oriented->tries[static_cast<std::size_t>(oriented->chosen)].source == "as given";
-    // The search stops at the first plan it keeps, so `w` is that plan's program; otherwise
-    // (nothing kept: the given plan comes back with its refusal) it is made again here.
+    // The search's last check is of the plan it keeps, so `w` is that plan's program;
+    // otherwise (nothing kept: the given plan comes back with its refusal) it is made again here.
     if (!w.kept) {
         auto again = check(oriented->tries[static_cast<std::size_t>(oriented->chosen)].direction,
                            placed, planned);
@@ -906,16 +906,38 @@ JobOutcome run_planar_slice(const PartOptions& opt, const SliceOptions& so,
     // own copy is replaced by the placed one).
     const std::optional<mesh::TriangleMesh> built =
         finished != nullptr ? std::optional(part.imported.mesh) : std::nullopt;
-    const auto write_stack = [&](const core::Vec3d& direction, const mesh::TriangleMesh& placed,
-                                 const pipeline::SliceStack& s) -> core::Result<std::string> {
+    const auto write_stack =
+        [&](const core::Vec3d& direction, const mesh::TriangleMesh& placed,
+            const pipeline::SliceStack& s) -> core::Result<pipeline::ProgramVerdict> {
         w = {};
         const auto start = std::chrono::steady_clock::now();
         auto p = pipeline::plan_program(s, *profiles, name, progress.get());
         if (!p) return std::unexpected(p.error());
         w.program = std::move(*p);
         w.paths_s = seconds_since(start);
-        return write_and_verify(w, direction, placed, *profiles, so, machine::WriteOptions{},
-                                finished, built ? &*built : nullptr);
+        auto refusal =
+            write_and_verify(w, direction, placed, *profiles, so, machine::WriteOptions{}, finished,
+                             built ? &*built : nullptr);
+        if (!refusal) return std::unexpected(refusal.error());
+        // The search prefers a base whose program meets the figures (decision 0015).
+        bool short_of = false;
+        if (refusal->empty() && w.report) {
+            JobOutcome probe;
+            probe.note_figures(w.report, w.program->uncovered_mm2, w.program->region_area_mm2,
+                               profiles->process.track_width_mm);
+            short_of = probe.track_limited;
+        }
+        return pipeline::ProgramVerdict{
+            std::move(*refusal),
+            w.report ? w.report->build_time_s : std::numeric_limits<double>::quiet_NaN(), short_of};
+    };
+    // The build time of a stack's program before it is written and verified.
+    const auto stack_time =
+        [&](const core::Vec3d&, const mesh::TriangleMesh&,
+            const pipeline::SliceStack& s) -> core::Result<pipeline::ProgramVerdict> {
+        auto p = pipeline::plan_program(s, *profiles, name, progress.get());
+        if (!p) return std::unexpected(p.error());
+        return pipeline::ProgramVerdict{{}, p->summary.build_time_s};
     };
     if (program_mode) {
         // A 3-axis machine builds every layer along one direction: the part stands on the
@@ -928,7 +950,7 @@ JobOutcome run_planar_slice(const PartOptions& opt, const SliceOptions& so,
                                 : std::vector<pipeline::OrientCandidate>{};
         auto oriented = pipeline::orient_planar(
             part.imported.mesh, given, so.allow_overhangs ? pipeline::OrientPolicy::kGiven : policy,
-            ss, *profiles, progress.get(), &times, write_stack, candidates);
+            ss, *profiles, progress.get(), &times, write_stack, candidates, stack_time);
         if (!oriented) return done(o.error(oriented.error()));
         built_along = oriented->direction;
         part.imported.mesh = std::move(oriented->placed);
@@ -977,7 +999,7 @@ JobOutcome run_planar_slice(const PartOptions& opt, const SliceOptions& so,
         }
     }
     if (program_mode) {
-        // The search stops at the first stack it keeps, so `w` is that stack's program;
+        // The search's last check is of the stack it keeps, so `w` is that stack's program;
         // otherwise (nothing kept) it is made again here.
         if (!w.kept) {
             auto again = write_stack(built_along, part.imported.mesh, *stack);

@@ -251,6 +251,78 @@ core::Result<void> check_fits_machine(const mesh::TriangleMesh& part, const Vec3
     return std::unexpected(*first);
 }
 
+namespace {
+
+// A candidate base that can be built, with the build time its program was estimated at.
+struct Buildable {
+    std::size_t item = 0;      // the caller's index of the candidate
+    std::size_t tried = 0;     // index into the tries
+    double estimate_s = 0.0;   // the program's build time before it is written and verified
+    double verified_s = -1.0;  // the check's build time (-1: not checked, or refused)
+    bool short_of_figures = false;
+};
+
+// Of `buildable`, the one with the shortest verified build time among those that meet the
+// figures (else among those that verify): checked from the shortest estimate up (ties: their
+// order), until one meets the figures and the next estimate is no shorter than its verified
+// time. The tries of the others say why they were not kept. The last check made is of the one
+// returned (the caller's program is its). nullptr: the check refused every one.
+core::Result<const Buildable*> keep_shortest(
+    std::vector<Buildable>& buildable, std::vector<OrientTry>& tries,
+    const std::function<core::Result<ProgramVerdict>(std::size_t item)>& check) {
+    std::stable_sort(
+        buildable.begin(), buildable.end(),
+        [](const Buildable& a, const Buildable& b) { return a.estimate_s < b.estimate_s; });
+    // Meets the figures first, then the shorter verified build time.
+    const auto better = [](const Buildable& a, const Buildable& b) {
+        if (a.short_of_figures != b.short_of_figures) return !a.short_of_figures;
+        return a.verified_s < b.verified_s;
+    };
+    const Buildable* fastest = nullptr;
+    const Buildable* last = nullptr;  // the last one checked
+    for (Buildable& b : buildable) {
+        if (fastest != nullptr && !fastest->short_of_figures &&
+            !(b.estimate_s < fastest->verified_s)) {
+            break;
+        }
+        auto c = check(b.item);
+        if (!c) return std::unexpected(c.error());
+        last = &b;
+        if (!c->refusal.empty()) {
+            tries[b.tried].refusal = std::move(c->refusal);
+            continue;
+        }
+        b.verified_s = std::isfinite(c->build_time_s) ? c->build_time_s : b.estimate_s;
+        b.short_of_figures = c->short_of_figures;
+        if (fastest == nullptr || better(b, *fastest)) fastest = &b;
+    }
+    if (fastest == nullptr) return nullptr;
+    for (const Buildable& b : buildable) {
+        if (&b == fastest || !tries[b.tried].refusal.empty()) continue;
+        tries[b.tried].refusal =
+            b.verified_s >= 0.0
+                ? fmt::format(
+                      "builds in {:.1f} min, {}", b.verified_s / 60.0,
+                      b.short_of_figures ? "short of the figures" : "no shorter than the base kept")
+                : fmt::format(
+                      "its program takes {:.1f} min before verification, no shorter "
+                      "than the {:.1f} min of the base kept",
+                      b.estimate_s / 60.0, fastest->verified_s / 60.0);
+    }
+    if (last != fastest) {
+        auto c = check(fastest->item);
+        if (!c) return std::unexpected(c.error());
+        if (!c->refusal.empty()) {
+            return core::fail(core::ErrorCode::kInternal,
+                              "the base kept was refused when checked again: " + c->refusal,
+                              "orientation search");
+        }
+    }
+    return fastest;
+}
+
+}  // namespace
+
 core::Result<OrientedPlan> orient_multiaxis(const mesh::TriangleMesh& part, const Vec3d& given,
                                             OrientPolicy policy, const machine::Profiles& profiles,
                                             const core::Progress* progress,
@@ -350,20 +422,7 @@ core::Result<OrientedPlan> orient_multiaxis(const mesh::TriangleMesh& part, cons
     std::stable_sort(ranked.begin(), ranked.end(), [](const Ranked& a, const Ranked& b) {
         return orientation_rank(a.placed.planned.plan) < orientation_rank(b.placed.planned.plan);
     });
-    // With an estimate: the bases that can be built, by their program's build time.
-    struct Buildable {
-        std::size_t ranked = 0;    // index into ranked
-        std::size_t tried = 0;     // index into out.tries
-        double estimate_s = 0.0;   // the program's build time
-        double verified_s = -1.0;  // the check's build time (-1: not checked, or refused)
-        bool short_of_figures = false;
-    };
-    // Meets the figures first, then the shorter verified build time.
-    const auto better = [](const Buildable& a, const Buildable& b) {
-        if (a.short_of_figures != b.short_of_figures) return !a.short_of_figures;
-        return a.verified_s < b.verified_s;
-    };
-    std::vector<Buildable> buildable;
+    std::vector<Buildable> buildable;  // with an estimate: the bases that can be built
     const auto keep = [&](Ranked& r, std::size_t tried) {
         out.placed = std::move(r.placed.placed);
         out.planned = std::move(r.placed.planned);
@@ -391,56 +450,12 @@ core::Result<OrientedPlan> orient_multiaxis(const mesh::TriangleMesh& part, cons
         out.tries.push_back({r.candidate.direction, r.candidate.source, refusal});
         if (!refusal.empty()) continue;
         if (!(check && estimate)) return keep(r, out.tries.size() - 1);  // the first that builds
-        buildable.push_back({i, out.tries.size() - 1, estimate_s, -1.0});
+        buildable.push_back({i, out.tries.size() - 1, estimate_s});
     }
-    // Checked from the shortest estimate up, until the next estimate is no shorter than the
-    // shortest verified build time (ties: the candidates' rank).
-    std::stable_sort(
-        buildable.begin(), buildable.end(),
-        [](const Buildable& a, const Buildable& b) { return a.estimate_s < b.estimate_s; });
-    const Buildable* fastest = nullptr;
-    const Buildable* last = nullptr;  // the last one checked
-    for (Buildable& b : buildable) {
-        if (fastest != nullptr && !fastest->short_of_figures &&
-            !(b.estimate_s < fastest->verified_s)) {
-            break;
-        }
-        auto c = checked(ranked[b.ranked].placed);
-        if (!c) return std::unexpected(c.error());
-        last = &b;
-        if (!c->refusal.empty()) {
-            out.tries[b.tried].refusal = std::move(c->refusal);
-            continue;
-        }
-        b.verified_s = std::isfinite(c->build_time_s) ? c->build_time_s : b.estimate_s;
-        b.short_of_figures = c->short_of_figures;
-        if (fastest == nullptr || better(b, *fastest)) fastest = &b;
-    }
-    if (fastest != nullptr) {
-        for (const Buildable& b : buildable) {
-            if (&b == fastest || !out.tries[b.tried].refusal.empty()) continue;
-            out.tries[b.tried].refusal =
-                b.verified_s >= 0.0
-                    ? fmt::format("builds in {:.1f} min, {}", b.verified_s / 60.0,
-                                  b.short_of_figures ? "short of the figures"
-                                                     : "no shorter than the base kept")
-                    : fmt::format(
-                          "its program takes {:.1f} min before verification, no "
-                          "shorter than the {:.1f} min of the base kept",
-                          b.estimate_s / 60.0, fastest->verified_s / 60.0);
-        }
-        // The caller's last program is the one of the plan kept.
-        if (last != fastest) {
-            auto c = checked(ranked[fastest->ranked].placed);
-            if (!c) return std::unexpected(c.error());
-            if (!c->refusal.empty()) {
-                return core::fail(core::ErrorCode::kInternal,
-                                  "the base kept was refused when checked again: " + c->refusal,
-                                  "orientation search");
-            }
-        }
-        return keep(ranked[fastest->ranked], fastest->tried);
-    }
+    auto kept = keep_shortest(buildable, out.tries,
+                              [&](std::size_t i) { return checked(ranked[i].placed); });
+    if (!kept) return std::unexpected(kept.error());
+    if (*kept) return keep(ranked[(*kept)->item], (*kept)->tried);
     // Nothing builds: the given direction's plan (kAuto: the best ranked) carries the refusal.
     if (as_given) {
         out.placed = std::move(as_given->placed);
@@ -482,7 +497,8 @@ core::Result<OrientedStack> orient_planar(const mesh::TriangleMesh& part, const 
                                           const machine::Profiles& profiles,
                                           const core::Progress* progress, StageTimes* times,
                                           const StackCheck& check,
-                                          const std::vector<OrientCandidate>& candidates_of) {
+                                          const std::vector<OrientCandidate>& candidates_of,
+                                          const StackCheck& estimate) {
     const plan::PlanSettings ps = plan_settings(profiles.process);
     SliceSettings along_z = settings;
     along_z.direction = {0.0, 0.0, 1.0};
@@ -508,7 +524,7 @@ core::Result<OrientedStack> orient_planar(const mesh::TriangleMesh& part, const 
         if (refusal.empty() && check) {
             auto c = check(g->direction, g->placed, g->stack);
             if (!c) return std::unexpected(c.error());
-            refusal = std::move(*c);
+            refusal = std::move(c->refusal);
         }
         tries.push_back({core::normalized(given), "as given", refusal});
         if (refusal.empty() || policy == OrientPolicy::kGiven) {
@@ -545,17 +561,39 @@ core::Result<OrientedStack> orient_planar(const mesh::TriangleMesh& part, const 
                          return a.check.tilts_wanted < b.check.tilts_wanted;
                      });
     std::optional<OrientedStack> best;
-    for (OrientedStack& s : passing) {
-        if (check) {
-            auto c = check(s.direction, s.placed, s.stack);
-            if (!c) return std::unexpected(c.error());
-            if (!c->empty()) {
-                tries[static_cast<std::size_t>(s.chosen)].refusal = std::move(*c);
+    if (check && estimate) {
+        // The shortest verified build time among those without overhangs.
+        std::vector<Buildable> buildable;
+        for (std::size_t i = 0; i < passing.size(); ++i) {
+            const OrientedStack& s = passing[i];
+            auto e = estimate(s.direction, s.placed, s.stack);
+            if (!e) return std::unexpected(e.error());
+            const auto tried = static_cast<std::size_t>(s.chosen);
+            if (!e->refusal.empty()) {
+                tries[tried].refusal = std::move(e->refusal);
                 continue;
             }
+            buildable.push_back({i, tried, e->build_time_s});
         }
-        best = std::move(s);
-        break;
+        auto kept = keep_shortest(buildable, tries, [&](std::size_t i) {
+            const OrientedStack& s = passing[i];
+            return check(s.direction, s.placed, s.stack);
+        });
+        if (!kept) return std::unexpected(kept.error());
+        if (*kept) best = std::move(passing[(*kept)->item]);
+    } else {
+        for (OrientedStack& s : passing) {
+            if (check) {
+                auto c = check(s.direction, s.placed, s.stack);
+                if (!c) return std::unexpected(c.error());
+                if (!c->refusal.empty()) {
+                    tries[static_cast<std::size_t>(s.chosen)].refusal = std::move(c->refusal);
+                    continue;
+                }
+            }
+            best = std::move(s);
+            break;
+        }
     }
     OrientedStack out;
     if (best) {

@@ -133,13 +133,15 @@ struct OrientedStack {
 /// `times` gets the given direction's slicing only (as without the search: the `slice` stage
 /// the benchmarks compare). `check`, when given, is asked about every stack before it is kept,
 /// in the search's order; one it refuses is a refused try (kGiven: recorded, the given kept).
-/// `candidates_of` as for orient_multiaxis.
-using StackCheck = std::function<core::Result<std::string>(
+/// `candidates_of` as for orient_multiaxis. `estimate`, when given with `check`: the candidates
+/// without overhangs are kept by the shortest verified build time, as orient_multiaxis does.
+using StackCheck = std::function<core::Result<ProgramVerdict>(
     const core::Vec3d& direction, const mesh::TriangleMesh& placed, const SliceStack& stack)>;
 [[nodiscard]] core::Result<OrientedStack> orient_planar(
     const mesh::TriangleMesh& part, const core::Vec3d& given, OrientPolicy policy,
     const SliceSettings& settings, const machine::Profiles& profiles,
     const core::Progress* progress = nullptr, StageTimes* times = nullptr,
-    const StackCheck& check = {}, const std::vector<OrientCandidate>& candidates_of = {});
+    const StackCheck& check = {}, const std::vector<OrientCandidate>& candidates_of = {},
+    const StackCheck& estimate = {});
 
 }  // namespace maxslice::pipeline
