@@ -841,8 +841,8 @@ core::Result<JobOutcome> with_finer_processes(
     for (int n = 1; n <= static_cast<int>(finer.size()); ++n) {
         auto p = machine::with_finer_process(profiles, n);
         if (!p) return std::unexpected(p.error());
-        JobOutcome f = attempt(*p, n, "");
-        if (f.rc == kExitOk && !f.track_limited) {
+        // The finer process's program kept: the note and the summary line say why.
+        const auto noted = [&](JobOutcome f) {
             f.printed.err = fmt::format(
                 "maxslice: note: the {:.2f} mm track {} ({}){}; the program uses the "
                 "profile's finer process {} ({:.2f} mm track, {:.2f} mm layers; --finer off "
@@ -855,6 +855,15 @@ core::Result<JobOutcome> with_finer_processes(
                 n, track(*p), p->process.layer_height_mm, track(profiles), main.figures,
                 f.printed.out);
             return f;
+        };
+        JobOutcome f = attempt(*p, n, "");
+        if (f.rc == kExitOk && !f.track_limited) return noted(std::move(f));
+        // Short with this track as given too: another base may meet the figures with it.
+        if (other_bases && f.rc == kExitOk && f.kept_as_given) {
+            JobOutcome moved = attempt(*p, n, short_of_figures(track(*p), f.goal, f.figures));
+            if (moved.rc == kExitOk && !moved.track_limited && !moved.kept_as_given) {
+                return noted(std::move(moved));
+            }
         }
         tried += fmt::format("{}the {:.2f} mm track (finer process {}): {}",
                              tried.empty() ? "" : "; ", track(*p), n, f.figures);

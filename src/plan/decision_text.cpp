@@ -172,12 +172,16 @@ std::string describe_refusal(const Plan& plan, const BuildOrder& order, const No
                                     [](const Conflict& k) { return k.in_stream; });
     double closest = nozzle.clearance_mm;
     for (const Conflict& k : order.conflicts) closest = std::min(closest, k.margin_mm);
+    const std::string gap =
+        closest < 0.0 ? fmt::format("it would reach {:.2f} mm into what is built", -closest)
+                      : fmt::format("the closest gap: {:.2f} mm of the {:.2f} mm clearance",
+                                    closest, nozzle.clearance_mm);
     out += fmt::format(
-        "; {} (the closest gap: {:.2f} mm of the {:.2f} mm clearance); what may help: a slimmer "
-        "head (machine.nozzle: a smaller body_radius_mm, half_angle_deg or cone_length_mm), "
-        "another base (--orient auto), or a part given standing otherwise",
+        "; {} ({}); what may help: a slimmer head (machine.nozzle: a smaller body_radius_mm, "
+        "half_angle_deg or cone_length_mm), another base (--orient auto), or a part given "
+        "standing otherwise",
         stream ? "the powder stream itself meets what is built" : "the head comes too close",
-        closest, nozzle.clearance_mm);
+        gap);
     return out;
 }
 

@@ -311,8 +311,11 @@ double box_bound(const LayerShape& s2, const Projection& pr, const FrameBox& b,
 // The margin of S1's samples is nozzle_margin_mm less S1's cover (a bound for the material
 // around each sample, the hardware's distance being 1-Lipschitz), so an ordered layer keeps
 // clearance_mm from the hardware everywhere, not only at the samples (decision 0023).
+// `deepest`: measured to the smallest margin even below the clearance (a conflict's own
+// figure); otherwise the first sample below the clearance ends it (the pair is ordered, how
+// deep does not matter).
 Meeting meet(const LayerShape& s2, const LayerShape& s1, const Nozzle& nozzle,
-             const detail::HeadProfile& head) {
+             const detail::HeadProfile& head, bool deepest = false) {
     Meeting m;
     const double cap = std::max(kMarginCap, 2.0 * nozzle.clearance_mm);
     const double cover = s1.cover;
@@ -366,7 +369,7 @@ Meeting meet(const LayerShape& s2, const LayerShape& s1, const Nozzle& nozzle,
                 m.apex = s2.top.origin + s2.top.u * core::um_to_mm(cp.point.x) +
                          s2.top.v * core::um_to_mm(cp.point.y);
                 // A collision: the pair is ordered, how deep does not matter.
-                if (m.margin < nozzle.clearance_mm) return m;
+                if (!deepest && m.margin < nozzle.clearance_mm) return m;
             }
         }
     }
@@ -641,11 +644,17 @@ core::Result<BuildOrder> order_layers(const Plan& plan, const OrderSettings& set
             Conflict c;
             c.layer = e->first;
             c.other = e->second;
-            c.apex = e->meeting.apex;
-            c.hit = e->meeting.hit;
-            c.in_stream = e->meeting.in_stream;
-            c.cover_mm = e->meeting.cover;
-            c.margin_mm = e->meeting.margin - (c.in_stream ? nozzle.clearance_mm : 0.0);
+            // The pair's deepest meeting: the edge's is the first sample found below the
+            // clearance, which says nothing of how far in the head would reach.
+            const Meeting deep =
+                meet(shapes[static_cast<std::size_t>(c.layer)],
+                     shapes[static_cast<std::size_t>(c.other)], nozzle, head, true);
+            const Meeting& mt = deep.margin < e->meeting.margin ? deep : e->meeting;
+            c.apex = mt.apex;
+            c.hit = mt.hit;
+            c.in_stream = mt.in_stream;
+            c.cover_mm = mt.cover;
+            c.margin_mm = mt.margin - (c.in_stream ? nozzle.clearance_mm : 0.0);
             c.reason = fmt::format(
                 "the {} on {} at ({:.2f}, {:.2f}, {:.2f}) would meet {} at ({:.2f}, {:.2f}, "
                 "{:.2f}) (clearance {:.2f} mm < {:.2f}), so {} must come first, yet {} must come "

@@ -247,7 +247,11 @@ TEST(Reach, ARefusedOrderNamesTheRegionInTheWayAndTheClosestGap) {
     }
     double closest = os.nozzle.clearance_mm;
     for (const Conflict& c : order->conflicts) closest = std::min(closest, c.margin_mm);
-    EXPECT_NE(text.find(fmt::format("closest gap: {:.2f} mm", closest)), std::string::npos) << text;
+    EXPECT_NE(text.find(closest < 0.0
+                            ? fmt::format("it would reach {:.2f} mm into what is built", -closest)
+                            : fmt::format("closest gap: {:.2f} mm", closest)),
+              std::string::npos)
+        << text;
     EXPECT_NE(text.find("--orient auto"), std::string::npos);
     BuildOrder none;
     EXPECT_TRUE(describe_refusal(p, none, os.nozzle).empty());
