@@ -572,6 +572,22 @@ struct JobOutcome {
     }
 };
 
+// What the orientation search is told of a program written and replayed: the verifier's
+// refusal ("" kept), its build time, and whether the program misses the figures, which the
+// search weighs (decision 0015); `probe` gets the figures.
+template <class Planned>
+pipeline::ProgramVerdict verdict_of(std::string refusal, const Written<Planned>& w,
+                                    double track_width_mm, JobOutcome& probe) {
+    bool short_of = false;
+    if (refusal.empty() && w.report) {
+        probe.note_figures(w.report, w.program->uncovered_mm2, w.program->region_area_mm2,
+                           track_width_mm);
+        short_of = probe.track_limited;
+    }
+    return {std::move(refusal),
+            w.report ? w.report->build_time_s : std::numeric_limits<double>::quiet_NaN(), short_of};
+}
+
 // A table-tilt machine: plan the placed part (regions, tilts, splits), order its layers with
 // the nozzle check, turn them into moves and make the 5-axis program. `finer`: which of the
 // profile's finer processes `profiles` holds (0: the main one). `part` is what is deposited;
@@ -621,23 +637,16 @@ JobOutcome run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
         wo.clear_z_mm = machine::clear_height_mm(profiles.machine, placed.vertices);
         auto refusal = write_and_verify(w, direction, placed, profiles, so, wo, finished, &part);
         checks_s += seconds_since(start);
-        // Looking for a base whose program meets the figures: one that misses them is a
-        // refused try like the others (decision 0031); elsewhere the search prefers a base that
-        // meets them.
-        bool short_of = false;
-        if (refusal && refusal->empty() && w.report) {
-            JobOutcome probe;
-            probe.note_figures(w.report, w.program->uncovered_mm2, w.program->region_area_mm2,
-                               profiles.process.track_width_mm);
-            short_of = probe.track_limited;
-            if (for_goal && short_of) {
-                return short_of_figures(profiles.process.track_width_mm, probe.goal, probe.figures);
-            }
-        }
         if (!refusal) return std::unexpected(refusal.error());
-        return pipeline::ProgramVerdict{
-            std::move(*refusal),
-            w.report ? w.report->build_time_s : std::numeric_limits<double>::quiet_NaN(), short_of};
+        JobOutcome probe;
+        pipeline::ProgramVerdict verdict =
+            verdict_of(std::move(*refusal), w, profiles.process.track_width_mm, probe);
+        // Looking for a base whose program meets the figures: one that misses them is a
+        // refused try like the others (decision 0031).
+        if (for_goal && verdict.short_of_figures) {
+            return short_of_figures(profiles.process.track_width_mm, probe.goal, probe.figures);
+        }
+        return verdict;
     };
     auto t0 = std::chrono::steady_clock::now();
     // A near-net shape is stood on the flat faces of its finished part (decision 0025).
@@ -928,17 +937,8 @@ JobOutcome run_planar_slice(const PartOptions& opt, const SliceOptions& so,
             write_and_verify(w, direction, placed, *profiles, so, machine::WriteOptions{}, finished,
                              built ? &*built : nullptr);
         if (!refusal) return std::unexpected(refusal.error());
-        // The search prefers a base whose program meets the figures (decision 0015).
-        bool short_of = false;
-        if (refusal->empty() && w.report) {
-            JobOutcome probe;
-            probe.note_figures(w.report, w.program->uncovered_mm2, w.program->region_area_mm2,
-                               profiles->process.track_width_mm);
-            short_of = probe.track_limited;
-        }
-        return pipeline::ProgramVerdict{
-            std::move(*refusal),
-            w.report ? w.report->build_time_s : std::numeric_limits<double>::quiet_NaN(), short_of};
+        JobOutcome probe;
+        return verdict_of(std::move(*refusal), w, profiles->process.track_width_mm, probe);
     };
     // The build time of a stack's program before it is written and verified.
     const auto stack_time =
