@@ -572,6 +572,14 @@ struct JobOutcome {
     }
 };
 
+// The search's estimate of a program (decision 0015): its build time before it is written and
+// verified. A program that deposits nothing (no track fits along that base) would be the
+// shortest of all: it is a refused base (when every base is, the job names the cause).
+pipeline::ProgramVerdict estimated(const machine::ProgramSummary& summary) {
+    if (summary.laser_on_count == 0) return {"no track fits in any layer"};
+    return {{}, summary.build_time_s};
+}
+
 // What the orientation search is told of a program written and replayed: the verifier's
 // refusal ("" kept), its build time, and whether the program misses the figures, which the
 // search weighs (decision 0015); `probe` gets the figures.
@@ -621,7 +629,7 @@ JobOutcome run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
                                                   name, progress.get());
         checks_s += seconds_since(start);
         if (!p) return std::unexpected(p.error());
-        return pipeline::ProgramVerdict{{}, p->summary.build_time_s};
+        return estimated(p->summary);
     };
     const auto check =
         [&](const core::Vec3d& direction, const mesh::TriangleMesh& placed,
@@ -946,7 +954,7 @@ JobOutcome run_planar_slice(const PartOptions& opt, const SliceOptions& so,
             const pipeline::SliceStack& s) -> core::Result<pipeline::ProgramVerdict> {
         auto p = pipeline::plan_program(s, *profiles, name, progress.get());
         if (!p) return std::unexpected(p.error());
-        return pipeline::ProgramVerdict{{}, p->summary.build_time_s};
+        return estimated(p->summary);
     };
     if (program_mode) {
         // A 3-axis machine builds every layer along one direction: the part stands on the

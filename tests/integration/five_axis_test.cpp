@@ -850,6 +850,25 @@ TEST(FiveAxis, TheSearchKeepsTheBaseWithTheShortestVerifiedBuildTime) {
     expect_the_shortest_base(maxslice::test::vertical_prism(), kProfiles / "reference_lmd.toml");
 }
 
+// A plate 1 mm thick standing on its edge: no 2.5 mm track fits in its layers, so along the
+// bases that stand it up its program deposits nothing, and takes no time at all. Such a base
+// is refused, not kept as the shortest: with --orient auto the plate is laid flat and built.
+TEST(FiveAxis, ABaseWhereNoTrackFitsIsNotTheShortest) {
+    const fs::path dir = temp_dir("trackless");
+    const fs::path plate = dir / "plate.stl";
+    ASSERT_TRUE(maxslice::io::write_stl_binary(plate, maxslice::test::box({0, 0, 0}, {40, 1, 40}))
+                    .has_value());
+    const fs::path profile = net_shape_copy(kReference5, dir);
+    const CliRun r = run_cli({"slice", plate.string(), "--profile", profile.string(), "-o",
+                              (dir / "p.gm").string(), "--orient", "auto", "--finer", "off"});
+    ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+    expect_clean(read_figures(r.out), r.out);
+    EXPECT_TRUE(r.out.find("orientation     along +Y") != std::string::npos ||
+                r.out.find("orientation     along -Y") != std::string::npos)
+        << r.out;
+    EXPECT_GT(build_minutes(r.out), 0.0) << r.out;
+}
+
 TEST(FiveAxis, APartThatCannotBeBuiltAsGivenIsStoodOnAnotherBase) {
     const fs::path dir = temp_dir("fallback");
     const fs::path wide = wide_nozzle_profile(dir);
