@@ -180,8 +180,7 @@ std::string describe_refusal(const Plan& plan, const BuildOrder& order, const No
         "; {} ({}); what may help: a slimmer head (machine.nozzle: a smaller body_radius_mm, "
         "half_angle_deg or cone_length_mm), another base (--orient auto), or a part given "
         "standing otherwise",
-        stream ? "the powder stream itself meets what is built" : "the head comes too close",
-        gap);
+        stream ? "the powder stream itself meets what is built" : "the head comes too close", gap);
     return out;
 }
 

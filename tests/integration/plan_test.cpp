@@ -606,8 +606,8 @@ TEST(PlanCli, ThreeAxisPartOnAStripIsStoodOnAFace) {
         SCOPED_TRACE(direction);
         const fs::path out = dir / "base.gm";
         fs::remove(out);
-        const CliRun b = run_cli({"slice", small.string(), "--profile", profile, "-o",
-                                  out.string(), "--orient", "given", "--direction", direction});
+        const CliRun b = run_cli({"slice", small.string(), "--profile", profile, "-o", out.string(),
+                                  "--orient", "given", "--direction", direction});
         if (b.exit_code == 0) {
             std::smatch m;
             ASSERT_TRUE(std::regex_search(b.out, m, std::regex(R"(coverage +([0-9.]+)% of)")))
