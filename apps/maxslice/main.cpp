@@ -21,6 +21,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cli_common.hpp"
@@ -580,6 +581,39 @@ pipeline::ProgramVerdict estimated(const machine::ProgramSummary& summary) {
     return {{}, summary.build_time_s};
 }
 
+// The program of the shortest estimate so far, kept for the check: the search checks that base
+// first (decision 0015), so its tracks are not planned twice. Keyed by the plan or stack it was
+// made from, which the search holds in place until it has chosen.
+template <class Planned>
+class EstimateCache {
+public:
+    // The estimate of `p`, made from `key` in `paths_s`; kept when the shortest so far.
+    pipeline::ProgramVerdict offer(const void* key, Planned p, double paths_s) {
+        pipeline::ProgramVerdict v = estimated(p.summary);
+        if (v.refusal.empty() && (!program_ || v.build_time_s < seconds_)) {
+            key_ = key;
+            program_ = std::move(p);
+            seconds_ = v.build_time_s;
+            paths_s_ = paths_s;
+        }
+        return v;
+    }
+    // The program made from `key`, taken out, with its paths time; nullopt when not kept.
+    std::optional<std::pair<Planned, double>> take(const void* key) {
+        if (!program_ || key_ != key) return std::nullopt;
+        std::pair<Planned, double> out{std::move(*program_), paths_s_};
+        program_.reset();
+        key_ = nullptr;
+        return out;
+    }
+
+private:
+    const void* key_ = nullptr;
+    std::optional<Planned> program_;
+    double seconds_ = 0.0;
+    double paths_s_ = 0.0;
+};
+
 // What the orientation search is told of a program written and replayed: the verifier's
 // refusal ("" kept), its build time, and whether the program misses the figures, which the
 // search weighs (decision 0015); `probe` gets the figures.
@@ -621,6 +655,7 @@ JobOutcome run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
     double checks_s = 0.0;  // all of them, out of the planning time
     // The build time of a plan's program before it is written and verified: the search takes
     // the base with the shortest verified build time (decision 0015).
+    EstimateCache<pipeline::MultiAxisProgram> estimates;
     const auto estimate =
         [&](const core::Vec3d&, const mesh::TriangleMesh& placed,
             const pipeline::PlannedPart& planned) -> core::Result<pipeline::ProgramVerdict> {
@@ -629,18 +664,23 @@ JobOutcome run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
                                                   name, progress.get());
         checks_s += seconds_since(start);
         if (!p) return std::unexpected(p.error());
-        return estimated(p->summary);
+        return estimates.offer(&planned, std::move(*p), seconds_since(start));
     };
     const auto check =
         [&](const core::Vec3d& direction, const mesh::TriangleMesh& placed,
             const pipeline::PlannedPart& planned) -> core::Result<pipeline::ProgramVerdict> {
         const auto start = std::chrono::steady_clock::now();
         w = {};
-        auto p = pipeline::plan_multiaxis_program(planned.plan, *planned.order, placed, profiles,
-                                                  name, progress.get());
-        if (!p) return std::unexpected(p.error());
-        w.program = std::move(*p);
-        w.paths_s = seconds_since(start);
+        if (auto kept = estimates.take(&planned)) {
+            w.program = std::move(kept->first);
+            w.paths_s = kept->second;
+        } else {
+            auto p = pipeline::plan_multiaxis_program(planned.plan, *planned.order, placed,
+                                                      profiles, name, progress.get());
+            if (!p) return std::unexpected(p.error());
+            w.program = std::move(*p);
+            w.paths_s = seconds_since(start);
+        }
         machine::WriteOptions wo;
         wo.clear_z_mm = machine::clear_height_mm(profiles.machine, placed.vertices);
         auto refusal = write_and_verify(w, direction, placed, profiles, so, wo, finished, &part);
@@ -932,15 +972,21 @@ JobOutcome run_planar_slice(const PartOptions& opt, const SliceOptions& so,
     // own copy is replaced by the placed one).
     const std::optional<mesh::TriangleMesh> built =
         finished != nullptr ? std::optional(part.imported.mesh) : std::nullopt;
+    EstimateCache<pipeline::PlannedProgram> estimates;
     const auto write_stack =
         [&](const core::Vec3d& direction, const mesh::TriangleMesh& placed,
             const pipeline::SliceStack& s) -> core::Result<pipeline::ProgramVerdict> {
         w = {};
         const auto start = std::chrono::steady_clock::now();
-        auto p = pipeline::plan_program(s, *profiles, name, progress.get());
-        if (!p) return std::unexpected(p.error());
-        w.program = std::move(*p);
-        w.paths_s = seconds_since(start);
+        if (auto kept = estimates.take(&s)) {
+            w.program = std::move(kept->first);
+            w.paths_s = kept->second;
+        } else {
+            auto p = pipeline::plan_program(s, *profiles, name, progress.get());
+            if (!p) return std::unexpected(p.error());
+            w.program = std::move(*p);
+            w.paths_s = seconds_since(start);
+        }
         auto refusal =
             write_and_verify(w, direction, placed, *profiles, so, machine::WriteOptions{}, finished,
                              built ? &*built : nullptr);
@@ -952,9 +998,10 @@ JobOutcome run_planar_slice(const PartOptions& opt, const SliceOptions& so,
     const auto stack_time =
         [&](const core::Vec3d&, const mesh::TriangleMesh&,
             const pipeline::SliceStack& s) -> core::Result<pipeline::ProgramVerdict> {
+        const auto start = std::chrono::steady_clock::now();
         auto p = pipeline::plan_program(s, *profiles, name, progress.get());
         if (!p) return std::unexpected(p.error());
-        return estimated(p->summary);
+        return estimates.offer(&s, std::move(*p), seconds_since(start));
     };
     if (program_mode) {
         // A 3-axis machine builds every layer along one direction: the part stands on the

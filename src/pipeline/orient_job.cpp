@@ -339,15 +339,12 @@ core::Result<OrientedPlan> orient_multiaxis(const mesh::TriangleMesh& part, cons
         auto c = ask(p.direction, p.placed, p.planned);
         if (!c && c.error().code == core::ErrorCode::kInvalidInput &&
             policy != OrientPolicy::kGiven) {
-            // "move N (layer, region): why" names the move, then why.
+            // "move N (layer, region): why: detail" names the move and why.
             const std::string& m = c.error().message;
             const std::size_t colon = m.find(": ");
-            return ProgramVerdict{
-                "no program: " +
-                (colon == std::string::npos
-                     ? m
-                     : m.substr(0, colon) + ": " +
-                           first_clause({c.error().code, m.substr(colon + 2), {}}))};
+            return ProgramVerdict{"no program: " + m.substr(0, colon == std::string::npos
+                                                                   ? colon
+                                                                   : m.find(": ", colon + 2))};
         }
         return c;
     };
