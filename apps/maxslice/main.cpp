@@ -749,6 +749,9 @@ JobOutcome run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
             plan.unsupported_layers.size(), l.area_mm2, at.x, at.y, at.z, l.id, l.region, d.x, d.y,
             d.z, split, plan::describe_hanging(plan, l.id, "part"), tried));
     }
+    if (!plan.free_bodies.empty()) {
+        o.warn("maxslice: warning: %s\n", plan::describe_free_bodies(plan).c_str());
+    }
     if (!plan.bare_unsupported_layers.empty()) {
         const plan::Layer& l =
             plan.layers[static_cast<std::size_t>(plan.bare_unsupported_layers.front())];

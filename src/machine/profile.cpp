@@ -108,6 +108,7 @@ constexpr std::string_view kCatchEfficiencyKey = "powder_catch_efficiency";
 constexpr Range kCatchEfficiencyRange{0.0, 1.0, true, false, ""};
 // Optional: the footing's height (decision 0017); a profile without it keeps the default.
 constexpr std::string_view kFootingKey = "footing_mm";
+constexpr std::string_view kFreeBodiesKey = "leave_out_free_bodies";
 constexpr Range kFootingRange{0.0, 50.0, false, false, "mm"};
 // Optional: the near-net shape (decision 0025); absent = 0 = off. [process] only: the
 // finer processes build the same near-net shape. The ranges are nearnet::NearNetSettings'.
@@ -342,6 +343,16 @@ public:
         return std::optional<double>{*v};
     }
 
+    // A boolean, or nullopt when absent.
+    [[nodiscard]] core::Result<std::optional<bool>> optional_boolean(std::string_view key) const {
+        const toml::node* node = table_.get(key);
+        if (node == nullptr) return std::optional<bool>{};
+        if (const auto* b = node->as_boolean()) return std::optional<bool>{b->get()};
+        return core::fail(
+            ErrorCode::kInvalidInput,
+            fmt::format("`{}` must be true or false, got {}", path(key), describe(*node)));
+    }
+
     // An array of exactly `count` numbers (`pivot = [0, 0, -50]`); errors name the element.
     [[nodiscard]] core::Result<std::vector<double>> numbers(std::string_view key, std::size_t count,
                                                             const Range& range) const {
@@ -544,6 +555,7 @@ core::Result<ProcessProfile> read_process(const toml::table& table, bool finer_a
     known.push_back(kSpeedHeightKey);
     if (finer_allowed) {
         known.push_back(kFinerKey);
+        known.push_back(kFreeBodiesKey);  // the part's, as the near-net shape
         known.push_back(kStockKey);
         known.push_back(kFillKey);
     } else {
@@ -575,6 +587,9 @@ core::Result<ProcessProfile> read_process(const toml::table& table, bool finer_a
     const auto footing = reader.optional_number(kFootingKey, kFootingRange);
     if (!footing) return pass(footing);
     if (*footing) p.footing_mm = **footing;
+    const auto free_bodies = reader.optional_boolean(kFreeBodiesKey);
+    if (!free_bodies) return pass(free_bodies);
+    if (*free_bodies) p.leave_out_free_bodies = **free_bodies;
     for (const auto& [key, range, member] :
          {std::tuple{kStockKey, kStockRange, &ProcessProfile::machining_stock_mm},
           std::tuple{kFillKey, kFillRange, &ProcessProfile::fill_below_mm}}) {
@@ -611,6 +626,7 @@ core::Result<ProcessProfile> read_process(const toml::table& table, bool finer_a
         wider = f->track_width_mm;
         f->machining_stock_mm = p.machining_stock_mm;
         f->fill_below_mm = p.fill_below_mm;
+        f->leave_out_free_bodies = p.leave_out_free_bodies;
         p.finer.push_back(std::move(*f));
     }
     return p;

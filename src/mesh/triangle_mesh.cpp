@@ -288,6 +288,43 @@ void transform(TriangleMesh& mesh, const std::array<double, 12>& m) {
     }
 }
 
+std::vector<std::uint32_t> vertex_bodies(const TriangleMesh& mesh) {
+    // Union-find, path halving, the smaller index becomes the root.
+    constexpr std::size_t kPrefetchAhead = 8;
+    std::vector<std::uint32_t> parent(mesh.vertices.size());
+    for (std::size_t v = 0; v < parent.size(); ++v) parent[v] = static_cast<std::uint32_t>(v);
+    const auto find = [&](std::uint32_t v) {
+        while (parent[v] != v) {
+            parent[v] = parent[parent[v]];
+            v = parent[v];
+        }
+        return v;
+    };
+    const auto unite = [&](std::uint32_t a, std::uint32_t b) {
+        a = find(a);
+        b = find(b);
+        if (a < b) {
+            parent[b] = a;
+        } else if (b < a) {
+            parent[a] = b;
+        }
+    };
+    const std::size_t nt = mesh.triangles.size();
+    for (std::size_t i = 0; i < nt; ++i) {
+        const Triangle& t = mesh.triangles[i];
+        if (i + kPrefetchAhead < nt) {
+            for (std::uint32_t w : mesh.triangles[i + kPrefetchAhead]) {
+                __builtin_prefetch(&parent[w], 1);
+            }
+        }
+        MAXSLICE_ASSERT(t[0] < parent.size() && t[1] < parent.size() && t[2] < parent.size());
+        unite(t[0], t[1]);
+        unite(t[0], t[2]);
+    }
+    for (std::size_t v = 0; v < parent.size(); ++v) parent[v] = find(static_cast<std::uint32_t>(v));
+    return parent;
+}
+
 void append(TriangleMesh& a, const TriangleMesh& b) {
     MAXSLICE_ASSERT(a.vertices.size() + b.vertices.size() < kEmpty);
     const auto offset = static_cast<std::uint32_t>(a.vertices.size());

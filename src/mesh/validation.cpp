@@ -225,44 +225,14 @@ Tally<Triple> repeated_index_duplicates(const TriangleMesh& mesh) {
     return tally;
 }
 
-// Bodies: union-find over vertices (each triangle joins its corners), path halving, the
-// smaller index becomes the root. Returns the number of components among used vertices.
+// Bodies: the connected components among used vertices (vertex_bodies).
 std::size_t count_bodies(const TriangleMesh& mesh, std::vector<std::uint8_t>& used) {
+    const std::vector<std::uint32_t> body = vertex_bodies(mesh);  // checks the indices
     used.assign(mesh.vertices.size(), 0);
-    std::vector<std::uint32_t> parent(mesh.vertices.size());
-    for (std::size_t v = 0; v < parent.size(); ++v) parent[v] = static_cast<std::uint32_t>(v);
-    auto find = [&](std::uint32_t v) {
-        while (parent[v] != v) {
-            parent[v] = parent[parent[v]];
-            v = parent[v];
-        }
-        return v;
-    };
-    auto unite = [&](std::uint32_t a, std::uint32_t b) {
-        a = find(a);
-        b = find(b);
-        if (a < b) {
-            parent[b] = a;
-        } else if (b < a) {
-            parent[a] = b;
-        }
-    };
-    const std::size_t nt = mesh.triangles.size();
-    for (std::size_t i = 0; i < nt; ++i) {
-        const Triangle& t = mesh.triangles[i];
-        if (i + kPrefetchAhead < nt) {
-            for (std::uint32_t w : mesh.triangles[i + kPrefetchAhead]) {
-                __builtin_prefetch(&parent[w], 1);
-            }
-        }
-        MAXSLICE_ASSERT(t[0] < parent.size() && t[1] < parent.size() && t[2] < parent.size());
-        used[t[0]] = used[t[1]] = used[t[2]] = 1;
-        unite(t[0], t[1]);
-        unite(t[0], t[2]);
-    }
+    for (const Triangle& t : mesh.triangles) used[t[0]] = used[t[1]] = used[t[2]] = 1;
     std::size_t bodies = 0;
-    for (std::size_t v = 0; v < parent.size(); ++v) {
-        if (used[v] && parent[v] == v) ++bodies;
+    for (std::size_t v = 0; v < body.size(); ++v) {
+        if (used[v] && body[v] == v) ++bodies;
     }
     return bodies;
 }

@@ -85,6 +85,7 @@ plan::PlanSettings plan_settings(const machine::ProcessProfile& process) {
     s.track_width_mm = process.track_width_mm;
     s.self_supporting_deg = process.self_supporting_angle_deg;
     s.footing_mm = process.footing_mm;
+    s.leave_out_free_bodies = process.leave_out_free_bodies;
     s.h_min_mm = std::min(process.h_min_mm, s.layer_mm);
     s.h_max_mm = std::max(process.h_max_mm, s.layer_mm);
     return s;
@@ -519,6 +520,14 @@ std::string plan_json(const PlannedPart& planned, const PreparedPart& part) {
             dj["new_region"] = d.new_region;
             dj["continuation"] = d.continuation;
             dj["split_plane"] = half_space_json(d.split_plane);
+            if (!d.far_regions.empty()) {
+                ordered_json far = ordered_json::array();
+                for (std::size_t k = 0; k < d.far_regions.size(); ++k) {
+                    far.push_back({{"region", d.far_regions[k]},
+                                   {"plane", half_space_json(d.far_planes[k])}});
+                }
+                dj["far_features"] = std::move(far);
+            }
             if (d.head_checked) {
                 dj["head"] = {{"lean_deg", d.split_lean_deg},
                               {"margin_mm", d.head_margin_mm},
@@ -532,6 +541,14 @@ std::string plan_json(const PlannedPart& planned, const PreparedPart& part) {
     j["decisions"] = std::move(decisions);
     j["unsupported_layers"] = p.unsupported_layers;
     j["bare_unsupported_layers"] = p.bare_unsupported_layers;
+    ordered_json free = ordered_json::array();
+    for (const plan::FreeBody& b : p.free_bodies) {
+        free.push_back({{"volume_mm3", b.volume_mm3},
+                        {"min", detail::vec_json(b.box.min)},
+                        {"max", detail::vec_json(b.box.max)},
+                        {"gap_mm", b.gap_mm}});
+    }
+    j["free_bodies"] = std::move(free);
     j["footing"] = {{"layers", p.footing.layers},
                     {"height_mm", p.footing.height_mm},
                     {"added_mm3", p.footing.added_mm3}};
@@ -844,6 +861,7 @@ std::string plan_summary(const PlannedPart& planned, const mesh::ValidationRepor
     on_nothing("left bare       ", p.bare_unsupported_layers, "without parents where no track fits",
                ": nothing is laid there (narrower than the track), and tracks above them only "
                "over beads");
+    if (!p.free_bodies.empty()) put(out, "left out        {}\n", plan::describe_free_bodies(p));
     const double v = p.volume_mm3();
     put(out, "plan volume     {:.6g} mm3 {}\n", v, volume_against_mesh(v, report));
     put(out, "{}", footing_line(p.footing));

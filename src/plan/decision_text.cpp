@@ -87,6 +87,21 @@ std::string describe_hanging(const Plan& plan, int id, std::string_view whole) {
         h.layers, h.volume_mm3, v > 0.0 ? 100.0 * h.volume_mm3 / v : 0.0, whole);
 }
 
+std::string describe_free_bodies(const Plan& plan) {
+    if (plan.free_bodies.empty()) return {};
+    const FreeBody& b = plan.free_bodies.front();
+    const core::Vec3d c = b.box.center();
+    double v = 0.0;
+    for (const FreeBody& f : plan.free_bodies) v += f.volume_mm3;
+    return fmt::format(
+        "{} {} of {:.0f} mm3 in all float free of the rest of the part and of the plate (the "
+        "first: {:.0f} mm3 around ({:.1f}, {:.1f}, {:.1f}), at least {:.1f} mm from any other "
+        "body): nothing can be deposited under {} from this base, so {} left out",
+        plan.free_bodies.size(), plan.free_bodies.size() == 1 ? "body" : "bodies", v, b.volume_mm3,
+        c.x, c.y, c.z, b.gap_mm, plan.free_bodies.size() == 1 ? "it" : "them",
+        plan.free_bodies.size() == 1 ? "it is" : "they are");
+}
+
 std::string describe(const Plan& plan, const Region& r) {
     if (r.parent < 0) return "base region: the part stands on the plate along the base direction";
     for (const Decision& d : plan.decisions) {
@@ -98,6 +113,13 @@ std::string describe(const Plan& plan, const Region& r) {
                 "carries on along region {}'s direction above layer L{}, on the near side of the "
                 "split plane of region {}",
                 d.region, d.layer, d.new_region);
+        }
+        if (std::find(d.far_regions.begin(), d.far_regions.end(), r.id) != d.far_regions.end()) {
+            return fmt::format(
+                "carries on along region {}'s direction above layer L{}, beyond the split plane "
+                "of region {} but apart from what grows from its piece: a feature there that "
+                "region {} would start in the air",
+                d.region, d.layer, d.new_region, d.new_region);
         }
     }
     return fmt::format("split from region {}", r.parent);

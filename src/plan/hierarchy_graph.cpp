@@ -97,7 +97,11 @@ public:
             if (r.layers.empty()) continue;
             std::vector<int> below;
             for (const Decision& d : plan_.decisions) {
-                if (d.continuation == r.id && d.continuation != d.region) below = step_of(d.layer);
+                if ((d.continuation == r.id && d.continuation != d.region) ||
+                    std::find(d.far_regions.begin(), d.far_regions.end(), r.id) !=
+                        d.far_regions.end()) {
+                    below = step_of(d.layer);
+                }
             }
             for (std::size_t i = 0; i < r.layers.size();) {
                 std::size_t j = i;

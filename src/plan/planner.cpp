@@ -11,6 +11,7 @@
 #include <optional>
 #include <string>
 
+#include "free_bodies.hpp"
 #include "maxslice/core/units.hpp"
 #include "planner_state.hpp"
 
@@ -183,7 +184,14 @@ core::Result<Plan> plan_part(const mesh::TriangleMesh& mesh, const core::Vec3d& 
     if (!core::is_finite(base_direction) || core::norm(base_direction) <= 0.0) {
         return invalid("the base direction must be a non-zero finite vector", "planning");
     }
-    return detail::Planner(mesh, settings, progress).run(base_direction);
+    // Bodies that float free of the rest and of the plate are left out (decision 0036).
+    detail::FreeBodies free = settings.leave_out_free_bodies
+                                  ? detail::free_bodies(mesh, base_direction, settings)
+                                  : detail::FreeBodies{};
+    if (free.bodies.empty()) return detail::Planner(mesh, settings, progress).run(base_direction);
+    auto p = detail::Planner(free.rest, settings, progress).run(base_direction);
+    if (p) p->free_bodies = std::move(free.bodies);
+    return p;
 }
 
 core::Vec3d centroid_of(const Layer& layer) {

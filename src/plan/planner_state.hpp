@@ -133,6 +133,11 @@ private:
     [[nodiscard]] bool has_sideways(int lower, const OverhangPiece& p) const;
     [[nodiscard]] core::Vec3d within_tilt(const core::Vec3d& d) const;
 
+    // far_features.cpp: the planes (own side in) that keep a region split off for piece p
+    // above layer `lower` apart from features of its cell that do not grow from the piece.
+    core::Result<std::vector<HalfSpace>> far_feature_bounds(const Region& child, int lower,
+                                                            const OverhangPiece& p);
+
     // reach.cpp: the direction a region split off sideways is built along (decision 0029).
     core::Result<ReachChoice> direction_by_reach(int lower, const OverhangPiece& p,
                                                  const core::Vec3d& ns,

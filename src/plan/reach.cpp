@@ -238,7 +238,10 @@ bool Planner::leaned_by_reach(int rid) const {
         // A leaned region split again goes on along its direction in its continuation, which
         // must not march either: its tilted layers would turn the head back onto what the
         // lean cleared.
-        return d.continuation == rid && d.region != rid && leaned_by_reach(d.region);
+        const bool carries_on =
+            (d.continuation == rid && d.region != rid) ||
+            std::find(d.far_regions.begin(), d.far_regions.end(), rid) != d.far_regions.end();
+        return carries_on && leaned_by_reach(d.region);
     });
 }
 

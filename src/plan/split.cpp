@@ -79,6 +79,24 @@ core::Result<bool> Planner::split(int rid, int lower, const slice::Slice& s,
     child.cell = parent.cell;
     child.cell.push_back(above);
     child.cell.push_back(beyond);
+    // Features beyond the split plane that do not grow from the piece carry on along the old
+    // direction, each in a region of its own (decision 0035).
+    auto far = far_feature_bounds(child, lower, p);
+    if (!far) return std::unexpected(far.error());
+    if (static_cast<int>(plan_.regions.size() + far->size()) + 2 > s_.max_regions) {
+        return invalid(too_many_regions_refusal(s_.max_regions), context);
+    }
+    std::vector<Region> far_regions;
+    for (std::size_t k = 0; k < far->size(); ++k) {
+        Region f;
+        f.parent = rid;
+        f.direction = n;
+        f.base = l.top;
+        f.cell = child.cell;  // parent's cell, above, beyond, the planes before this one
+        f.cell.push_back({(*far)[k].point, (*far)[k].normal * -1.0});
+        far_regions.push_back(std::move(f));
+        child.cell.push_back((*far)[k]);
+    }
 
     Decision d;
     d.kind = p.touches_lower ? Decision::Kind::kSplit : Decision::Kind::kFloating;
@@ -95,6 +113,13 @@ core::Result<bool> Planner::split(int rid, int lower, const slice::Slice& s,
     d.head_clears = reach->clears;
     plan_.regions.push_back(child);
     jobs_.push_back({child.id, {}});
+    for (Region& f : far_regions) {
+        f.id = static_cast<int>(plan_.regions.size());
+        d.far_regions.push_back(f.id);
+        plan_.regions.push_back(std::move(f));
+        jobs_.push_back({d.far_regions.back(), {lower}});
+    }
+    d.far_planes = *far;
 
     Region& r = plan_.regions[static_cast<std::size_t>(rid)];
     if (r.layers.empty()) {

@@ -292,16 +292,19 @@ TEST(PlanCli, TouchingBodiesAreBuiltAsOneAndAnInsideOutBodyIsRefused) {
     EXPECT_NEAR(sliced, 4000.0 + 1000.0, 1e-3);
 }
 
-// A block with a 1 mm rod floating beside it: the rod's first layer rests on nothing, but no
-// 2.5 mm track fits the rod, so nothing is laid there (as on any feature that narrow). It is
-// listed as left bare, not as a layer on nothing; the job builds the block, and the verifier
-// finds no bead on nothing. The part is built as given: the reference profile's near-net shape
-// would fill the 5 mm gap between rod and block and grow the rod to the track's width.
+// A block with a 1 mm rod hanging beside it from a 1 mm bar (so it is no free body, decision
+// 0036): the rod's first layer rests on nothing, but no 2.5 mm track fits the rod, so nothing
+// is laid there (as on any feature that narrow). It is listed as left bare, not as a layer on
+// nothing; the job builds the block, and the verifier finds no bead on nothing. The part is
+// built as given: the reference profile's near-net shape would fill the 5 mm gap between rod
+// and block and grow the rod to the track's width.
 TEST(PlanCli, ALayerOnNothingWhereNoTrackFitsIsLeftBare) {
     const fs::path dir = temp_dir("bare_rod");
     const fs::path profile = without_near_net(dir, reference_profile());
-    const fs::path part = fixture_stl(
-        dir, "rod", merged(box({0, 0, 0}, {20, 20, 20}), box({25, 10, 10}, {26, 11, 15})));
+    const fs::path part =
+        fixture_stl(dir, "rod",
+                    merged(merged(box({0, 0, 0}, {20, 20, 20}), box({25, 10, 10}, {26, 11, 15})),
+                           box({20, 10, 14}, {25, 11, 15})));
     const fs::path plan = dir / "rod.json";
     const CliRun p =
         run_cli({"plan", part.string(), "--profile", profile.string(), "--plan", plan.string()});
@@ -331,9 +334,12 @@ TEST(PlanCli, ALayerOnNothingWhereNoTrackFitsIsLeftBare) {
     maxslice::mesh::TriangleMesh pyramid;
     pyramid.vertices = {{30, 10, 8}, {26, 6, 16}, {34, 6, 16}, {34, 14, 16}, {26, 14, 16}};
     pyramid.triangles = {{1, 2, 3}, {1, 3, 4}, {0, 2, 1}, {0, 3, 2}, {0, 4, 3}, {0, 1, 4}};
+    // Free of the block, it would be left out (decision 0036): kept here.
     const fs::path floating =
         fixture_stl(dir, "pyramid", merged(box({0, 0, 0}, {20, 20, 20}), pyramid));
-    const CliRun f = run_cli({"plan", floating.string(), "--profile", profile.string()});
+    const fs::path keeping =
+        profile_with(dir, "keeping.toml", profile, {{"leave_out_free_bodies", "false"}});
+    const CliRun f = run_cli({"plan", floating.string(), "--profile", keeping.string()});
     ASSERT_EQ(f.exit_code, 0) << f.err;
     EXPECT_NE(f.out.find("unsupported     1 layers rest on nothing"), std::string::npos) << f.out;
     EXPECT_EQ(f.out.find("left bare"), std::string::npos) << f.out;

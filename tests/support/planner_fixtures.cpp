@@ -918,6 +918,38 @@ PlannerFixture wall_boss(const WallBossSpec& spec) {
                 });
 }
 
+PlannerFixture arm_and_post(const ArmAndPostSpec& spec) {
+    const double bl = spec.base_length, bh = spec.base_height, d = spec.depth;
+    const double w = spec.column_width, ch = spec.column_height, al = spec.arm_length;
+    const double at = spec.arm_thickness, px = spec.post_x, ph = spec.post_height;
+    require(bl > 0.0 && bh > 0.0 && d > 0.0 && w > 0.0 && ch > 0.0 && al > 0.0 && at > 0.0,
+            "arm_and_post: sizes must be positive");
+    require(w + al < px && px + w <= bl && ph > ch + at,
+            "arm_and_post: the post must stand "
+            "on the base beyond the arm's end and above its top");
+    // Rectangles that share whole edges, so the pieces fuse without T-junctions.
+    CapBuilder b;
+    b.add(rectangle_cap(0.0, 0.0, w, bh));
+    b.add(rectangle_cap(w, 0.0, px, bh));
+    b.add(rectangle_cap(px, 0.0, px + w, bh));
+    if (px + w < bl) b.add(rectangle_cap(px + w, 0.0, bl, bh));
+    b.add(rectangle_cap(0.0, bh, w, bh + ch));
+    b.add(rectangle_cap(0.0, bh + ch, w, bh + ch + at));
+    b.add(rectangle_cap(w, bh + ch, w + al, bh + ch + at));
+    b.add(rectangle_cap(px, bh, px + w, bh + ph));
+    return make("arm_and_post",
+                "a column with an arm at its top and a taller post further along, on one base: "
+                "the arm is built sideways, the post carries on upright",
+                extrude_xz(b.cap(), 0.0, d), d * (bl * bh + w * ch + (w + al) * at + w * ph),
+                box_of({0, 0, 0}, {bl, d, bh + ph}), [=](double z) {
+                    if (z >= 0.0 && z < bh) return bl * d;
+                    double a = (z >= bh && z < bh + ph) ? w * d : 0.0;  // the post
+                    if (z >= bh && z < bh + ch) a += w * d;
+                    if (z >= bh + ch && z < bh + ch + at) a += (w + al) * d;
+                    return a;
+                });
+}
+
 std::vector<PlannerFixture> all_planner_fixtures() {
     std::vector<PlannerFixture> out;
     out.push_back(vertical_prism());
@@ -937,6 +969,7 @@ std::vector<PlannerFixture> all_planner_fixtures() {
     out.push_back(tab_with_hole());
     out.push_back(helical_ring());
     out.push_back(wall_boss());
+    out.push_back(arm_and_post());
     return out;
 }
 

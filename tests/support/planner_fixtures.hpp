@@ -332,6 +332,23 @@ struct WallBossSpec {
 };
 [[nodiscard]] PlannerFixture wall_boss(const WallBossSpec& spec = {});
 
+/// A base plate (base_length x depth x base_height) with a column at its -X end carrying an
+/// arm along +X at its top, and a post at post_x standing on the base, taller than the arm:
+/// profile in the XZ plane extruded along +Y over depth. The arm is split off sideways along
+/// +X; the post lies beyond that split plane but does not grow from the arm (decision 0035).
+struct ArmAndPostSpec {
+    double base_length = 80.0;    ///< mm, along X
+    double base_height = 5.0;     ///< mm
+    double depth = 10.0;          ///< mm, along Y
+    double column_width = 10.0;   ///< mm, the column and the post alike
+    double column_height = 25.0;  ///< mm above the base
+    double arm_length = 20.0;     ///< mm beyond the column
+    double arm_thickness = 5.0;   ///< mm
+    double post_x = 60.0;         ///< mm, the post's -X face
+    double post_height = 40.0;    ///< mm above the base, above the arm's top
+};
+[[nodiscard]] PlannerFixture arm_and_post(const ArmAndPostSpec& spec = {});
+
 /// Every fixture above with its default spec.
 [[nodiscard]] std::vector<PlannerFixture> all_planner_fixtures();
 

@@ -38,6 +38,9 @@ struct ProcessProfile {
     /// Height above the plate within which the part's footprint is built straight up (a pad
     /// machined off with the plate; decision 0017), [0, 50]; 0 = off.
     double footing_mm = 1.0;
+    /// Bodies that touch neither the rest of the part nor the plate are left out of the plan
+    /// with a warning (decision 0036); false keeps them, and the job refuses the part.
+    bool leave_out_free_bodies = true;
     /// The near-net shape (decision 0025): the part file is the finished part, and the job
     /// deposits it grown by this machining allowance per side, [0, 20]; 0 = off.
     double machining_stock_mm = 0.0;

@@ -48,6 +48,10 @@ void transform(TriangleMesh& mesh, const std::array<double, 12>& affine);
 /// Appends b's triangles to a (vertices are not shared).
 void append(TriangleMesh& a, const TriangleMesh& b);
 
+/// The body of every vertex: the smallest vertex index of its connected component (triangles
+/// that share a vertex are connected); a vertex no triangle uses is its own body.
+[[nodiscard]] std::vector<std::uint32_t> vertex_bodies(const TriangleMesh& mesh);
+
 /// Builds an indexed mesh from a triangle soup (9 coordinates per triangle, corners in
 /// order), merging corners with bit-identical coordinates (-0.0 counts as 0.0). Linear
 /// expected time. The first occurrence of a position fixes its vertex index, so the result is

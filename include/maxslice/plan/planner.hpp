@@ -50,6 +50,9 @@ struct PlanSettings {
     /// rounded near-net bottom edge, a part standing on an edge), which the program job plans
     /// again with it (decision 0017).
     bool footing_always = false;
+    /// Bodies that float free of the rest and of the plate are left out of the plan and listed
+    /// in Plan::free_bodies (decision 0036); false plans them, and their layers rest on nothing.
+    bool leave_out_free_bodies = true;
     /// The head the machine builds with: a region split off sideways is built along the
     /// seed's N_s only where the head, standing on it, clears what is built before it and the
     /// plate; otherwise along N_s leaned up (decision 0029). Unset: N_s always.
@@ -121,8 +124,12 @@ struct Decision {
     OverhangPiece piece;     ///< the piece that caused it
     int new_region = -1;     ///< the region built sideways (splits)
     int continuation = -1;   ///< the region that carries on along the old direction
-    HalfSpace split_plane;   ///< the split plane, normal N_s (splits)
-    double lean_deg = 0.0;   ///< kTilt: how far the chain of centroids leans (deg)
+    /// Regions that carry on along the old direction beyond the split plane: the features
+    /// there that do not grow from the piece (decision 0035), each past a plane of its own.
+    std::vector<int> far_regions;
+    std::vector<HalfSpace> far_planes;  ///< those planes, the new region's side inside
+    HalfSpace split_plane;              ///< the split plane, normal N_s (splits)
+    double lean_deg = 0.0;              ///< kTilt: how far the chain of centroids leans (deg)
     /// Splits with the head set (decision 0029): how far the new region's direction leans
     /// from N_s towards the old direction (deg), the head's smallest margin from what is
     /// built and the plate along it and along N_s (mm; capped a millimetre above the
@@ -140,6 +147,14 @@ struct Footing {
     int layers = 0;          ///< footing layers (0: no footing was laid)
     double height_mm = 0.0;  ///< top of the last footing layer above the plate
     double added_mm3 = 0.0;  ///< volume the footing adds to the sections (outside the part)
+};
+
+/// A body of the mesh that floats free: on neither the plate nor touching any other
+/// body (decision 0036). Nothing can be deposited under it; the plan leaves it out.
+struct FreeBody {
+    double volume_mm3 = 0.0;
+    core::Box3d box;      ///< its bounding box (part frame, mm)
+    double gap_mm = 0.0;  ///< a lower bound of its distance to the nearest other body
 };
 
 /// The plan of a part.
@@ -161,6 +176,8 @@ struct Plan {
     /// (decision 0013). Moved here from unsupported_layers by the pipeline, which knows the
     /// toolpaths (pipeline::PlanJobSettings::tracks); plan_part leaves it empty.
     std::vector<int> bare_unsupported_layers;
+    /// Bodies left out of the plan: they float free of the rest and of the plate.
+    std::vector<FreeBody> free_bodies;
     Footing footing;  ///< the footing at the plate, where one saves a split there
 
     [[nodiscard]] int split_count() const;
@@ -244,6 +261,10 @@ struct HangingLoad {
 /// The load hanging from layer `id` (a layer on nothing, say): what cannot be built without
 /// it, nor with it while it rests on nothing.
 [[nodiscard]] HangingLoad hanging_from(const Plan& plan, int id);
+
+/// The bodies the plan left out (decision 0036), worded for people: how many, the first one's
+/// volume, place and gap to the nearest other body; empty when there are none.
+[[nodiscard]] std::string describe_free_bodies(const Plan& plan);
 
 /// hanging_from(plan, id) for people: "N layers, V mm3 (P% of the <whole>), stand on it and on
 /// nothing the plate carries", P against plan.volume_mm3().

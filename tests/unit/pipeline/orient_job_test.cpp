@@ -98,11 +98,19 @@ TEST(OrientJob, APlanTheCheckRefusesIsNotKept) {
     EXPECT_EQ(again.heights.size(), 1u);
 }
 
-// A block with a cube floating beside it, off the plate along every axis: every base leaves
-// layers on nothing. Such plans are refused as planned; none is ordered (the order of a plan
-// that cannot be built is never used, and ordering is the slow part).
+// A block with a cube floating beside it, off the plate along every axis, the free body kept
+// (process.leave_out_free_bodies = false): every base leaves layers on nothing. Such plans are
+// refused as planned; none is ordered (the order of a plan that cannot be built is never used,
+// and ordering is the slow part). With the default the cube is left out (decision 0036).
 TEST(OrientJob, PlansWithLayersOnNothingAreRefusedWithoutAnOrder) {
-    const machine::Profiles profiles = reference_profiles();
+    machine::Profiles profiles = reference_profiles();
+    auto left_out = orient_multiaxis(
+        test::merged(test::box({0, 0, 0}, {20, 20, 10}), test::box({30, 5, 5}, {40, 15, 15})),
+        {0, 0, 1}, OrientPolicy::kGiven, profiles);
+    ASSERT_TRUE(left_out.has_value()) << left_out.error().describe();
+    EXPECT_EQ(left_out->planned.plan.free_bodies.size(), 1u);
+    EXPECT_TRUE(left_out->planned.plan.unsupported_layers.empty());
+    profiles.process.leave_out_free_bodies = false;
     const mesh::TriangleMesh part =
         test::merged(test::box({0, 0, 0}, {20, 20, 10}), test::box({30, 5, 5}, {40, 15, 15}));
     for (const OrientPolicy policy : {OrientPolicy::kFallback, OrientPolicy::kAuto}) {

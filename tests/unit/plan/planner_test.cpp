@@ -47,6 +47,12 @@ mesh::TriangleMesh bearing_seat() {
     return merged(box({0, 0, 0}, {20, 20, 30}), boss);
 }
 
+PlanSettings planning_free_bodies() {
+    PlanSettings s = settings();
+    s.leave_out_free_bodies = false;
+    return s;
+}
+
 bool parallel(const Vec3d& a, const Vec3d& b) {
     return core::dot(core::normalized(a), core::normalized(b)) > 1.0 - 1e-9;
 }
@@ -125,10 +131,11 @@ void expect_volume(const Plan& p, double volume_mm3) {
 // along +X whose base plane is the part's face; its first layer lies 20 mm in front of that
 // plane and rests on nothing (it was linked to the face it is 20 mm from, and the verifier
 // found 22 beads in mid-air). Along +Y both blocks stand on the plate.
+// (Free bodies planned, not left out: the layers' own account of them.)
 TEST(Planner, ABodyBesideThePartReachedAcrossTheAirRestsOnNothing) {
     const mesh::TriangleMesh m =
         merged(box({0, 0, 0}, {20, 20, 20}), box({40, 0, 10}, {60, 20, 30}));
-    const Plan p = plan_of(m);
+    const Plan p = plan_of(m, {0, 0, 1}, planning_free_bodies());
     ASSERT_FALSE(p.unsupported_layers.empty());
     const Layer& l = p.layers[static_cast<std::size_t>(p.unsupported_layers[0])];
     EXPECT_TRUE(l.after_gap);
@@ -143,7 +150,7 @@ TEST(Planner, ABodyBesideThePartReachedAcrossTheAirRestsOnNothing) {
 TEST(Planner, ABodyAboveAGapRestsOnNothing) {
     const mesh::TriangleMesh m =
         merged(box({0, 0, 0}, {20, 20, 20}), box({0, 0, 25}, {20, 20, 45}));
-    const Plan p = plan_of(m);
+    const Plan p = plan_of(m, {0, 0, 1}, planning_free_bodies());
     ASSERT_EQ(p.unsupported_layers.size(), 1u);
     const Layer& l = p.layers[static_cast<std::size_t>(p.unsupported_layers[0])];
     // The whole upper block hangs from its first layer (40 layers, 8000 mm3); nothing hangs
@@ -163,6 +170,54 @@ TEST(Planner, ABodyAboveAGapRestsOnNothing) {
     const Plan side = plan_of(m, {1, 0, 0});
     EXPECT_TRUE(side.unsupported_layers.empty());
     for (const Layer& q : side.layers) EXPECT_FALSE(q.after_gap);
+}
+
+// A body that touches nothing and does not stand on the plate is left out and listed (decision
+// 0036): the block beside the part from 10 mm up, the block above a 5 mm gap. A block that
+// touches the part along a face, or stands on the plate, is planned.
+TEST(Planner, ABodyThatTouchesNothingIsLeftOutAndListed) {
+    const mesh::TriangleMesh part = box({0, 0, 0}, {20, 20, 20});
+    for (const double bottom : {10.0, 25.0}) {
+        const mesh::TriangleMesh free = bottom < 20.0 ? box({40, 0, bottom}, {60, 20, bottom + 20})
+                                                      : box({0, 0, bottom}, {20, 20, bottom + 20});
+        const Plan p = plan_of(merged(part, free));
+        EXPECT_TRUE(p.unsupported_layers.empty());
+        ASSERT_EQ(p.free_bodies.size(), 1u);
+        EXPECT_NEAR(p.free_bodies[0].volume_mm3, 8000.0, 1e-6);
+        EXPECT_GE(p.free_bodies[0].gap_mm, 2.5);  // 5 mm and 20 mm apart, boxes alone tell
+        EXPECT_NEAR(p.free_bodies[0].box.min.z, bottom, 1e-9);
+        EXPECT_NEAR(p.volume_mm3(), 8000.0, 1.0);  // the part alone
+        EXPECT_NE(describe_free_bodies(p).find("1 body of 8000 mm3"), std::string::npos)
+            << describe_free_bodies(p);
+    }
+    // Touching along a face (z 10 to 20 of the part's face x = 20), or on the plate: planned.
+    for (const mesh::TriangleMesh& other :
+         {box({20, 0, 10}, {40, 20, 30}), box({40, 0, 0}, {60, 20, 20})}) {
+        const Plan p = plan_of(merged(part, other));
+        EXPECT_TRUE(p.free_bodies.empty());
+        EXPECT_NEAR(p.volume_mm3(), 16000.0, 10.0);  // both, to the slicing's rounding
+    }
+    // Stood on its side (along +X) the stacked blocks both stand on the plate.
+    const Plan side = plan_of(merged(part, box({0, 0, 25}, {20, 20, 45})), {1, 0, 0});
+    EXPECT_TRUE(side.free_bodies.empty());
+    EXPECT_TRUE(side.unsupported_layers.empty());
+}
+
+// A body near another's slope but apart from it (a cube beside a pyramid, as in
+// pyramids.3mf): the boxes meet, the triangle test tells them apart.
+TEST(Planner, ABodyBesideASlopeWhoseBoxesMeetIsStillFree) {
+    // A wedge: 40 long, its slope from z = 20 at x = 0 down to z = 0 at x = 40.
+    const mesh::TriangleMesh wedge = test::extrude_xz(
+        test::polygon_cap(std::vector<test::CapPoint>{{0, 0}, {40, 0}, {0, 20}}), 0.0, 20.0);
+    // A 4 mm cube above the slope's foot, 5 mm clear of the slope, inside the wedge's box.
+    const mesh::TriangleMesh cube = box({30, 8, 12}, {34, 12, 16});
+    const Plan p = plan_of(merged(wedge, cube));
+    ASSERT_EQ(p.free_bodies.size(), 1u);
+    EXPECT_NEAR(p.free_bodies[0].volume_mm3, 64.0, 1e-6);
+    EXPECT_GT(p.free_bodies[0].gap_mm, 0.05);
+    // Moved onto the slope (its corner 1 mm into the wedge's box, touching the surface): kept.
+    const Plan touching = plan_of(merged(wedge, box({20, 8, 5}, {24, 12, 9})));
+    EXPECT_TRUE(touching.free_bodies.empty());
 }
 
 // A column with two arms to +X at the same height: one sideways region builds both, and its

@@ -257,5 +257,53 @@ TEST(Reach, ARefusedOrderNamesTheRegionInTheWayAndTheClosestGap) {
     EXPECT_TRUE(describe_refusal(p, none, os.nozzle).empty());
 }
 
+// Far features (decision 0035): the arm's split plane leaves the post, further along +X, in
+// the half-space of the arm's region, though the post does not grow from the arm. Built along
+// the arm's direction the post would start as a tip in the air; it carries on upright instead,
+// in a region of its own, and the whole part orders without a conflict and rests on the plate.
+TEST(Reach, AFeatureBeyondTheSplitPlaneThatDoesNotGrowFromThePieceCarriesOnUpright) {
+    const test::ArmAndPostSpec spec;
+    const auto f = test::arm_and_post(spec);
+    const Plan p = plan_of(f.mesh, settings(true));
+    ASSERT_FALSE(p.layers.empty());
+    EXPECT_TRUE(p.unsupported_layers.empty()) << p.unsupported_layers.size() << " on nothing";
+    int far = 0;
+    for (const Decision& d : p.decisions) {
+        for (const int rid : d.far_regions) {
+            ++far;
+            const Region& r = p.regions[static_cast<std::size_t>(rid)];
+            // Along the old direction, the one the region split carried on along.
+            EXPECT_LT(
+                angle_deg(r.direction, p.layers[static_cast<std::size_t>(d.layer)].top.normal),
+                1e-6);
+        }
+    }
+    EXPECT_GT(far, 0) << "no far feature was set apart";
+    const double arm_top = spec.base_height + spec.column_height + spec.arm_thickness;
+    const double arm_end = spec.column_width + spec.arm_length;
+    int post = 0, arm = 0;
+    for (const Layer& l : p.layers) {
+        const Vec3d c = centroid_of(l);
+        const double lean =
+            angle_deg(p.regions[static_cast<std::size_t>(l.region)].direction, {0, 0, 1});
+        if (c.x > spec.post_x && c.z > spec.base_height + spec.column_height) {
+            ++post;  // the post above the arm's level: upright (the column's march aside)
+            EXPECT_LT(lean, 10.0) << "layer " << l.id << " at z " << c.z;
+        } else if (c.x > spec.column_width + 1.0 && c.x < arm_end && c.z < arm_top &&
+                   c.z > spec.base_height + spec.column_height) {
+            ++arm;  // the arm: sideways
+            EXPECT_GT(lean, 30.0) << "layer " << l.id;
+        }
+    }
+    EXPECT_GT(post, 0);
+    EXPECT_GT(arm, 0);
+    OrderSettings os;
+    os.nozzle = reference_head();
+    const auto order = order_layers(p, os);
+    ASSERT_TRUE(order.has_value());
+    EXPECT_TRUE(order->complete())
+        << (order->conflicts.empty() ? "" : order->conflicts.front().reason);
+}
+
 }  // namespace
 }  // namespace maxslice::plan

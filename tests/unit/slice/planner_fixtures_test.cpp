@@ -211,7 +211,7 @@ TEST(PlannerFixtures, NamesAreUnique) {
     for (const PlannerFixture& f : fixtures()) names.push_back(f.name);
     std::ranges::sort(names);
     EXPECT_EQ(std::ranges::adjacent_find(names), names.end());
-    EXPECT_EQ(names.size(), 17u);
+    EXPECT_EQ(names.size(), 18u);
 }
 
 // ---- Construction helpers ----------------------------------------------------------------
