@@ -514,6 +514,9 @@ struct JobOutcome {
     std::string figures;  // "90.77% coverage, 0.05% excess", or why nothing was written
     std::optional<core::Error> short_of_part;  // the kept program leaves the finished part short
     bool kept_as_given = false;  // the program builds the part as given (no other base taken)
+    /// Bodies the plan left out (decision 0036), worded for a refusal short of the part; empty
+    /// when there are none.
+    std::string left_out;
 
     JobOutcome done(int code) {
         rc = code;
@@ -563,7 +566,9 @@ struct JobOutcome {
                                 100.0 * report->finished_inside,
                                 report->finished_given ? "finished part" : "part",
                                 report->smallest_stock_mm, 100.0 * verify::kMinCoverage,
-                                narrow_features_hint(track_width_mm)),
+                                left_out.empty()
+                                    ? narrow_features_hint(track_width_mm)
+                                    : left_out + "; or " + narrow_features_hint(track_width_mm)),
                     "verifying the program"};
             }
         } else {
@@ -808,6 +813,15 @@ JobOutcome run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
     if (!w.kept) return done(refuse_unverified(o, *w.report, so));
     const std::optional<verify::Report>& report = w.report;
     r.program = std::move(w.text);
+    if (!plan.free_bodies.empty()) {
+        double v = 0.0;
+        for (const plan::FreeBody& b : plan.free_bodies) v += b.volume_mm3;
+        r.left_out = fmt::format(
+            "{} {} floating free of the rest, {:.0f} mm3, {} left out: nothing can be "
+            "deposited under them (move or join them to the part)",
+            plan.free_bodies.size(), plan.free_bodies.size() == 1 ? "body" : "bodies", v,
+            plan.free_bodies.size() == 1 ? "is" : "are");
+    }
     r.note_figures(report, p->uncovered_mm2, p->region_area_mm2, profiles.process.track_width_mm);
 
     const auto& sum = p->summary;
