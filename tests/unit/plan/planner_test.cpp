@@ -2,9 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <string>
+#include <vector>
 
 #include "maxslice/core/units.hpp"
 #include "maxslice/geom2d/wire_tree.hpp"
@@ -45,6 +47,24 @@ mesh::TriangleMesh bearing_seat() {
     const auto boss =
         translated(rotated(test::cylinder(5.0, 15.0, 48), {0, 1, 0}, 90.0), {20.0, 10.0, 15.0});
     return merged(box({0, 0, 0}, {20, 20, 30}), boss);
+}
+
+// Points on every triangle of a mesh, no two neighbours further apart than about `step` mm
+// (a grid over each triangle's barycentric coordinates).
+std::vector<Vec3d> surface_samples(const mesh::TriangleMesh& m, double step) {
+    std::vector<Vec3d> out;
+    for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+        const Vec3d a = m.corner(t, 0), b = m.corner(t, 1), c = m.corner(t, 2);
+        const double longest = std::max({core::norm(b - a), core::norm(c - b), core::norm(a - c)});
+        const int n = std::max(1, static_cast<int>(std::ceil(longest / step)));
+        for (int i = 0; i <= n; ++i) {
+            for (int j = 0; i + j <= n; ++j) {
+                const double u = static_cast<double>(i) / n, v = static_cast<double>(j) / n;
+                out.push_back(a + (b - a) * u + (c - a) * v);
+            }
+        }
+    }
+    return out;
 }
 
 PlanSettings planning_free_bodies() {
@@ -216,8 +236,54 @@ TEST(Planner, ABodyBesideASlopeWhoseBoxesMeetIsStillFree) {
     EXPECT_NEAR(p.free_bodies[0].volume_mm3, 64.0, 1e-6);
     EXPECT_GT(p.free_bodies[0].gap_mm, 0.05);
     // Moved onto the slope (its corner 1 mm into the wedge's box, touching the surface): kept.
-    const Plan touching = plan_of(merged(wedge, box({20, 8, 5}, {24, 12, 9})));
+    const mesh::TriangleMesh on_slope = box({20, 8, 5}, {24, 12, 9});
+    const Plan touching = plan_of(merged(wedge, on_slope));
     EXPECT_TRUE(touching.free_bodies.empty());
+
+    // Brute force, independent of the planner: along no direction of a fine sphere sample
+    // does the free cube's first layer (its material within a layer of its lowest point) lie
+    // within half a track, across the direction, of anything under it (the wedge's surface or
+    // the plate, within a layer below): no direction serves it. The cube on the slope is
+    // served (the search can find support where there is some).
+    const PlanSettings s = settings();
+    const std::vector<Vec3d> support = [&] {
+        std::vector<Vec3d> out = surface_samples(wedge, 0.5);
+        for (double x = -10.0; x <= 50.0; x += 0.5) {
+            for (double y = -10.0; y <= 30.0; y += 0.5) out.push_back({x, y, 0.0});  // plate
+        }
+        return out;
+    }();
+    const auto served_along = [&](const std::vector<Vec3d>& body, const Vec3d& d) {
+        double h0 = 1e300;
+        for (const Vec3d& x : body) h0 = std::min(h0, core::dot(x, d));
+        std::vector<Vec3d> first;
+        for (const Vec3d& x : body) {
+            if (core::dot(x, d) <= h0 + s.layer_mm) first.push_back(x);
+        }
+        for (const Vec3d& q : support) {
+            const double h = core::dot(q, d);
+            if (h < h0 - s.layer_mm || h > h0 + 1e-9) continue;
+            for (const Vec3d& x : first) {
+                const Vec3d across = (q - x) - d * core::dot(q - x, d);
+                if (core::norm(across) <= 0.5 * s.track_width_mm) return true;
+            }
+        }
+        return false;
+    };
+    const std::vector<Vec3d> free_cube = surface_samples(cube, 0.25);
+    const std::vector<Vec3d> touching_cube = surface_samples(on_slope, 0.25);
+    int served_free = 0, served_touching = 0;
+    constexpr int kDirections = 1000;
+    const double golden = std::numbers::pi * (3.0 - std::sqrt(5.0));
+    for (int k = 0; k < kDirections; ++k) {
+        const double z = 1.0 - (2.0 * k + 1.0) / kDirections;
+        const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
+        const Vec3d d{r * std::cos(golden * k), r * std::sin(golden * k), z};
+        served_free += served_along(free_cube, d) ? 1 : 0;
+        served_touching += served_along(touching_cube, d) ? 1 : 0;
+    }
+    EXPECT_EQ(served_free, 0);
+    EXPECT_GT(served_touching, 0);
 }
 
 // A column with two arms to +X at the same height: one sideways region builds both, and its
