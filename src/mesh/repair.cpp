@@ -14,6 +14,7 @@
 
 #include "maxslice/core/assert.hpp"
 #include "maxslice/core/tolerances.hpp"
+#include "maxslice/core/union_find.hpp"
 #include "maxslice/mesh/validation.hpp"
 #include "mesh_detail.hpp"
 
@@ -22,33 +23,7 @@ namespace {
 
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 
-// Union-find whose root is always the lowest index of its set (deterministic
-// representatives), with path halving.
-class UnionFind {
-public:
-    explicit UnionFind(std::size_t n) : parent_(n) {
-        for (std::size_t i = 0; i < n; ++i) parent_[i] = static_cast<std::uint32_t>(i);
-    }
-    std::uint32_t find(std::uint32_t v) {
-        while (parent_[v] != v) {
-            parent_[v] = parent_[parent_[v]];
-            v = parent_[v];
-        }
-        return v;
-    }
-    void unite(std::uint32_t a, std::uint32_t b) {
-        a = find(a);
-        b = find(b);
-        if (a < b) {
-            parent_[b] = a;
-        } else if (b < a) {
-            parent_[a] = b;
-        }
-    }
-
-private:
-    std::vector<std::uint32_t> parent_;
-};
+using core::UnionFind;
 
 std::vector<std::uint8_t> used_vertices(const TriangleMesh& mesh) {
     std::vector<std::uint8_t> used(mesh.vertices.size(), 0);
@@ -387,19 +362,14 @@ void orient(TriangleMesh& mesh, RepairReport& report) {
     if (nt == 0) return;
     const Adjacency adj = build_adjacency(mesh);
 
-    UnionFind bodies(mesh.vertices.size());
-    for (const Triangle& t : mesh.triangles) {
-        bodies.unite(t[0], t[1]);
-        bodies.unite(t[0], t[2]);
-    }
+    const std::vector<std::uint32_t> body = vertex_bodies(mesh);
     std::vector<std::uint8_t> body_nonmanifold(mesh.vertices.size(), 0);
     std::vector<std::uint8_t> body_seen(mesh.vertices.size(), 0);
     for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
-        if (adj.nonmanifold_vertex[v])
-            body_nonmanifold[bodies.find(static_cast<std::uint32_t>(v))] = 1;
+        if (adj.nonmanifold_vertex[v]) body_nonmanifold[body[v]] = 1;
     }
     for (const Triangle& t : mesh.triangles) {
-        const std::uint32_t root = bodies.find(t[0]);
+        const std::uint32_t root = body[t[0]];
         if (body_nonmanifold[root] && !body_seen[root]) ++report.unoriented_bodies;
         body_seen[root] = 1;
     }
@@ -413,7 +383,7 @@ void orient(TriangleMesh& mesh, RepairReport& report) {
     std::vector<std::uint8_t> flip(nt, 0);
     std::vector<std::uint32_t> queue;
     for (std::size_t seed = 0; seed < nt; ++seed) {
-        if (visited[seed] || body_nonmanifold[bodies.find(mesh.triangles[seed][0])]) continue;
+        if (visited[seed] || body_nonmanifold[body[mesh.triangles[seed][0]]]) continue;
         Shell shell;
         queue.assign(1, static_cast<std::uint32_t>(seed));
         visited[seed] = 1;

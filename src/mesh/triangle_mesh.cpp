@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <limits>
@@ -9,6 +10,7 @@
 #include <utility>
 
 #include "maxslice/core/assert.hpp"
+#include "maxslice/core/union_find.hpp"
 #include "mesh_detail.hpp"
 
 #if defined(__linux__)
@@ -288,41 +290,39 @@ void transform(TriangleMesh& mesh, const std::array<double, 12>& m) {
     }
 }
 
+std::vector<core::Vec3d> surface_samples(const TriangleMesh& mesh, double spacing_mm) {
+    std::vector<core::Vec3d> out;
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+        const core::Vec3d a = mesh.corner(t, 0), b = mesh.corner(t, 1), c = mesh.corner(t, 2);
+        const double longest = std::max({core::norm(b - a), core::norm(c - b), core::norm(a - c)});
+        const int n = std::max(1, static_cast<int>(std::ceil(longest / spacing_mm)));
+        for (int i = 0; i <= n; ++i) {
+            for (int j = 0; i + j <= n; ++j) {
+                const double u = static_cast<double>(i) / n, v = static_cast<double>(j) / n;
+                out.push_back(a + (b - a) * u + (c - a) * v);
+            }
+        }
+    }
+    return out;
+}
+
 std::vector<std::uint32_t> vertex_bodies(const TriangleMesh& mesh) {
-    // Union-find, path halving, the smaller index becomes the root.
     constexpr std::size_t kPrefetchAhead = 8;
-    std::vector<std::uint32_t> parent(mesh.vertices.size());
-    for (std::size_t v = 0; v < parent.size(); ++v) parent[v] = static_cast<std::uint32_t>(v);
-    const auto find = [&](std::uint32_t v) {
-        while (parent[v] != v) {
-            parent[v] = parent[parent[v]];
-            v = parent[v];
-        }
-        return v;
-    };
-    const auto unite = [&](std::uint32_t a, std::uint32_t b) {
-        a = find(a);
-        b = find(b);
-        if (a < b) {
-            parent[b] = a;
-        } else if (b < a) {
-            parent[a] = b;
-        }
-    };
+    core::UnionFind sets(mesh.vertices.size());
     const std::size_t nt = mesh.triangles.size();
     for (std::size_t i = 0; i < nt; ++i) {
         const Triangle& t = mesh.triangles[i];
         if (i + kPrefetchAhead < nt) {
-            for (std::uint32_t w : mesh.triangles[i + kPrefetchAhead]) {
-                __builtin_prefetch(&parent[w], 1);
-            }
+            for (std::uint32_t w : mesh.triangles[i + kPrefetchAhead]) sets.prefetch(w);
         }
-        MAXSLICE_ASSERT(t[0] < parent.size() && t[1] < parent.size() && t[2] < parent.size());
-        unite(t[0], t[1]);
-        unite(t[0], t[2]);
+        MAXSLICE_ASSERT(t[0] < sets.size() && t[1] < sets.size() && t[2] < sets.size());
+        sets.unite(t[0], t[1]);
+        sets.unite(t[0], t[2]);
     }
-    for (std::size_t v = 0; v < parent.size(); ++v) parent[v] = find(static_cast<std::uint32_t>(v));
-    return parent;
+    std::vector<std::uint32_t> body(mesh.vertices.size());
+    for (std::size_t v = 0; v < body.size(); ++v)
+        body[v] = sets.find(static_cast<std::uint32_t>(v));
+    return body;
 }
 
 void append(TriangleMesh& a, const TriangleMesh& b) {

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "cell.hpp"
+#include "maxslice/core/union_find.hpp"
 #include "maxslice/core/units.hpp"
 #include "maxslice/geom2d/wire_tree.hpp"
 #include "planner_state.hpp"
@@ -46,26 +47,6 @@ struct Island {
     geom2d::Paths2 paths;
     geom2d::Point2 lo;
     geom2d::Point2 hi;
-};
-
-class UnionFind {
-public:
-    explicit UnionFind(std::size_t n) : up_(n) { std::iota(up_.begin(), up_.end(), 0); }
-    std::size_t find(std::size_t a) {
-        while (up_[a] != a) {
-            up_[a] = up_[up_[a]];
-            a = up_[a];
-        }
-        return a;
-    }
-    void join(std::size_t a, std::size_t b) {
-        a = find(a);
-        b = find(b);
-        if (a != b) up_[std::max(a, b)] = std::min(a, b);  // the smaller index leads
-    }
-
-private:
-    std::vector<std::size_t> up_;
 };
 
 bool boxes_overlap(const Island& a, const Island& b) {
@@ -156,14 +137,17 @@ core::Result<std::vector<HalfSpace>> Planner::far_feature_bounds(const Region& c
     if (islands.size() < 2) return std::vector<HalfSpace>{};
 
     // Connected through the slices: an island on one it overlaps in the slice below.
-    UnionFind uf(islands.size());
+    core::UnionFind uf(islands.size());
+    const auto root = [&](std::size_t i) -> std::size_t {
+        return uf.find(static_cast<std::uint32_t>(i));
+    };
     for (std::size_t i = 1; i < slices.size(); ++i) {
         for (std::size_t a = first_of[i]; a < first_of[i + 1]; ++a) {
             for (std::size_t b = first_of[i - 1]; b < first_of[i]; ++b) {
-                if (uf.find(a) == uf.find(b) || !boxes_overlap(islands[a], islands[b])) continue;
+                if (root(a) == root(b) || !boxes_overlap(islands[a], islands[b])) continue;
                 if (geom2d::signed_area_mm2(
                         geom2d::intersection_of(islands[a].paths, islands[b].paths)) > 0.0) {
-                    uf.join(a, b);
+                    uf.unite(static_cast<std::uint32_t>(a), static_cast<std::uint32_t>(b));
                 }
             }
         }
@@ -189,7 +173,7 @@ core::Result<std::vector<HalfSpace>> Planner::far_feature_bounds(const Region& c
                 const geom2d::ClosestPoint c = geom2d::closest_region_point(
                     islands[k].paths, {static_cast<double>(q.x), static_cast<double>(q.y)});
                 if (c.distance_um <= reach_um) {
-                    own_root[uf.find(k)] = 1;
+                    own_root[root(k)] = 1;
                     any_own = true;
                 }
             }
@@ -202,7 +186,7 @@ core::Result<std::vector<HalfSpace>> Planner::far_feature_bounds(const Region& c
     std::vector<std::size_t> roots{kNoRoot};
     std::vector<std::vector<std::size_t>> members(1);
     for (std::size_t k = 0; k < islands.size(); ++k) {
-        const std::size_t r = uf.find(k);
+        const std::size_t r = root(k);
         std::size_t g = 0;
         if (own_root[r] == 0) {
             g = static_cast<std::size_t>(std::find(roots.begin(), roots.end(), r) - roots.begin());

@@ -93,8 +93,10 @@ FreeBodies free_bodies(const mesh::TriangleMesh& mesh, const core::Vec3d& direct
     std::vector<char> free(bodies.size(), 0);
     std::size_t tested = 0;
     for (std::size_t i = 0; i < bodies.size(); ++i) {
-        // On the plate: its lowest point within half a layer of the part's.
-        if (bodies[i].lowest - plate <= 0.5 * s.layer_mm) continue;
+        // On the plate: its lowest point within half a layer of the part's, or within the
+        // footing's height (decision 0017: pads from the plate up to it carry what starts
+        // there, a sphere's underside a millimetre up).
+        if (bodies[i].lowest - plate <= std::max(0.5 * s.layer_mm, s.footing_mm)) continue;
         double gap = 1e300;
         for (std::size_t j = 0; j < bodies.size(); ++j) {
             if (j != i) gap = std::min(gap, box_gap(bodies[i].box, bodies[j].box));

@@ -15,7 +15,8 @@ struct FreeBodies {
 };
 
 /// The bodies of `mesh` that stand neither on the plate (their lowest point along `direction`
-/// more than half a layer above the part's) nor touch another body (no other body's triangle
+/// more than half a layer, and more than the footing's height, above the part's) nor touch
+/// another body (no other body's triangle
 /// within 0.05 mm of their bounding box).
 [[nodiscard]] FreeBodies free_bodies(const mesh::TriangleMesh& mesh, const core::Vec3d& direction,
                                      const PlanSettings& s);

@@ -85,22 +85,6 @@ PointCloud::PointCloud(std::vector<core::Vec3d> points) : points_(std::move(poin
     tree_ = BoxTree(points_, points_);
 }
 
-std::vector<Vec3d> surface_points(const mesh::TriangleMesh& mesh, double spacing_mm) {
-    std::vector<Vec3d> out;
-    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-        const Vec3d a = mesh.corner(t, 0), b = mesh.corner(t, 1), c = mesh.corner(t, 2);
-        const double longest = std::max({core::norm(b - a), core::norm(c - b), core::norm(a - c)});
-        const int n = std::max(1, static_cast<int>(std::ceil(longest / spacing_mm)));
-        for (int i = 0; i <= n; ++i) {
-            for (int j = 0; i + j <= n; ++j) {
-                const double u = static_cast<double>(i) / n, v = static_cast<double>(j) / n;
-                out.push_back(a + (b - a) * u + (c - a) * v);
-            }
-        }
-    }
-    return out;
-}
-
 std::vector<Vec3d> boundary_points(const geom2d::Paths2& paths, const slice::PlaneFrame& frame,
                                    double spacing_mm, double lift_mm) {
     std::vector<Vec3d> out;
@@ -226,7 +210,7 @@ double Planner::reach_spacing() const {
 ReachScene Planner::reach_scene(int lower, PointCloud& top) {
     const Layer& l = plan_.layers[static_cast<std::size_t>(lower)];
     const double spacing = reach_spacing();
-    if (!surface_) surface_.emplace(surface_points(mesh_, spacing));
+    if (!surface_) surface_.emplace(mesh::surface_samples(mesh_, spacing));
     top = PointCloud(interior_points(l.wires.paths(), l.plane, spacing, l.span.top - l.span.cut));
     return ReachScene{&*surface_, l.top.shifted(-s_.layer_mm / 2), &top,
                       plan_.regions.front().base};

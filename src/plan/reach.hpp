@@ -31,11 +31,6 @@ private:
     BoxTree tree_;
 };
 
-/// Points on every triangle of the mesh, no two neighbours further apart than spacing_mm
-/// (the corners, and a grid over the triangle's barycentric coordinates). Deterministic.
-[[nodiscard]] std::vector<core::Vec3d> surface_points(const mesh::TriangleMesh& mesh,
-                                                      double spacing_mm);
-
 /// Points along the closed paths (plane frame, um), lifted onto `frame` moved by `lift_mm`
 /// along its normal, no two neighbours further apart than spacing_mm.
 [[nodiscard]] std::vector<core::Vec3d> boundary_points(const geom2d::Paths2& paths,

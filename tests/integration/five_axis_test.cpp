@@ -183,6 +183,18 @@ fs::path zeroed_copy(const fs::path& profile, const fs::path& dir,
     return copy;
 }
 
+// A copy of the profile named `name` in dir, with the first `from` in its text made `to`.
+fs::path replaced_copy(const fs::path& profile, const fs::path& dir, const std::string& name,
+                       const std::string& from, const std::string& to) {
+    std::string text = slurp(profile);
+    const std::size_t at = text.find(from);
+    EXPECT_NE(at, std::string::npos) << from << " in " << profile;
+    if (at != std::string::npos) text.replace(at, from.size(), to);
+    const fs::path copy = dir / name;
+    std::ofstream(copy) << text;
+    return copy;
+}
+
 fs::path net_shape_copy(const fs::path& profile, const fs::path& dir) {
     return zeroed_copy(profile, dir, {"machining_stock_mm", "fill_below_mm"}, "_net_shape");
 }
@@ -371,13 +383,8 @@ TEST(FiveAxis, TheProfilesClearanceIsKeptByTheHeadBody) {
 
     // The same program against a head asking for 6 mm: it touches nothing, but the body
     // passes closer than that; the verifier says so apart from contact, and fails it.
-    std::string text = slurp(profile);
-    const std::string from = "clearance_mm = 2.0";
-    const auto pos = text.find(from);
-    ASSERT_NE(pos, std::string::npos);
-    text.replace(pos, from.size(), "clearance_mm = 6.0");
-    const fs::path wide = dir / "wide_clearance.toml";
-    std::ofstream(wide) << text;
+    const fs::path wide = replaced_copy(profile, dir, "wide_clearance.toml", "clearance_mm = 2.0",
+                                        "clearance_mm = 6.0");
     const VerifyRun w = run_verify(program, part, wide, dir / "wide.json");
     EXPECT_NE(w.run.exit_code, 0) << w.run.out;
     ASSERT_TRUE(w.report.is_object());
@@ -677,14 +684,8 @@ TEST(FiveAxis, TheLargeCellHasTheReferenceHeadAndProcesses) {
 // A profile (the reference one by default) with a nozzle of 60 degree half angle, written into
 // dir.
 fs::path wide_nozzle_profile(const fs::path& dir, const fs::path& from_profile = kReference5) {
-    std::string text = slurp(from_profile);
-    const std::string from = "half_angle_deg = 30.0";
-    const auto pos = text.find(from);
-    if (pos == std::string::npos) throw std::runtime_error("no half_angle_deg in the profile");
-    text.replace(pos, from.size(), "half_angle_deg = 60.0");
-    const fs::path profile = dir / "wide.toml";
-    std::ofstream(profile) << text;
-    return profile;
+    return replaced_copy(from_profile, dir, "wide.toml", "half_angle_deg = 30.0",
+                         "half_angle_deg = 60.0");
 }
 
 // A part whose footprint reaches beyond the substrate plate on every base is refused before it
@@ -752,13 +753,9 @@ TEST(FiveAxis, ABodyFloatingFreeIsRefusedNamingWhereItStarts) {
         EXPECT_NE(r.err.find("1 body floating free of the rest"), std::string::npos) << r.err;
         EXPECT_NE(r.err.find("under the 97%"), std::string::npos) << r.err;
     }
-    std::string text = slurp(kReference5);
-    const std::string key = "leave_out_free_bodies = true";
-    const auto pos = text.find(key);
-    ASSERT_NE(pos, std::string::npos);
-    text.replace(pos, key.size(), "leave_out_free_bodies = false");
-    const fs::path keeping = dir / "keeping.toml";
-    std::ofstream(keeping) << text;
+    const fs::path keeping =
+        replaced_copy(kReference5, dir, "keeping.toml", "leave_out_free_bodies = true",
+                      "leave_out_free_bodies = false");
     const CliRun r = run_cli({"slice", stl.string(), "--profile", keeping.string(), "--orient",
                               "given", "-o", program.string()});
     EXPECT_EQ(r.exit_code, 2) << r.out << r.err;

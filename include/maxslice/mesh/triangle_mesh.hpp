@@ -48,6 +48,10 @@ void transform(TriangleMesh& mesh, const std::array<double, 12>& affine);
 /// Appends b's triangles to a (vertices are not shared).
 void append(TriangleMesh& a, const TriangleMesh& b);
 
+/// Points on every triangle of the mesh, no two neighbours further apart than spacing_mm
+/// (the corners, and a grid over the triangle's barycentric coordinates). Deterministic.
+[[nodiscard]] std::vector<core::Vec3d> surface_samples(const TriangleMesh& mesh, double spacing_mm);
+
 /// The body of every vertex: the smallest vertex index of its connected component (triangles
 /// that share a vertex are connected); a vertex no triangle uses is its own body.
 [[nodiscard]] std::vector<std::uint32_t> vertex_bodies(const TriangleMesh& mesh);

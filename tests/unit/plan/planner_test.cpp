@@ -49,24 +49,6 @@ mesh::TriangleMesh bearing_seat() {
     return merged(box({0, 0, 0}, {20, 20, 30}), boss);
 }
 
-// Points on every triangle of a mesh, no two neighbours further apart than about `step` mm
-// (a grid over each triangle's barycentric coordinates).
-std::vector<Vec3d> surface_samples(const mesh::TriangleMesh& m, double step) {
-    std::vector<Vec3d> out;
-    for (std::size_t t = 0; t < m.triangles.size(); ++t) {
-        const Vec3d a = m.corner(t, 0), b = m.corner(t, 1), c = m.corner(t, 2);
-        const double longest = std::max({core::norm(b - a), core::norm(c - b), core::norm(a - c)});
-        const int n = std::max(1, static_cast<int>(std::ceil(longest / step)));
-        for (int i = 0; i <= n; ++i) {
-            for (int j = 0; i + j <= n; ++j) {
-                const double u = static_cast<double>(i) / n, v = static_cast<double>(j) / n;
-                out.push_back(a + (b - a) * u + (c - a) * v);
-            }
-        }
-    }
-    return out;
-}
-
 PlanSettings planning_free_bodies() {
     PlanSettings s = settings();
     s.leave_out_free_bodies = false;
@@ -217,6 +199,13 @@ TEST(Planner, ABodyThatTouchesNothingIsLeftOutAndListed) {
         EXPECT_TRUE(p.free_bodies.empty());
         EXPECT_NEAR(p.volume_mm3(), 16000.0, 10.0);  // both, to the slicing's rounding
     }
+    // A block 0.8 mm above the plate stands on the footing's pads (decision 0017: laid up to
+    // 1 mm by default); without a footing it floats free.
+    const mesh::TriangleMesh low = box({40, 0, 0.8}, {60, 20, 20});
+    EXPECT_TRUE(plan_of(merged(part, low)).free_bodies.empty());
+    PlanSettings no_footing = settings();
+    no_footing.footing_mm = 0.0;
+    EXPECT_EQ(plan_of(merged(part, low), {0, 0, 1}, no_footing).free_bodies.size(), 1u);
     // Stood on its side (along +X) the stacked blocks both stand on the plate.
     const Plan side = plan_of(merged(part, box({0, 0, 25}, {20, 20, 45})), {1, 0, 0});
     EXPECT_TRUE(side.free_bodies.empty());
@@ -247,7 +236,7 @@ TEST(Planner, ABodyBesideASlopeWhoseBoxesMeetIsStillFree) {
     // served (the search can find support where there is some).
     const PlanSettings s = settings();
     const std::vector<Vec3d> support = [&] {
-        std::vector<Vec3d> out = surface_samples(wedge, 0.5);
+        std::vector<Vec3d> out = mesh::surface_samples(wedge, 0.5);
         for (double x = -10.0; x <= 50.0; x += 0.5) {
             for (double y = -10.0; y <= 30.0; y += 0.5) out.push_back({x, y, 0.0});  // plate
         }
@@ -270,8 +259,8 @@ TEST(Planner, ABodyBesideASlopeWhoseBoxesMeetIsStillFree) {
         }
         return false;
     };
-    const std::vector<Vec3d> free_cube = surface_samples(cube, 0.25);
-    const std::vector<Vec3d> touching_cube = surface_samples(on_slope, 0.25);
+    const std::vector<Vec3d> free_cube = mesh::surface_samples(cube, 0.25);
+    const std::vector<Vec3d> touching_cube = mesh::surface_samples(on_slope, 0.25);
     int served_free = 0, served_touching = 0;
     constexpr int kDirections = 1000;
     const double golden = std::numbers::pi * (3.0 - std::sqrt(5.0));
