@@ -60,6 +60,12 @@ FreeBodies free_bodies(const mesh::TriangleMesh& mesh, const core::Vec3d& direct
                        const PlanSettings& s) {
     FreeBodies out;
     const std::vector<std::uint32_t> body = mesh::vertex_bodies(mesh);
+    // One body (most parts): nothing to compare, no pass over the triangles.
+    if (std::all_of(mesh.triangles.begin(), mesh.triangles.end(), [&](const mesh::Triangle& t) {
+            return body[t[0]] == body[mesh.triangles.front()[0]];
+        })) {
+        return out;
+    }
     // Bodies in the order of their first triangles.
     std::vector<int> index(mesh.vertices.size(), -1);
     struct Body {
