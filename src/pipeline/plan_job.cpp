@@ -530,6 +530,7 @@ std::string plan_json(const PlannedPart& planned, const PreparedPart& part) {
             }
             if (d.head_checked) {
                 dj["head"] = {{"lean_deg", d.split_lean_deg},
+                              {"turn_deg", d.split_turn_deg},
                               {"margin_mm", d.head_margin_mm},
                               {"sideways_margin_mm", d.seed_margin_mm},
                               {"clears", d.head_clears}};

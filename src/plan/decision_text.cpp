@@ -13,6 +13,15 @@
 #include "planner_state.hpp"
 
 namespace maxslice::plan {
+namespace {
+
+// "turned 20 deg about the layer's normal, then " for a split direction turned first.
+std::string turn_words(double turn_deg) {
+    if (turn_deg == 0.0) return {};
+    return fmt::format("turned {:.0f} deg about the lower layer's normal, then ", turn_deg);
+}
+
+}  // namespace
 
 std::string describe(const Plan& plan, const Decision& d) {
     const PlanSettings& s = plan.settings;
@@ -29,12 +38,13 @@ std::string describe(const Plan& plan, const Decision& d) {
                     "it and the plate (closest {:.2f} mm): the build order and the verifier "
                     "decide",
                     s.head->clearance_mm, d.head_margin_mm);
-            } else if (d.head_checked && d.split_lean_deg > 0.0) {
+            } else if (d.moved_for_reach()) {
                 reach = fmt::format(
-                    " (leaned up {:.0f} deg from the sideways direction, where the head would "
-                    "come within {:.2f} mm of what is built before it or the plate; leaned, it "
+                    " ({}leaned up {:.0f} deg from the sideways direction, where the head would "
+                    "come within {:.2f} mm of what is built before it or the plate; so moved, it "
                     "keeps its {:.2f} mm clearance)",
-                    d.split_lean_deg, d.seed_margin_mm, s.head->clearance_mm);
+                    turn_words(d.split_turn_deg), d.split_lean_deg, d.seed_margin_mm,
+                    s.head->clearance_mm);
             }
             if (s.max_tilt_deg < 180.0 && !plan.regions.empty() &&
                 angle_deg(ns, plan.regions.front().direction) > s.max_tilt_deg - 1e-6) {
@@ -165,9 +175,9 @@ std::string describe_refusal(const Plan& plan, const BuildOrder& order, const No
             "In the way: region {}, the overhang of {:.1f} mm2 at ({:.2f}, {:.2f}, {:.2f}) built "
             "along ({:.3f}, {:.3f}, {:.3f})",
             rid, p.area_mm2, p.C.x, p.C.y, p.C.z, r.direction.x, r.direction.y, r.direction.z);
-        if (made->head_checked && made->split_lean_deg > 0.0) {
-            out += fmt::format(", leaned up {:.0f} deg from its sideways direction",
-                               made->split_lean_deg);
+        if (made->moved_for_reach()) {
+            out += fmt::format(", {}leaned up {:.0f} deg from its sideways direction",
+                               turn_words(made->split_turn_deg), made->split_lean_deg);
         }
         if (made->head_checked && !made->head_clears) {
             out += fmt::format(

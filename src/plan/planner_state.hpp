@@ -17,6 +17,7 @@
 #include <expected>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "maxslice/core/progress.hpp"
@@ -148,6 +149,7 @@ private:
     [[nodiscard]] bool leaned_by_reach(int rid) const;
     [[nodiscard]] double reach_spacing() const;
     ReachScene reach_scene(int lower, PointCloud& top);
+    [[nodiscard]] std::vector<std::pair<int, int>> lineage(int lower) const;
 
     // footing.cpp
     bool retry_footing(int rid, int ref);

@@ -156,37 +156,42 @@ core::Result<ReachChoice> choose_by_reach(
     const double enough = wanted + 1.0;
     ReachChoice out;
     out.direction = candidates.front().direction;
-    // The direction with the largest margin, for when none keeps the slack too.
-    ReachChoice best;
-    best.margin_mm = -std::numeric_limits<double>::infinity();
-    for (std::size_t k = 0; k < candidates.size(); ++k) {
-        const ReachCandidate& c = candidates[k];
+    std::vector<double> margins;
+    margins.reserve(candidates.size());
+    for (const ReachCandidate& c : candidates) {
         auto apexes = apexes_along(c.direction);
         if (!apexes) return std::unexpected(apexes.error());
         const double m = reach_margin(nozzle, scene, *apexes, c.direction, enough);
-        if (k == 0) {
+        if (margins.empty()) {
             out.seed_margin_mm = m;
             out.margin_mm = m;
         }
-        if (m >= wanted) {
-            out.direction = c.direction;
-            out.lean_deg = c.lean_deg;
-            out.margin_mm = m;
-            out.clears = true;
-            return out;
-        }
-        if (m > best.margin_mm) {
-            best.direction = c.direction;
-            best.lean_deg = c.lean_deg;
-            best.margin_mm = m;
+        margins.push_back(m);
+        if (m >= wanted) break;
+    }
+    // Among those within the samples' slack of the largest margin, if that keeps the
+    // clearance: the least turned, then the most leaned (the most room from the head for
+    // the least change of the seed's direction). Margins closer than the slack are one to the
+    // samples: taking the largest of them would let a sample's error pick the direction (a
+    // part turned about Z would then split differently).
+    const double largest = *std::max_element(margins.begin(), margins.end());
+    if (largest < nozzle.clearance_mm) return out;
+    const double good = std::max(nozzle.clearance_mm, std::min(wanted, largest - slack_mm));
+    std::size_t pick = margins.size();
+    for (std::size_t k = 0; k < margins.size(); ++k) {
+        if (margins[k] < good) continue;
+        const ReachCandidate& c = candidates[k];
+        if (pick == margins.size() ||
+            std::make_pair(std::abs(c.turn_deg), -c.lean_deg) <
+                std::make_pair(std::abs(candidates[pick].turn_deg), -candidates[pick].lean_deg)) {
+            pick = k;
         }
     }
-    if (best.margin_mm >= nozzle.clearance_mm) {
-        out.direction = best.direction;
-        out.lean_deg = best.lean_deg;
-        out.margin_mm = best.margin_mm;
-        out.clears = true;
-    }
+    out.direction = candidates[pick].direction;
+    out.lean_deg = candidates[pick].lean_deg;
+    out.turn_deg = candidates[pick].turn_deg;
+    out.margin_mm = margins[pick];
+    out.clears = true;
     return out;
 }
 
@@ -203,22 +208,58 @@ double Planner::reach_spacing() const {
     return std::max(0.5, s_.track_width_mm / 2);
 }
 
+// The layers a layer stands on, region by region down to the plate: (region, its last layer
+// in the chain) for the layer's own region, then for the region that one grew from, and so on.
+// Every layer of the chain is laid before a region split off above `lower`.
+std::vector<std::pair<int, int>> Planner::lineage(int lower) const {
+    std::vector<std::pair<int, int>> out;
+    int layer = lower;
+    while (layer >= 0 && out.size() <= plan_.regions.size()) {
+        const int r = plan_.layers[static_cast<std::size_t>(layer)].region;
+        out.emplace_back(r, layer);
+        const auto grew =
+            std::find_if(plan_.decisions.begin(), plan_.decisions.end(), [&](const Decision& d) {
+                return d.new_region == r || d.continuation == r ||
+                       std::find(d.far_regions.begin(), d.far_regions.end(), r) !=
+                           d.far_regions.end();
+            });
+        if (grew == plan_.decisions.end() || grew->layer == layer) break;
+        layer = grew->layer;
+    }
+    return out;
+}
+
 // What the head must clear while a region split above layer `lower` is built (s_.head set):
 // the part's surface half a layer under L's top (the layer's own top is `top`, and a body
 // that only touches that plane from above, the underside of the overhang itself, is not built
-// yet), L's top face, and the plate.
+// yet), L's top face, the surface of the regions L stands on (after sideways splits, much of
+// that lies in front of L's plane: decision 0029), and the plate.
 ReachScene Planner::reach_scene(int lower, PointCloud& top) {
     const Layer& l = plan_.layers[static_cast<std::size_t>(lower)];
     const double spacing = reach_spacing();
     if (!surface_) surface_.emplace(mesh::surface_samples(mesh_, spacing));
-    top = PointCloud(interior_points(l.wires.paths(), l.plane, spacing, l.span.top - l.span.cut));
-    return ReachScene{&*surface_, l.top.shifted(-s_.layer_mm / 2), &top,
-                      plan_.regions.front().base};
+    const slice::PlaneFrame built_below = l.top.shifted(-s_.layer_mm / 2);
+    std::vector<Vec3d> extra =
+        interior_points(l.wires.paths(), l.plane, spacing, l.span.top - l.span.cut);
+    const auto chain = lineage(lower);
+    for (const Vec3d& q : surface_->points()) {
+        if (built_below.height(q) <= kBuiltSlackMm) continue;  // in the scene already
+        const bool laid = std::any_of(chain.begin(), chain.end(), [&](const auto& rl) {
+            const Region& r = plan_.regions[static_cast<std::size_t>(rl.first)];
+            const Layer& last = plan_.layers[static_cast<std::size_t>(rl.second)];
+            return last.top.height(q) <= -s_.layer_mm / 2 &&
+                   std::all_of(r.cell.begin(), r.cell.end(),
+                               [&](const HalfSpace& h) { return h.contains(q); });
+        });
+        if (laid) extra.push_back(q);
+    }
+    top = PointCloud(std::move(extra));
+    return ReachScene{&*surface_, built_below, &top, plan_.regions.front().base};
 }
 
 bool Planner::leaned_by_reach(int rid) const {
     return std::any_of(plan_.decisions.begin(), plan_.decisions.end(), [&](const Decision& d) {
-        if (d.new_region == rid) return d.head_checked && d.split_lean_deg > 0.0;
+        if (d.new_region == rid) return d.moved_for_reach();
         // A leaned region split again goes on along its direction in its continuation, which
         // must not march either: its tilted layers would turn the head back onto what the
         // lean cleared.
@@ -250,43 +291,58 @@ core::Result<ReachChoice> Planner::direction_by_reach(int lower, const OverhangP
     // direction (away from the plate). Each within the table's tilt range, each once.
     const Vec3d up = plan_.regions.front().direction;
     const Vec3d seed = within_tilt(ns);
-    std::vector<ReachCandidate> candidates{{seed, 0.0}};
-    for (const Vec3d& towards : {l.top.normal, up}) {
-        for (const double a : {15.0, 30.0, 40.0, 45.0, 50.0, 60.0}) {
-            if (a > max_lean + 1e-9) break;
-            const Vec3d d = within_tilt(leaned(seed, towards, a));
-            const bool seen = std::any_of(candidates.begin(), candidates.end(), [&](const auto& c) {
-                return angle_deg(c.direction, d) < kSameTowardsDeg;
-            });
-            if (!seen) candidates.push_back({d, a});
-        }
-    }
-    return choose_by_reach(
-        *s_.head, scene, candidates, slack,
-        [&](const Vec3d& d) -> core::Result<std::vector<Vec3d>> {
-            std::vector<HalfSpace> c = cell;
-            c.push_back({p.contact_center, d});
-            const slice::PlaneFrame base = slice::PlaneFrame::from_normal(p.contact_center, d);
-            const double hi = slice::extent_along(mesh_, base).second;
-            std::vector<Vec3d> apexes;
-            if (!(hi > 0.0)) return apexes;
-            const int planes =
-                std::clamp(static_cast<int>(std::ceil(hi / s_.layer_mm)), 1, kReachPlanes);
-            for (int k = 0; k < planes; ++k) {
-                // The region's first layer, then evenly up to its top.
-                const double first = std::min(s_.layer_mm / 2, hi / 2);
-                const double at = planes == 1 ? first : first + (hi - first) * k / (planes - 1);
-                const slice::PlaneFrame plane = base.shifted(at);
-                auto cut = sections_->section(plane, s_.layer_mm);
-                if (!cut) return std::unexpected(cut.error());
-                const geom2d::Paths2 clipped = clip_to_cell(*cut, c, plane);
-                // The melt pool lies on the top of the layer being laid.
-                const std::vector<Vec3d> pts =
-                    boundary_points(clipped, plane, spacing, s_.layer_mm / 2);
-                apexes.insert(apexes.end(), pts.begin(), pts.end());
-            }
-            return apexes;
+    std::vector<ReachCandidate> candidates{{seed, 0.0, 0.0}};
+    const auto add = [&](const Vec3d& d, double lean, double turn) {
+        const bool seen = std::any_of(candidates.begin(), candidates.end(), [&](const auto& c) {
+            return angle_deg(c.direction, d) < kSameTowardsDeg;
         });
+        if (!seen) candidates.push_back({d, lean, turn});
+    };
+    const auto leans_of = [&](const Vec3d& from, double turn) {
+        for (const Vec3d& towards : {l.top.normal, up}) {
+            for (const double a : {15.0, 30.0, 40.0, 45.0, 50.0, 60.0}) {
+                if (a > max_lean + 1e-9) break;
+                add(within_tilt(leaned(from, towards, a)), a, turn);
+            }
+        }
+    };
+    leans_of(seed, 0.0);
+    const auto apexes_along = [&](const Vec3d& d) -> core::Result<std::vector<Vec3d>> {
+        std::vector<HalfSpace> c = cell;
+        c.push_back({p.contact_center, d});
+        const slice::PlaneFrame base = slice::PlaneFrame::from_normal(p.contact_center, d);
+        const double hi = slice::extent_along(mesh_, base).second;
+        std::vector<Vec3d> apexes;
+        if (!(hi > 0.0)) return apexes;
+        const int planes =
+            std::clamp(static_cast<int>(std::ceil(hi / s_.layer_mm)), 1, kReachPlanes);
+        for (int k = 0; k < planes; ++k) {
+            // The region's first layer, then evenly up to its top.
+            const double first = std::min(s_.layer_mm / 2, hi / 2);
+            const double at = planes == 1 ? first : first + (hi - first) * k / (planes - 1);
+            const slice::PlaneFrame plane = base.shifted(at);
+            auto cut = sections_->section(plane, s_.layer_mm);
+            if (!cut) return std::unexpected(cut.error());
+            const geom2d::Paths2 clipped = clip_to_cell(*cut, c, plane);
+            // The melt pool lies on the top of the layer being laid.
+            const std::vector<Vec3d> pts =
+                boundary_points(clipped, plane, spacing, s_.layer_mm / 2);
+            apexes.insert(apexes.end(), pts.begin(), pts.end());
+        }
+        return apexes;
+    };
+    // Then N_s turned about L's normal towards either side, and those leaned up again (the
+    // piece grows aslant: its sides overhang by the turn); tried only when no lean of N_s
+    // itself keeps the clearance and the samples' slack.
+    for (const double az : {20.0, -20.0, 40.0, -40.0}) {
+        const double a = az * std::numbers::pi / 180.0;
+        const Vec3d n = l.top.normal;
+        const Vec3d turned =
+            within_tilt(core::normalized(ns * std::cos(a) + core::cross(n, ns) * std::sin(a)));
+        add(turned, 0.0, az);
+        leans_of(turned, az);
+    }
+    return choose_by_reach(*s_.head, scene, candidates, slack, apexes_along);
 }
 
 }  // namespace maxslice::plan::detail

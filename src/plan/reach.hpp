@@ -69,15 +69,18 @@ struct ReachScene {
 struct ReachChoice {
     core::Vec3d direction;        ///< the direction kept
     double lean_deg = 0.0;        ///< its lean from the seed's N_s towards the old direction
+    double turn_deg = 0.0;        ///< N_s turned about L's normal by this first (signed)
     double margin_mm = 0.0;       ///< the head's smallest margin along it (capped)
     double seed_margin_mm = 0.0;  ///< along N_s itself
     bool clears = false;          ///< margin_mm >= the nozzle's clearance
 };
 
-/// A direction to try: the seed's N_s (lean_deg 0) or N_s leaned by lean_deg.
+/// A direction to try: the seed's N_s (lean_deg 0) or N_s leaned by lean_deg, after turning
+/// it about L's normal by turn_deg.
 struct ReachCandidate {
     core::Vec3d direction;
     double lean_deg = 0.0;
+    double turn_deg = 0.0;
 };
 
 /// Tries the candidates in turn (the first is N_s itself), and keeps the first along which

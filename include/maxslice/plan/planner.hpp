@@ -136,6 +136,13 @@ struct Decision {
     /// clearance), and whether it keeps the clearance. head_checked false: not checked.
     bool head_checked = false;
     double split_lean_deg = 0.0;
+    /// How far N_s was turned about L's normal first (signed, deg; 0: not turned). A turn is
+    /// tried only when no lean of N_s itself keeps the clearance.
+    double split_turn_deg = 0.0;
+    /// Whether the head's reach moved the new region's direction off N_s (lean or turn).
+    [[nodiscard]] bool moved_for_reach() const {
+        return head_checked && (split_lean_deg > 0.0 || split_turn_deg != 0.0);
+    }
     double head_margin_mm = 0.0;
     double seed_margin_mm = 0.0;
     bool head_clears = true;
