@@ -438,6 +438,42 @@ TEST(PlanCli, EveryFirstPieceOfTheHelicalRingsSidewaysRegionsRestsOnAnotherRegio
     EXPECT_GT(pieces, 1);
 }
 
+// NIST FTC-10 as given (decision 0037): its third region grows from a region built sideways,
+// whose own base region lies in front of the lower layer's plane; checked against the regions
+// the lower layer stands on, no lean of the sideways direction kept the head's clearance and
+// a direction turned about the lower layer's normal does. The plan has a collision-free order
+// and no layer on nothing (refused before: a region pointing down, the head 16 mm into the
+// part), and every split that says its head clears keeps the clearance by its own margin.
+TEST(PlanCli, NistFtc10AsGivenPlansCollisionFreeWithATurnedRegion) {
+    const fs::path part = kTestData / "step" / "nist" / "nist_ftc_10_asme1_rb.stp";
+    const fs::path plan = temp_dir("ftc10_turned") / "plan.json";
+    const CliRun r =
+        run_cli({"plan", part.string(), "--repair", "--profile", reference_profile().string(),
+                 "--orient", "given", "--plan", plan.string()});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    check_plan_file(plan);
+    const auto j = nlohmann::json::parse(slurp(plan));
+    EXPECT_TRUE(j.at("build_order").at("complete").get<bool>());
+    EXPECT_TRUE(j.at("unsupported_layers").empty()) << j.at("unsupported_layers").dump();
+    const double clearance = j.at("build_order").at("nozzle").at("clearance_mm").get<double>();
+    int turned = 0;
+    for (const auto& d : j.at("decisions")) {
+        if (!d.contains("head")) continue;
+        const auto& head = d.at("head");
+        if (head.at("clears").get<bool>()) {
+            EXPECT_GE(head.at("margin_mm").get<double>(), clearance) << d.dump();
+        }
+        const double turn = head.at("turn_deg").get<double>();
+        if (turn != 0.0) {
+            ++turned;
+            // Turned only where no lean of N_s kept the clearance: N_s itself did not.
+            EXPECT_LT(head.at("sideways_margin_mm").get<double>(), clearance) << d.dump();
+            EXPECT_LE(std::abs(turn), 40.0) << d.dump();
+        }
+    }
+    EXPECT_GT(turned, 0) << "a region turned about its lower layer's normal";
+}
+
 // The plan file of NIST FTC-09 as given with the reference A/C profile (the job reads parts
 // with --repair), checked for the properties every plan file has; written in `name`.
 nlohmann::json ftc09_plan_as_given(const std::string& name) {
