@@ -159,6 +159,11 @@ core::Result<ReachChoice> choose_by_reach(
     std::vector<double> margins;
     margins.reserve(candidates.size());
     for (const ReachCandidate& c : candidates) {
+        // Turned directions only where no direction not turned keeps the clearance.
+        if (c.turn_deg != 0.0 && std::any_of(margins.begin(), margins.end(),
+                                             [&](double m) { return m >= nozzle.clearance_mm; })) {
+            break;
+        }
         auto apexes = apexes_along(c.direction);
         if (!apexes) return std::unexpected(apexes.error());
         const double m = reach_margin(nozzle, scene, *apexes, c.direction, enough);
@@ -333,7 +338,7 @@ core::Result<ReachChoice> Planner::direction_by_reach(int lower, const OverhangP
     };
     // Then N_s turned about L's normal towards either side, and those leaned up again (the
     // piece grows aslant: its sides overhang by the turn); tried only when no lean of N_s
-    // itself keeps the clearance and the samples' slack.
+    // itself keeps the clearance.
     for (const double az : {20.0, -20.0, 40.0, -40.0}) {
         const double a = az * std::numbers::pi / 180.0;
         const Vec3d n = l.top.normal;

@@ -83,10 +83,12 @@ struct ReachCandidate {
     double turn_deg = 0.0;
 };
 
-/// Tries the candidates in turn (the first is N_s itself), and keeps the first along which
-/// the head, standing on every apex apexes_along(direction) gives, keeps the nozzle's
-/// clearance plus slack_mm (the samples' error) from the scene; none: the one with the
-/// largest margin if it keeps the clearance, else the first with clears = false.
+/// Tries the candidates in turn (the first is N_s itself; turned ones, turn_deg != 0, only
+/// while no candidate not turned keeps the clearance), and keeps the first along which the
+/// head, standing on every apex apexes_along(direction) gives, keeps the nozzle's clearance
+/// plus slack_mm (the samples' error) from the scene; none: of those within slack_mm of the
+/// largest margin, if that keeps the clearance, the least turned, then the most leaned; else
+/// the first with clears = false (decision 0037).
 /// Errors: those of apexes_along; kInvalidInput for no candidate.
 [[nodiscard]] core::Result<ReachChoice> choose_by_reach(
     const Nozzle& nozzle, const ReachScene& scene, std::span<const ReachCandidate> candidates,
