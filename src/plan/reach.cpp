@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <numbers>
 #include <span>
 #include <utility>
@@ -238,7 +237,7 @@ std::vector<std::pair<int, int>> Planner::lineage(int lower) const {
 // the part's surface half a layer under L's top (the layer's own top is `top`, and a body
 // that only touches that plane from above, the underside of the overhang itself, is not built
 // yet), L's top face, the surface of the regions L stands on (after sideways splits, much of
-// that lies in front of L's plane: decision 0029), and the plate.
+// that lies in front of L's plane: decision 0037), and the plate.
 ReachScene Planner::reach_scene(int lower, PointCloud& top) {
     const Layer& l = plan_.layers[static_cast<std::size_t>(lower)];
     const double spacing = reach_spacing();
@@ -246,8 +245,10 @@ ReachScene Planner::reach_scene(int lower, PointCloud& top) {
     const slice::PlaneFrame built_below = l.top.shifted(-s_.layer_mm / 2);
     std::vector<Vec3d> extra =
         interior_points(l.wires.paths(), l.plane, spacing, l.span.top - l.span.cut);
-    const auto chain = lineage(lower);
-    for (const Vec3d& q : surface_->points()) {
+    // L's own region below L's top is built_below already: the regions under it add to it.
+    auto chain = lineage(lower);
+    chain.erase(chain.begin());
+    for (const Vec3d& q : chain.empty() ? std::span<const Vec3d>{} : surface_->points()) {
         if (built_below.height(q) <= kBuiltSlackMm) continue;  // in the scene already
         const bool laid = std::any_of(chain.begin(), chain.end(), [&](const auto& rl) {
             const Region& r = plan_.regions[static_cast<std::size_t>(rl.first)];
