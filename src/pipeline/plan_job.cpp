@@ -834,10 +834,19 @@ std::string plan_summary(const PlannedPart& planned, const mesh::ValidationRepor
         }
     }
     put(out, "tilted layers   {}\n", p.tilted_layer_count());
-    for (const plan::Decision& d : p.decisions) {
-        if (d.kind == plan::Decision::Kind::kTilt || d.kind == plan::Decision::Kind::kTiltGaveUp) {
-            put(out, "  {}\n", plan::describe(p, d));
-        }
+    // A run of decisions where the tilt gave up is one line.
+    const auto gave_up = [](const plan::Decision& d) {
+        return d.kind == plan::Decision::Kind::kTiltGaveUp;
+    };
+    for (std::size_t i = 0; i < p.decisions.size(); ++i) {
+        const plan::Decision& d = p.decisions[i];
+        if (d.kind == plan::Decision::Kind::kTilt) put(out, "  {}\n", plan::describe(p, d));
+        if (!gave_up(d)) continue;
+        std::size_t j = i;
+        while (j + 1 < p.decisions.size() && gave_up(p.decisions[j + 1])) ++j;
+        put(out, "  {}\n",
+            plan::describe_tilt_gave_up(p, d.layer, p.decisions[j].layer, j - i + 1));
+        i = j;
     }
     put(out, "tilts wanted    {} (overhangs with alpha < Ang <= beta left planar)\n",
         p.tilt_wanted_count());

@@ -73,11 +73,7 @@ std::string describe(const Plan& plan, const Decision& d) {
                 "above layer L{}: the chain of centroids leans {:.1f} deg from the build "
                 "direction (> {:.0f}): tilted 3D layers follow it from here",
                 d.layer, d.lean_deg, s.tilt_trigger_deg);
-        case Decision::Kind::kTiltGaveUp:
-            return fmt::format(
-                "above layer L{}: no tilt towards the centroid chain keeps the thickness in "
-                "[{}, {}] mm after {} tries: a planar layer",
-                d.layer, s.h_min_mm, s.h_max_mm, s.max_tilt_tries);
+        case Decision::Kind::kTiltGaveUp: return describe_tilt_gave_up(plan, d.layer, d.layer, 1);
         case Decision::Kind::kUnreachable:
             return fmt::format(
                 "above layer L{} at {:.3f} mm: a piece of {:.1f} mm2 at ({:.3f}, {:.3f}, {:.3f}) "
@@ -110,6 +106,19 @@ std::string describe_free_bodies(const Plan& plan) {
         plan.free_bodies.size(), plan.free_bodies.size() == 1 ? "body" : "bodies", v, b.volume_mm3,
         c.x, c.y, c.z, b.gap_mm, plan.free_bodies.size() == 1 ? "it" : "them",
         plan.free_bodies.size() == 1 ? "it is" : "they are");
+}
+
+std::string describe_tilt_gave_up(const Plan& plan, int first_layer, int last_layer,
+                                  std::size_t count) {
+    const PlanSettings& s = plan.settings;
+    const std::string where =
+        count == 1 ? fmt::format("above layer L{}", first_layer)
+                   : fmt::format("above {} layers from L{} to L{}", count, first_layer, last_layer);
+    return fmt::format(
+        "{}: no tilt towards the centroid chain keeps the thickness in [{}, {}] mm after {} "
+        "tries: {}",
+        where, s.h_min_mm, s.h_max_mm, s.max_tilt_tries,
+        count == 1 ? "a planar layer" : "planar layers");
 }
 
 std::string describe(const Plan& plan, const Region& r) {

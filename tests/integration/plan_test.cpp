@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <regex>
 #include <set>
+#include <sstream>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -139,6 +140,33 @@ void check_plan_file(const fs::path& file) {
     }
     EXPECT_GE(on_plate, 1u);
     for (const auto& d : j.at("decisions")) EXPECT_FALSE(d.at("reason").get<std::string>().empty());
+}
+
+// The printed plan gives each run of decisions where the tilt gave up one line ("above 73
+// layers from L1299 to L1371: ..."), and those lines count every such decision of the plan
+// file once. Returns how many there are.
+std::size_t check_printed_give_ups(const std::string& printed, const fs::path& file) {
+    const nlohmann::json j = nlohmann::json::parse(slurp(file));
+    std::size_t in_file = 0;
+    for (const auto& d : j.at("decisions")) in_file += d.at("kind") == "tilt_gave_up" ? 1 : 0;
+    std::size_t counted = 0;
+    bool previous = false;
+    std::istringstream lines(printed);
+    for (std::string line; std::getline(lines, line);) {
+        const bool gave_up = line.find("no tilt towards the centroid chain") != std::string::npos;
+        EXPECT_FALSE(gave_up && previous) << "two lines for one run: " << line;
+        previous = gave_up;
+        if (!gave_up) continue;
+        const std::size_t many = line.find("  above ");
+        EXPECT_EQ(many, 0u) << line;
+        if (line.compare(0, 14, "  above layer ") == 0) {
+            ++counted;
+        } else {
+            counted += std::stoul(line.substr(8));
+        }
+    }
+    EXPECT_EQ(counted, in_file);
+    return in_file;
 }
 
 TEST(PlanCli, ExampleWithEveryExport) {
@@ -909,6 +937,7 @@ TEST(PlanCli, EverySharedMeshPlans) {
     }
     std::sort(parts.begin(), parts.end());
     int planned = 0, conflicted = 0;
+    std::size_t gave_up = 0;
     for (const auto& [part, units] : parts) {
         SCOPED_TRACE(part.string() + (units.empty() ? "" : " --units " + units));
         const fs::path out = dir / "plan.json";
@@ -922,6 +951,7 @@ TEST(PlanCli, EverySharedMeshPlans) {
             ++conflicted;
             ASSERT_TRUE(fs::exists(out));
             check_plan_file(out);
+            gave_up += check_printed_give_ups(r.out, out);
             EXPECT_FALSE(nlohmann::json::parse(slurp(out)).at("build_order").at("complete"));
             continue;
         }
@@ -929,9 +959,12 @@ TEST(PlanCli, EverySharedMeshPlans) {
         if (r.exit_code != 0) continue;
         ++planned;
         check_plan_file(out);
+        gave_up += check_printed_give_ups(r.out, out);
     }
-    std::printf("%d parts ordered collision-free, %d refused with conflicts\n", planned,
-                conflicted);
+    std::printf(
+        "%d parts ordered collision-free, %d refused with conflicts, %zu layers planar "
+        "where no tilt kept the thickness\n",
+        planned, conflicted, gave_up);
     EXPECT_GE(planned, 20);
 }
 

@@ -199,6 +199,11 @@ struct Plan {
 /// made here, when it is printed.
 [[nodiscard]] std::string describe(const Plan& plan, const Decision& d);
 
+/// One line for a run of `count` decisions, next to each other in plan.decisions, where the
+/// tilt gave up (Decision::Kind::kTiltGaveUp) above layers first_layer .. last_layer.
+[[nodiscard]] std::string describe_tilt_gave_up(const Plan& plan, int first_layer, int last_layer,
+                                                std::size_t count);
+
 /// One line, for people, on why region r of the plan exists: the base region, or the split
 /// that made it (as a sideways region, or as the continuation on the near side).
 [[nodiscard]] std::string describe(const Plan& plan, const Region& r);

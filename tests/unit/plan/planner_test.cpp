@@ -134,6 +134,26 @@ void expect_volume(const Plan& p, double volume_mm3) {
 // plane and rests on nothing (it was linked to the face it is 20 mm from, and the verifier
 // found 22 beads in mid-air). Along +Y both blocks stand on the plate.
 // (Free bodies planned, not left out: the layers' own account of them.)
+// A run of layers where no tilt kept the thickness is one line naming its first and last layer
+// and how many there are; one such layer keeps the single-layer text.
+TEST(Planner, ARunOfLayersWhereTheTiltGaveUpIsOneLine) {
+    Plan p;
+    p.settings = settings();
+    p.settings.h_min_mm = 0.3;
+    p.settings.h_max_mm = 0.7;
+    const std::string run = describe_tilt_gave_up(p, 12, 40, 17);
+    EXPECT_EQ(run.rfind("above 17 layers from L12 to L40: ", 0), 0u) << run;
+    EXPECT_NE(run.find("[0.3, 0.7] mm"), std::string::npos) << run;
+    EXPECT_NE(run.find(": planar layers"), std::string::npos) << run;
+    Decision d;
+    d.kind = Decision::Kind::kTiltGaveUp;
+    d.layer = 12;
+    const std::string one = describe(p, d);
+    EXPECT_EQ(one, describe_tilt_gave_up(p, 12, 12, 1));
+    EXPECT_EQ(one.rfind("above layer L12: ", 0), 0u) << one;
+    EXPECT_NE(one.find(": a planar layer"), std::string::npos) << one;
+}
+
 TEST(Planner, ABodyBesideThePartReachedAcrossTheAirRestsOnNothing) {
     const mesh::TriangleMesh m =
         merged(box({0, 0, 0}, {20, 20, 20}), box({40, 0, 10}, {60, 20, 30}));
