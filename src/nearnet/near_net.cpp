@@ -27,6 +27,7 @@
 #include <exception>
 #include <limits>
 #include <new>
+#include <optional>
 #include <vector>
 
 #include <openvdb/openvdb.h>
@@ -36,6 +37,7 @@
 #include <openvdb/tools/VolumeToMesh.h>
 #include <openvdb/util/NullInterrupter.h>
 
+#include "maxslice/mesh/holes.hpp"
 #include "maxslice/mesh/validation.hpp"
 
 namespace maxslice::nearnet {
@@ -69,6 +71,9 @@ constexpr double kMaxSurfaceVoxels = 2.5e5;
 constexpr double kMaxVoxelsInStock = 2.0;
 // Voxels of band beyond what the isovalues need (interpolation at the surface).
 constexpr double kBandMarginVoxels = 2.0;
+// The near-net shape's volume is at least this share of the finished part's: it holds the part
+// grown by the stock, and its surface lies within a fraction of a voxel of the grown one.
+constexpr double kLeastVolumeShare = 0.99;
 // volumeToMesh's adaptivity: facets merged where the surface is flat to this share of a voxel;
 // the mesh stays closed and the deviation far below the stock.
 constexpr double kAdaptivity = 0.05;
@@ -187,9 +192,19 @@ core::Result<IndexPolygons> closing(const mesh::TriangleMesh& finished, const co
     return out;
 }
 
-core::Result<NearNet> compute(const mesh::TriangleMesh& finished, const NearNetSettings& settings,
+core::Result<NearNet> compute(const mesh::TriangleMesh& part, const NearNetSettings& settings,
                               const core::Progress* progress) {
-    const mesh::ValidationReport report = mesh::validate(finished);
+    // An open surface (a scan with holes) has no inside for the fields' sign: the flood fill
+    // that finds it runs through a hole wider than the band into the part, and the deposit
+    // would be a hollow shell around the surface. Its holes are capped first.
+    mesh::ValidationReport report = mesh::validate(part);
+    const std::size_t open_edges = report.boundary_edges.count;
+    std::optional<mesh::CappedMesh> capped;
+    if (open_edges > 0) {
+        capped = mesh::cap_holes(part);
+        report = mesh::validate(capped->mesh);
+    }
+    const mesh::TriangleMesh& finished = capped ? capped->mesh : part;
     if (report.nonfinite_vertices.count > 0) {
         return core::fail(ErrorCode::kInvalidInput,
                           "the part has non-finite coordinates: no near-net shape",
@@ -215,6 +230,8 @@ core::Result<NearNet> compute(const mesh::TriangleMesh& finished, const NearNetS
     NearNet out;
     out.report.voxel_mm = voxel;
     out.report.finished_volume_mm3 = report.volume_mm3;
+    out.report.open_edges = open_edges;
+    if (capped) out.report.capped_holes = capped->caps;
     const float margin = static_cast<float>(kBandMarginVoxels);
     const float ex_band = static_cast<float>(stock / voxel) + margin;
     const openvdb::math::Transform::Ptr xform =
@@ -258,6 +275,25 @@ core::Result<NearNet> compute(const mesh::TriangleMesh& finished, const NearNetS
                           "near-net shape");
     }
     out.report.near_net_volume_mm3 = mesh::signed_volume(out.mesh);
+    // The deposit holds the finished part grown: a smaller volume means the fields took some of
+    // the part's inside for outside (a surface the caps could not close, bodies overlapping
+    // inside out), and the deposit would leave it out.
+    if (out.report.near_net_volume_mm3 < kLeastVolumeShare * out.report.finished_volume_mm3) {
+        return core::fail(
+            ErrorCode::kInvalidInput,
+            fmt::format("the near-net shape encloses {:.0f} mm3, {:.1f}% of the finished part's "
+                        "{:.0f} mm3: its distance field took some of the part's inside for "
+                        "outside ({} open edges{}); repair the model's surface, or set "
+                        "machining_stock_mm = 0 and fill_below_mm = 0 to deposit the part as "
+                        "the file gives it",
+                        out.report.near_net_volume_mm3,
+                        100.0 * out.report.near_net_volume_mm3 / out.report.finished_volume_mm3,
+                        out.report.finished_volume_mm3, out.report.open_edges,
+                        out.report.capped_holes > 0
+                            ? fmt::format(", {} holes capped", out.report.capped_holes)
+                            : std::string()),
+            "near-net shape");
+    }
     if (progress != nullptr) progress->report("near-net", 1.0);
     return out;
 }

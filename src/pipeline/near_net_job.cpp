@@ -43,10 +43,16 @@ std::string near_net_line(const NearNetPart& part) {
         s.fill_below_mm > 0.0
             ? fmt::format("holes, slots and inside corners under {:.2f} mm filled", s.fill_below_mm)
             : std::string("no fill");
+    const nearnet::NearNetReport& r = part.report;
+    const std::string caps =
+        r.capped_holes > 0
+            ? fmt::format("; the surface's {} open edges closed by {} caps for the fields' sign",
+                          r.open_edges, r.capped_holes)
+            : std::string();
     return fmt::format(
         "near-net shape  {:.2f} mm machining stock, {}: {:+.1f}% volume over the finished part "
-        "({:.3f} mm voxels)\n",
-        s.stock_mm, fill, 100.0 * part.report.added_fraction(), part.report.voxel_mm);
+        "({:.3f} mm voxels{})\n",
+        s.stock_mm, fill, 100.0 * r.added_fraction(), r.voxel_mm, caps);
 }
 
 }  // namespace maxslice::pipeline

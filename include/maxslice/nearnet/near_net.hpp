@@ -32,6 +32,8 @@ struct NearNetReport {
     std::size_t active_voxels = 0;     ///< voxels the distance field held at its largest
     double finished_volume_mm3 = 0.0;  ///< enclosed volume of the finished part
     double near_net_volume_mm3 = 0.0;  ///< enclosed volume of the near-net shape
+    std::size_t open_edges = 0;        ///< the finished surface's edges used by one triangle
+    std::size_t capped_holes = 0;      ///< holes capped for the fields' sign (mesh::cap_holes)
     [[nodiscard]] double added_fraction() const {
         return finished_volume_mm3 > 0.0 ? near_net_volume_mm3 / finished_volume_mm3 - 1.0 : 0.0;
     }
@@ -43,7 +45,8 @@ struct NearNet {
     NearNetReport report;
 };
 
-/// The shape to deposit for `finished` (part frame, mm; closed and consistently oriented):
+/// The shape to deposit for `finished` (part frame, mm; an open surface, such as a scan with
+/// holes, has its holes capped first, mesh::cap_holes, so that the fields have an inside):
 /// the finished part closed by a ball of diameter fill_below_mm (holes, slots and inside
 /// corners narrower than that are filled), then grown by stock_mm. Computed on a narrow-band
 /// signed distance field whose voxel is a fraction of the smaller non-zero of stock and fill
@@ -51,8 +54,10 @@ struct NearNet {
 /// oriented mesh (outward normals), the same bytes whatever the number of threads. With
 /// settings.off() the part comes back unchanged (bit for bit).
 /// Errors: kInvalidInput for settings out of range, an empty part, non-finite coordinates,
-/// or a part whose surface would need more voxels than the bound at the coarsest voxel
-/// that still resolves the stock (the message names the sizes and what would help);
+/// a part whose surface would need more voxels than the bound at the coarsest voxel that
+/// still resolves the stock (the message names the sizes and what would help), or a result
+/// holding less than 99 % of the finished part's volume (the fields took some of its inside
+/// for outside: the message says what would help);
 /// kCancelled when `progress` is cancelled.
 [[nodiscard]] core::Result<NearNet> near_net(const mesh::TriangleMesh& finished,
                                              const NearNetSettings& settings,
