@@ -23,13 +23,10 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <array>
 #include <cmath>
-#include <complex>
 #include <exception>
 #include <limits>
 #include <new>
-#include <numbers>
 #include <optional>
 #include <vector>
 
@@ -77,9 +74,6 @@ constexpr double kBandMarginVoxels = 2.0;
 // The near-net shape's volume is at least this share of the finished part's: it holds the part
 // grown by the stock, and its surface lies within a fraction of a voxel of the grown one.
 constexpr double kLeastVolumeShare = 0.99;
-// The part's own frame (own_turn) comes from a circular harmonic that holds at least this
-// share of its bound (the sum of its weights).
-constexpr double kHarmonicShare = 1e-3;  // 0.1 %
 // volumeToMesh's adaptivity: facets merged where the surface is flat to this share of a voxel;
 // the mesh stays closed and the deviation far below the stock.
 constexpr double kAdaptivity = 0.05;
@@ -157,79 +151,6 @@ mesh::TriangleMesh to_mesh(const std::vector<openvdb::Vec3s>& points,
     return out;
 }
 
-// The turn about Z (radians) of the part's own frame: a circular harmonic of order m gives m
-// turns (its argument over m, plus multiples of 2 pi / m), and of those the one nearest the
-// direction of the first harmonic. The harmonic is the first that holds a share of its bound
-// (the sum of its weights) of:
-// - the walls' facing, order 4 (weights: area times the square of the normal's horizontal
-//   part): where the walls face a few directions (a part made on a machine), the grid is
-//   square to them;
-// - else (a turned or cast shape) the surface about its area centroid in XY, of order 1, 2
-//   or 4 (weights: area times squared radius).
-// 0 for a part with none (a cylinder). It turns with the part: the part turned by a about Z has
-// its frame turned by a, but where the first harmonic does not tell the m turns apart (a part
-// nearly symmetric under a turn by 2 pi / m, whose box then turns into itself).
-double own_turn(const mesh::TriangleMesh& m) {
-    double total = 0.0, cx = 0.0, cy = 0.0;
-    std::vector<double> area(m.triangles.size());
-    std::vector<core::Vec3d> centre(m.triangles.size());
-    std::complex<double> walls = 0.0;
-    double wall_weight = 0.0;
-    for (std::size_t t = 0; t < m.triangles.size(); ++t) {
-        const core::Vec3d a = mesh::area_vector(m, t);  // twice the area along the normal
-        area[t] = 0.5 * core::norm(a);
-        centre[t] = (m.corner(t, 0) + m.corner(t, 1) + m.corner(t, 2)) / 3.0;
-        total += area[t];
-        cx += area[t] * centre[t].x;
-        cy += area[t] * centre[t].y;
-        const std::complex<double> facing(a.x, a.y);
-        const double h2 = std::norm(facing);
-        if (!(h2 > 0.0)) continue;
-        const double w = 0.25 * h2 / area[t];  // area times the horizontal part squared
-        walls += w * std::pow(facing / std::sqrt(h2), 4);
-        wall_weight += w;
-    }
-    if (!(total > 0.0)) return 0.0;
-    cx /= total;
-    cy /= total;
-    std::array<std::complex<double>, 5> c{};
-    double norm = 0.0;
-    for (std::size_t t = 0; t < m.triangles.size(); ++t) {
-        const std::complex<double> z(centre[t].x - cx, centre[t].y - cy);
-        const double r2 = std::norm(z);
-        if (!(r2 > 0.0)) continue;
-        const std::complex<double> unit = z / std::sqrt(r2);
-        for (const int k : {1, 2, 4})
-            c[static_cast<std::size_t>(k)] += area[t] * r2 * std::pow(unit, k);
-        norm += area[t] * r2;
-    }
-    // The m turns of a harmonic h of order m, and the one nearest the first harmonic's direction.
-    const auto nearest = [&](const std::complex<double>& h, int order) {
-        double best = 0.0, along = -std::numeric_limits<double>::infinity();
-        for (int j = 0; j < order; ++j) {
-            const double turn = (std::arg(h) + 2.0 * std::numbers::pi * j) / order;
-            const double a = std::real(c[1] * std::polar(1.0, -turn));
-            if (a > along + kHarmonicShare * norm) {
-                along = a;
-                best = turn;
-            }
-        }
-        return best;
-    };
-    if (std::abs(walls) > kHarmonicShare * wall_weight) return nearest(walls, 4);
-    for (const int k : {1, 2, 4}) {
-        const std::complex<double>& h = c[static_cast<std::size_t>(k)];
-        if (std::abs(h) > kHarmonicShare * norm) return nearest(h, k);
-    }
-    return 0.0;
-}
-
-// Turns the mesh by `turn` radians about Z (in place).
-void turn_about_z(mesh::TriangleMesh& m, double turn) {
-    const double c = std::cos(turn), s = std::sin(turn);
-    mesh::transform(m, {c, -s, 0.0, 0.0, s, c, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0});
-}
-
 // Points and polygons of a mesh made by volumeToMesh, in another grid's index space.
 struct IndexPolygons {
     std::vector<openvdb::Vec3s> points;
@@ -278,25 +199,12 @@ core::Result<NearNet> compute(const mesh::TriangleMesh& part, const NearNetSetti
     // would be a hollow shell around the surface. Its holes are capped first.
     mesh::ValidationReport report = mesh::validate(part);
     const std::size_t open_edges = report.boundary_edges.count;
-    std::size_t caps = 0;
-    std::optional<mesh::TriangleMesh> framed;  // capped, turned into the part's own frame
+    std::optional<mesh::CappedMesh> capped;
     if (open_edges > 0) {
-        mesh::CappedMesh capped = mesh::cap_holes(part);
-        caps = capped.caps;
-        framed = std::move(capped.mesh);
+        capped = mesh::cap_holes(part);
+        report = mesh::validate(capped->mesh);
     }
-    // The fields' grids are square to the part's own frame about Z (own_turn), not to the
-    // file's: a part turned about the plate's normal gets the same deposit, turned. (On the
-    // file's axes a turned part met the voxels otherwise, and the helical ring planned as 7, 9
-    // or 11 regions by its angle.)
-    const double turn =
-        report.nonfinite_vertices.count > 0 ? 0.0 : own_turn(framed ? *framed : part);
-    if (turn != 0.0) {
-        if (!framed) framed = part;
-        turn_about_z(*framed, -turn);
-    }
-    if (framed) report = mesh::validate(*framed);
-    const mesh::TriangleMesh& finished = framed ? *framed : part;
+    const mesh::TriangleMesh& finished = capped ? capped->mesh : part;
     if (report.nonfinite_vertices.count > 0) {
         return core::fail(ErrorCode::kInvalidInput,
                           "the part has non-finite coordinates: no near-net shape",
@@ -314,8 +222,8 @@ core::Result<NearNet> compute(const mesh::TriangleMesh& part, const NearNetSetti
                         report.area_mm2, voxel, kMaxSurfaceVoxels, stock),
             "near-net shape");
     }
-    // The grids' index space starts at the part's lower corner (in its own frame): small index
-    // coordinates keep the float precision of the fields and of the extracted points.
+    // The grids' index space starts at the part's lower corner: small index coordinates keep
+    // the float precision of the fields and of the extracted points.
     const core::Vec3d origin = report.bounding_box.min;
     openvdb::initialize();
     Interrupter interrupter(progress);
@@ -323,7 +231,7 @@ core::Result<NearNet> compute(const mesh::TriangleMesh& part, const NearNetSetti
     out.report.voxel_mm = voxel;
     out.report.finished_volume_mm3 = report.volume_mm3;
     out.report.open_edges = open_edges;
-    out.report.capped_holes = caps;
+    if (capped) out.report.capped_holes = capped->caps;
     const float margin = static_cast<float>(kBandMarginVoxels);
     const float ex_band = static_cast<float>(stock / voxel) + margin;
     const openvdb::math::Transform::Ptr xform =
@@ -362,7 +270,6 @@ core::Result<NearNet> compute(const mesh::TriangleMesh& part, const NearNetSetti
     openvdb::tools::volumeToMesh(*field, points, triangles, quads, stock, kAdaptivity, true);
     field.reset();
     out.mesh = to_mesh(points, triangles, quads, origin);
-    if (turn != 0.0) turn_about_z(out.mesh, turn);
     if (out.mesh.triangles.empty()) {
         return core::fail(ErrorCode::kInternal, "the distance field gave an empty surface",
                           "near-net shape");

@@ -10,7 +10,6 @@
 
 #include "maxslice/mesh/validation.hpp"
 #include "support/fixtures.hpp"
-#include "support/planner_fixtures.hpp"
 
 namespace maxslice::nearnet {
 namespace {
@@ -130,32 +129,6 @@ TEST(NearNet, AnOpenSurfaceGrowsAsTheSolidItBounds) {
     EXPECT_NEAR(n.report.near_net_volume_mm3, grown, 0.01 * (grown - a * a * a));
     EXPECT_NEAR(n.report.finished_volume_mm3, a * a * a, 1e-9 * a * a * a);
     EXPECT_GT(winding(n.mesh, {0.5 * a, 0.5 * a, 0.5 * a}), 0.5);  // solid, not a shell
-}
-
-// The deposit of a part turned about Z (the plate's normal) is the part's deposit turned: the
-// fields' voxels are square to the part's own frame, not to the file's axes (the helical ring
-// as given and turned 13, 37, 90 ... degrees planned as 7, 9 or 11 regions).
-TEST(NearNet, APartTurnedAboutZGetsItsDepositTurned) {
-    const mesh::TriangleMesh parts[] = {test::l_bracket().mesh, test::helical_ring().mesh};
-    for (const mesh::TriangleMesh& part : parts) {
-        const NearNet given = made(part, 1.0, 10.0);
-        ASSERT_FALSE(given.mesh.empty());
-        const core::Box3d box = mesh::bounding_box(given.mesh);
-        for (const double deg : {13.0, 37.0, 90.0, 200.0, 313.0}) {
-            SCOPED_TRACE(deg);
-            const NearNet turned = made(test::rotated(part, {0, 0, 1}, deg), 1.0, 10.0);
-            EXPECT_EQ(turned.mesh.triangles.size(), given.mesh.triangles.size());
-            EXPECT_NEAR(turned.report.near_net_volume_mm3, given.report.near_net_volume_mm3,
-                        1e-6 * given.report.near_net_volume_mm3);
-            // Turned back, it fills the same box to well under a voxel.
-            const core::Box3d back =
-                mesh::bounding_box(test::rotated(turned.mesh, {0, 0, 1}, -deg));
-            for (int k = 0; k < 3; ++k) {
-                EXPECT_NEAR(back.min[k], box.min[k], 1e-3 * given.report.voxel_mm) << k;
-                EXPECT_NEAR(back.max[k], box.max[k], 1e-3 * given.report.voxel_mm) << k;
-            }
-        }
-    }
 }
 
 TEST(NearNet, EveryFinishedVertexIsInsideAtLeastTheStockDeep) {
