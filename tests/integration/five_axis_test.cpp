@@ -1216,7 +1216,8 @@ TEST(FiveAxis, NoVerifyWritesTheProgramAndSaysSo) {
 // 97%. Where the job's verifier refused a program, --no-verify writes it and `maxslice verify`
 // refuses it too. The parts MANIFEST.md says are in other units run a second time with
 // --units (the bunny in metres once nested the planner's walks until the stack overflowed).
-// (About a minute; the ASan run skips the EverySharedModel tests.)
+// (About six minutes on two cores, mostly the searched bases of the larger meshes; the ASan run
+// skips the EverySharedModel tests.)
 TEST(FiveAxis, EverySharedModelIsBuiltOrRefusedCleanly) {
     const fs::path dir = temp_dir("shared");
     const std::map<std::string, std::string> stated_units = {{"bunny.bin.stl", "m"},
