@@ -502,6 +502,25 @@ TEST(PlanCli, NistFtc10AsGivenPlansCollisionFreeWithATurnedRegion) {
     EXPECT_GT(turned, 0) << "a region turned about its lower layer's normal";
 }
 
+// NIST FTC-07 as given gives up the tilt above some 280 layers, in runs of up to 73 (its plan
+// printed one line for each): each run is one line, and the lines count every give-up once.
+TEST(PlanCli, ARunOfLayersWhereNoTiltKeptTheThicknessIsOneLine) {
+    const fs::path part = kTestData / "step" / "nist" / "nist_ftc_07_asme1_rd.stp";
+    const fs::path plan = temp_dir("give_ups") / "plan.json";
+    const CliRun r =
+        run_cli({"plan", part.string(), "--repair", "--profile", reference_profile().string(),
+                 "--orient", "given", "--plan", plan.string()});
+    ASSERT_TRUE(fs::exists(plan)) << r.err;
+    const std::size_t gave_up = check_printed_give_ups(r.out, plan);
+    EXPECT_GT(gave_up, 100u);
+    std::size_t lines = 0;
+    for (std::size_t at = r.out.find("no tilt towards"); at != std::string::npos;
+         at = r.out.find("no tilt towards", at + 1)) {
+        ++lines;
+    }
+    EXPECT_LT(10 * lines, gave_up) << "runs of give-ups are one line each";
+}
+
 // The plan file of NIST FTC-09 as given with the reference A/C profile (the job reads parts
 // with --repair), checked for the properties every plan file has; written in `name`.
 nlohmann::json ftc09_plan_as_given(const std::string& name) {
