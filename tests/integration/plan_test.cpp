@@ -502,7 +502,7 @@ TEST(PlanCli, NistFtc10AsGivenPlansCollisionFreeWithATurnedRegion) {
     EXPECT_GT(turned, 0) << "a region turned about its lower layer's normal";
 }
 
-// NIST FTC-07 as given gives up the tilt above some 280 layers, in runs of up to 73 (its plan
+// NIST FTC-07 as given gives up the tilt above 226 layers, in runs of up to 73 (its plan
 // printed one line for each): each run is one line, and the lines count every give-up once.
 TEST(PlanCli, ARunOfLayersWhereNoTiltKeptTheThicknessIsOneLine) {
     const fs::path part = kTestData / "step" / "nist" / "nist_ftc_07_asme1_rd.stp";
