@@ -466,6 +466,15 @@ TEST(PlanCli, EveryFirstPieceOfTheHelicalRingsSidewaysRegionsRestsOnAnotherRegio
     EXPECT_GT(pieces, 1);
 }
 
+// `maxslice plan` of the NIST part `stem` (step/nist/STEM.stp) as given with the reference A/C
+// profile, read with --repair as the job reads it; the plan file is written in `dir`.
+CliRun plan_nist_as_given(const std::string& stem, const fs::path& dir, fs::path& plan) {
+    const fs::path part = kTestData / "step" / "nist" / (stem + ".stp");
+    plan = dir / "plan.json";
+    return run_cli({"plan", part.string(), "--repair", "--profile", reference_profile().string(),
+                    "--orient", "given", "--plan", plan.string()});
+}
+
 // NIST FTC-10 as given (decision 0037): its third region grows from a region built sideways,
 // whose own base region lies in front of the lower layer's plane; checked against the regions
 // the lower layer stands on, no lean of the sideways direction kept the head's clearance and
@@ -473,11 +482,8 @@ TEST(PlanCli, EveryFirstPieceOfTheHelicalRingsSidewaysRegionsRestsOnAnotherRegio
 // and no layer on nothing (refused before: a region pointing down, the head 16 mm into the
 // part), and every split that says its head clears keeps the clearance by its own margin.
 TEST(PlanCli, NistFtc10AsGivenPlansCollisionFreeWithATurnedRegion) {
-    const fs::path part = kTestData / "step" / "nist" / "nist_ftc_10_asme1_rb.stp";
-    const fs::path plan = temp_dir("ftc10_turned") / "plan.json";
-    const CliRun r =
-        run_cli({"plan", part.string(), "--repair", "--profile", reference_profile().string(),
-                 "--orient", "given", "--plan", plan.string()});
+    fs::path plan;
+    const CliRun r = plan_nist_as_given("nist_ftc_10_asme1_rb", temp_dir("ftc10_turned"), plan);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     check_plan_file(plan);
     const auto j = nlohmann::json::parse(slurp(plan));
@@ -505,11 +511,8 @@ TEST(PlanCli, NistFtc10AsGivenPlansCollisionFreeWithATurnedRegion) {
 // NIST FTC-07 as given gives up the tilt above 226 layers, in runs of up to 73 (its plan
 // printed one line for each): each run is one line, and the lines count every give-up once.
 TEST(PlanCli, ARunOfLayersWhereNoTiltKeptTheThicknessIsOneLine) {
-    const fs::path part = kTestData / "step" / "nist" / "nist_ftc_07_asme1_rd.stp";
-    const fs::path plan = temp_dir("give_ups") / "plan.json";
-    const CliRun r =
-        run_cli({"plan", part.string(), "--repair", "--profile", reference_profile().string(),
-                 "--orient", "given", "--plan", plan.string()});
+    fs::path plan;
+    const CliRun r = plan_nist_as_given("nist_ftc_07_asme1_rd", temp_dir("give_ups"), plan);
     ASSERT_TRUE(fs::exists(plan)) << r.err;
     const std::size_t gave_up = check_printed_give_ups(r.out, plan);
     EXPECT_GT(gave_up, 100u);
@@ -524,11 +527,8 @@ TEST(PlanCli, ARunOfLayersWhereNoTiltKeptTheThicknessIsOneLine) {
 // The plan file of NIST FTC-09 as given with the reference A/C profile (the job reads parts
 // with --repair), checked for the properties every plan file has; written in `name`.
 nlohmann::json ftc09_plan_as_given(const std::string& name) {
-    const fs::path part = kTestData / "step" / "nist" / "nist_ftc_09_asme1_rd.stp";
-    const fs::path plan = temp_dir(name) / "plan.json";
-    const CliRun r =
-        run_cli({"plan", part.string(), "--repair", "--profile", reference_profile().string(),
-                 "--orient", "given", "--plan", plan.string()});
+    fs::path plan;
+    const CliRun r = plan_nist_as_given("nist_ftc_09_asme1_rd", temp_dir(name), plan);
     EXPECT_TRUE(fs::exists(plan)) << r.err;
     if (!fs::exists(plan)) return nlohmann::json::object();
     check_plan_file(plan);
