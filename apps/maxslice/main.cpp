@@ -98,11 +98,19 @@ void print_warnings(const pipeline::PreparedPart& part) {
 
 std::string timings_text(const pipeline::StageTimes& t, bool program = false) {
     std::string out =
-        fmt::format("timing load {:.4f}\ntiming validate {:.4f}\ntiming slice {:.4f}\n", t.load_s,
-                    t.validate_s, t.slice_s);
+        fmt::format("timing load {:.4f}\ntiming validate {:.4f}\n", t.load_s, t.validate_s);
     if (t.near_net_s > 0.0) out += fmt::format("timing near-net {:.4f}\n", t.near_net_s);
-    if (program)
+    if (t.bases > 0) {
+        out += fmt::format("timing plan {:.4f}\ntiming order {:.4f}\n", t.plan_s, t.order_s);
+        if (t.bases > 1) {
+            out += fmt::format("timing search {:.4f} ({} other bases)\n", t.search_s, t.bases - 1);
+        }
+    } else {
+        out += fmt::format("timing slice {:.4f}\n", t.slice_s);
+    }
+    if (program && t.paths_s > 0.0) {
         out += fmt::format("timing paths {:.4f}\ntiming write {:.4f}\n", t.paths_s, t.write_s);
+    }
     if (t.verify_s > 0.0) out += fmt::format("timing verify {:.4f}\n", t.verify_s);
     return out;
 }
@@ -726,7 +734,13 @@ JobOutcome run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
     }
     const mesh::TriangleMesh placed = std::move(oriented->placed);
     const pipeline::PlannedPart& planned = oriented->planned;
-    times.slice_s = seconds_since(t0) - checks_s;
+    // The base kept, planned and ordered; the rest of the search is the other bases' (their
+    // plans, orders and program checks: all checks but the kept program's own).
+    times.plan_s = planned.seconds;
+    times.order_s = planned.order_seconds;
+    times.bases = std::max<int>(1, static_cast<int>(oriented->tries.size()));
+    const double kept_check_s = w.kept ? w.paths_s + w.write_s + w.verify_s : 0.0;
+    times.search_s = std::max(0.0, seconds_since(t0) - times.plan_s - times.order_s - kept_check_s);
     const std::string tried = pipeline::other_tries(oriented->tries, oriented->chosen);
     const plan::Plan& plan = planned.plan;
     if (!plan.unsupported_layers.empty()) {
@@ -850,7 +864,6 @@ JobOutcome run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
     o.print("left out        %.1f mm of track in %d layers (no bead below it)\n", p->trimmed_mm,
             p->layers_trimmed);
     print_verification(o, report, profiles.process.track_width_mm);
-    if (opt.timings) o.err += timings_text(times, true);
     return done(kExitOk);
 }
 
@@ -1141,7 +1154,6 @@ JobOutcome run_planar_slice(const PartOptions& opt, const SliceOptions& so,
                 planned->uncovered_mm2, planned->region_area_mm2, planned->layers_with_uncovered);
         print_verification(o, report, profiles->process.track_width_mm);
     }
-    if (opt.timings) o.err += timings_text(times, program_mode);
     // The previews and the JSON are written when this job is the one kept.
     if (!so.json_file.empty() || !so.svg_dir.empty() || !so.contact_sheet.empty()) {
         struct Files {
@@ -1240,6 +1252,7 @@ int run_slice(const PartOptions& opt, const SliceOptions& so) {
         JobOutcome job = run_planar_slice(opt, so, std::move(*part), ss, profiles, times, given,
                                           *policy, 0, finished_part);
         job.printed.out = near_net_line + job.printed.out;
+        if (opt.timings) job.printed.err += timings_text(times, false);
         return finish_job(std::move(job), so);
     }
     const bool table_tilt = machine::is_table_tilt(profiles->machine.kinematics);
@@ -1268,6 +1281,8 @@ int run_slice(const PartOptions& opt, const SliceOptions& so) {
                                     table_tilt && *policy == pipeline::OrientPolicy::kFallback);
     if (!job) return report_error(job.error());
     job->printed.out = near_net_line + job->printed.out;
+    // Every stage's time, also of a job refused (what took the time is then the question).
+    if (opt.timings) job->printed.err += timings_text(times, true);
     return finish_job(std::move(*job), so);
 }
 
@@ -1386,7 +1401,12 @@ int run_plan(const PartOptions& opt, const PlanOptions& po, bool layer_given) {
         rc != kExitOk) {
         return rc;
     }
-    if (opt.timings) print_timings(times);
+    if (opt.timings) {
+        times.plan_s = planned->seconds;  // with --orient auto, every candidate's
+        times.order_s = planned->order_seconds;
+        times.bases = 1;
+        print_timings(times);
+    }
     if (!planned->order->complete()) {
         const plan::Conflict& c = planned->order->conflicts.front();
         return report_error(

@@ -958,6 +958,53 @@ TEST(FiveAxis, APartThatCannotBeBuiltAsGivenIsStoodOnAnotherBase) {
     }
 }
 
+// `--timings` of a table-tilt job names the stages that take its time: the base kept planned
+// and ordered, the other bases the search tried, the program's paths, writing and replay; and
+// of a job refused, what it spent up to the refusal. The portal with a nozzle too wide for it as
+// given: refused with --orient given, built on another base by the default search.
+TEST(FiveAxis, TimingsNameThePlanTheOrderAndTheSearchAlsoOfARefusedJob) {
+    const fs::path dir = temp_dir("timings");
+    const fs::path wide = wide_nozzle_profile(dir);
+    const fs::path part = export_fixture(maxslice::test::portal_frame(), dir);
+    // The stage names and their seconds; "search" with the count of other bases.
+    const auto stages = [](const std::string& err) {
+        std::map<std::string, double> out;
+        const std::regex line(R"(timing (\S+) ([0-9.]+)(?: \(([0-9]+) other bases\))?)");
+        for (auto it = std::sregex_iterator(err.begin(), err.end(), line);
+             it != std::sregex_iterator(); ++it) {
+            out[(*it)[1].str()] = std::stod((*it)[2].str());
+            if ((*it)[3].matched) out["other bases"] = std::stod((*it)[3].str());
+        }
+        return out;
+    };
+    const fs::path program = dir / "p.gm";
+    const CliRun built = run_cli({"slice", part.string(), "--profile", wide.string(), "-o",
+                                  program.string(), "--timings"});
+    ASSERT_EQ(built.exit_code, 0) << built.err;
+    const auto b = stages(built.err);
+    for (const char* name : {"load", "validate", "near-net", "plan", "order", "search", "paths",
+                             "write", "verify"}) {
+        EXPECT_TRUE(b.contains(name)) << name << "\n" << built.err;
+    }
+    EXPECT_FALSE(b.contains("slice")) << built.err;  // the plan slices
+    EXPECT_GE(b.contains("other bases") ? b.at("other bases") : 0.0, 1.0) << built.err;
+    EXPECT_GT(b.contains("search") ? b.at("search") : 0.0, 0.0) << built.err;
+
+    const fs::path none = dir / "none.gm";
+    const CliRun refused = run_cli({"slice", part.string(), "--profile", wide.string(), "-o",
+                                    none.string(), "--orient", "given", "--timings"});
+    ASSERT_EQ(refused.exit_code, 2) << refused.err;
+    EXPECT_FALSE(fs::exists(none));
+    const auto r = stages(refused.err);
+    for (const char* name : {"load", "validate", "near-net", "plan", "order"}) {
+        EXPECT_TRUE(r.contains(name)) << name << "\n" << refused.err;
+    }
+    for (const char* name : {"search", "paths", "write", "verify"}) {
+        EXPECT_FALSE(r.contains(name)) << name << "\n" << refused.err;
+    }
+    EXPECT_GT(r.contains("order") ? r.at("order") : 0.0, 0.0) << refused.err;
+}
+
 // The bearing seat's boss is built sideways 12 mm above the plate: along the seed's horizontal
 // direction the head's 30 mm body would reach under the plate's level (decision 0016). The
 // planner leans the boss's direction up until the head clears the plate (decision 0029): with

@@ -20,7 +20,14 @@ struct StageTimes {
     double load_s = 0.0;      ///< read and weld
     double validate_s = 0.0;  ///< validation (and repair)
     double near_net_s = 0.0;  ///< the near-net shape (when the process asks for one)
-    double slice_s = 0.0;     ///< layer heights, cutting and wire trees
+    double slice_s = 0.0;     ///< layer heights, cutting and wire trees (3-axis jobs)
+    /// Table-tilt jobs: the base kept, planned (its slicing included) and ordered; `search_s`
+    /// what the other bases tried took (their plans, orders and program checks), `bases` how
+    /// many were tried in all (0: none recorded).
+    double plan_s = 0.0;
+    double order_s = 0.0;
+    double search_s = 0.0;
+    int bases = 0;
     double paths_s = 0.0;     ///< toolpaths and the move list (program jobs only)
     double write_s = 0.0;     ///< program text and its file (program jobs only)
     double verify_s = 0.0;    ///< the verifier's replay of the program (when run)
