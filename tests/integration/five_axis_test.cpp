@@ -978,12 +978,12 @@ TEST(FiveAxis, TimingsNameThePlanTheOrderAndTheSearchAlsoOfARefusedJob) {
         return out;
     };
     const fs::path program = dir / "p.gm";
-    const CliRun built = run_cli({"slice", part.string(), "--profile", wide.string(), "-o",
-                                  program.string(), "--timings"});
+    const CliRun built = run_cli(
+        {"slice", part.string(), "--profile", wide.string(), "-o", program.string(), "--timings"});
     ASSERT_EQ(built.exit_code, 0) << built.err;
     const auto b = stages(built.err);
-    for (const char* name : {"load", "validate", "near-net", "plan", "order", "search", "paths",
-                             "write", "verify"}) {
+    for (const char* name :
+         {"load", "validate", "near-net", "plan", "order", "search", "paths", "write", "verify"}) {
         EXPECT_TRUE(b.contains(name)) << name << "\n" << built.err;
     }
     EXPECT_FALSE(b.contains("slice")) << built.err;  // the plan slices
