@@ -101,9 +101,16 @@ std::string timings_text(const pipeline::StageTimes& t, bool program = false) {
         fmt::format("timing load {:.4f}\ntiming validate {:.4f}\n", t.load_s, t.validate_s);
     if (t.near_net_s > 0.0) out += fmt::format("timing near-net {:.4f}\n", t.near_net_s);
     if (t.bases > 0) {
+        if (t.attempts > 1) {
+            out += fmt::format(
+                "timing attempts {} (a finer process or another base, one after another: each "
+                "time below is their sum)\n",
+                t.attempts);
+        }
         out += fmt::format("timing plan {:.4f}\ntiming order {:.4f}\n", t.plan_s, t.order_s);
-        if (t.bases > 1) {
-            out += fmt::format("timing search {:.4f} ({} other bases)\n", t.search_s, t.bases - 1);
+        if (t.bases > t.attempts) {
+            out += fmt::format("timing search {:.4f} ({} other bases)\n", t.search_s,
+                               t.bases - t.attempts);
         }
     } else {
         out += fmt::format("timing slice {:.4f}\n", t.slice_s);
@@ -736,11 +743,15 @@ JobOutcome run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
     const pipeline::PlannedPart& planned = oriented->planned;
     // The base kept, planned and ordered; the rest of the search is the other bases' (their
     // plans, orders and program checks: all checks but the kept program's own).
-    times.plan_s = planned.seconds;
-    times.order_s = planned.order_seconds;
-    times.bases = std::max<int>(1, static_cast<int>(oriented->tries.size()));
+    // Added to those of the job's earlier attempts (a finer process, another base).
     const double kept_check_s = w.kept ? w.paths_s + w.write_s + w.verify_s : 0.0;
-    times.search_s = std::max(0.0, seconds_since(t0) - times.plan_s - times.order_s - kept_check_s);
+    times.search_s +=
+        std::max(0.0, seconds_since(t0) - planned.seconds - planned.order_seconds - kept_check_s);
+    times.plan_s += planned.seconds;
+    times.order_s += planned.order_seconds;
+    // A search for the figures heads its tries with the part as given, tried before it.
+    times.bases += std::max<int>(1, static_cast<int>(oriented->tries.size()) - (for_goal ? 1 : 0));
+    ++times.attempts;
     const std::string tried = pipeline::other_tries(oriented->tries, oriented->chosen);
     const plan::Plan& plan = planned.plan;
     if (!plan.unsupported_layers.empty()) {
@@ -814,9 +825,9 @@ JobOutcome run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
                            placed, planned);
         if (!again) return done(o.error(again.error()));
     }
-    times.paths_s = w.paths_s;
-    times.write_s = w.write_s;
-    times.verify_s = w.verify_s;
+    times.paths_s += w.paths_s;
+    times.write_s += w.write_s;
+    times.verify_s += w.verify_s;
     const pipeline::MultiAxisProgram* p = &*w.program;
     if (const int rc = check_tracks(o, p->summary, p->uncovered_mm2, p->region_area_mm2,
                                     p->layers_with_uncovered, profiles.process, opt.path);
@@ -1405,6 +1416,7 @@ int run_plan(const PartOptions& opt, const PlanOptions& po, bool layer_given) {
         times.plan_s = planned->seconds;  // with --orient auto, every candidate's
         times.order_s = planned->order_seconds;
         times.bases = 1;
+        times.attempts = 1;
         print_timings(times);
     }
     if (!planned->order->complete()) {

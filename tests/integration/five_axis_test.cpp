@@ -457,9 +457,14 @@ TEST(FiveAxis, TheReferenceCellFallsBackToItsFinerTrackWhereItsTrackMissesTheFig
     const fs::path net = net_shape_copy(kReference5, dir);
     const fs::path gear = kTestData / "meshes/stl-models/gearwheel.bin.stl";
     const fs::path program = dir / "g.gm";
-    const CliRun r =
-        run_cli({"slice", gear.string(), "--profile", net.string(), "-o", program.string()});
+    const CliRun r = run_cli(
+        {"slice", gear.string(), "--profile", net.string(), "-o", program.string(), "--timings"});
     ASSERT_EQ(r.exit_code, 0) << r.err;
+    // Its timings add both attempts' (the main track's, the finer one's) and say so.
+    std::smatch attempts;
+    ASSERT_TRUE(std::regex_search(r.err, attempts, std::regex(R"(timing attempts ([0-9]+))")))
+        << r.err;
+    EXPECT_GE(std::stoi(attempts[1].str()), 2) << r.err;
     const Figures f = read_figures(r.out);
     expect_clean(f, r.out);
     EXPECT_GE(f.coverage_pct, 97.0) << r.out;

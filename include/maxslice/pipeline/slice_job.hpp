@@ -23,14 +23,16 @@ struct StageTimes {
     double slice_s = 0.0;     ///< layer heights, cutting and wire trees (3-axis jobs)
     /// Table-tilt jobs: the base kept, planned (its slicing included) and ordered; `search_s`
     /// what the other bases tried took (their plans, orders and program checks), `bases` how
-    /// many were tried in all (0: none recorded).
+    /// many were tried in all (0: none recorded). A job that tries again (a finer process,
+    /// another base for the figures) adds each attempt's, `attempts` counting them.
     double plan_s = 0.0;
     double order_s = 0.0;
     double search_s = 0.0;
     int bases = 0;
-    double paths_s = 0.0;     ///< toolpaths and the move list (program jobs only)
-    double write_s = 0.0;     ///< program text and its file (program jobs only)
-    double verify_s = 0.0;    ///< the verifier's replay of the program (when run)
+    int attempts = 0;
+    double paths_s = 0.0;   ///< toolpaths and the move list (program jobs only)
+    double write_s = 0.0;   ///< program text and its file (program jobs only)
+    double verify_s = 0.0;  ///< the verifier's replay of the program (when run)
 };
 
 /// A part read, checked and (with repair) mended: the input of every later stage.
