@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -328,6 +329,144 @@ TEST(VoxelGrid, SmallestStockAgreesWithBruteForce) {
     EXPECT_GT(outside_cases, 5);
     EXPECT_GT(beyond_cases, 0);
     EXPECT_GT(far_cases, 0);
+}
+
+// On grids large enough that the search first guesses its reach on coarser grids (at least 64
+// voxels along every axis), the answer is still the fine grid's exact one: against brute force
+// over the few target voxels of sparse cases. Sticking out: small bead boxes, the finished
+// part's voxels outside them asked. Inside: the beads fill a box but for a few holes, and the
+// finished part's boundary voxels are asked; their nearest voxel outside the beads is a hole's
+// or straight across the box's nearest face.
+TEST(VoxelGrid, SmallestStockOnLargeGridsAgreesWithBruteForce) {
+    std::mt19937 rng(1206);
+    constexpr int nx = 80, ny = 72, nz = 90;
+    constexpr int lo = 5, hi[3] = {nx - 6, ny - 6, nz - 6};  // the inside cases' bead box
+    const auto uniform = [&](int a, int b) {
+        return std::uniform_int_distribution<int>(a, b)(rng);
+    };
+    using Voxel = std::array<int, 3>;
+    const auto d2_of = [](const Voxel& a, const Voxel& b) {
+        return long{a[0] - b[0]} * (a[0] - b[0]) + long{a[1] - b[1]} * (a[1] - b[1]) +
+               long{a[2] - b[2]} * (a[2] - b[2]);
+    };
+    int far_cases = 0, inside_cases = 0, outside_cases = 0;
+    for (int trial = 0; trial < 16; ++trial) {
+        SCOPED_TRACE(trial);
+        const bool inside = trial % 2 == 0;
+        BitGrid beads(nx, ny, nz), finished(nx, ny, nz);
+        std::vector<Voxel> targets;  // bead voxels (sticking out) or holes (inside)
+        const auto box = [&](BitGrid& g, int c0, int c1, int size, std::vector<Voxel>* list) {
+            const int i = uniform(c0, c1 - size), j = uniform(c0, std::min(c1, ny - 1) - size);
+            const int k = uniform(c0, c1 - size);
+            g.set_rect(i, i + size, j, j + size, k, k + size);
+            if (list == nullptr) return;
+            for (int a = i; a <= i + size; ++a) {
+                for (int b = j; b <= j + size; ++b) {
+                    for (int c = k; c <= k + size; ++c) list->push_back({a, b, c});
+                }
+            }
+        };
+        if (inside) {
+            beads.set_rect(lo, hi[0], lo, hi[1], lo, hi[2]);
+            // The finished box, 16 to 24 voxels in from each face of the beads' (any face may
+            // be the nearest), and three holes of 3^3 voxels in the beads, clear of it.
+            int fl[3], fh[3];
+            for (int a = 0; a < 3; ++a) {
+                fl[a] = lo + uniform(16, 24);
+                fh[a] = hi[a] - uniform(16, 24);
+            }
+            BitGrid holes(nx, ny, nz);
+            for (int h = 0; h < 3; ++h) {
+                int c[3];
+                bool clear = false;
+                if (h == 0) {
+                    // Below or above the middle of the finished box: its nearest finished
+                    // voxels are boundary voxels by their k neighbours alone.
+                    c[0] = (fl[0] + fh[0]) / 2 - 1;
+                    c[1] = (fl[1] + fh[1]) / 2 - 1;
+                    c[2] = trial % 4 == 0 ? fl[2] - uniform(3, 6) - 2 : fh[2] + uniform(3, 6);
+                    clear = true;
+                }
+                for (int attempt = 0; attempt < 50 && !clear; ++attempt) {
+                    clear = false;
+                    for (int a = 0; a < 3; ++a) {
+                        c[a] = uniform(lo, hi[a] - 2);
+                        clear = clear || c[a] + 2 < fl[a] - 1 || c[a] > fh[a] + 1;
+                    }
+                }
+                if (!clear) continue;
+                holes.set_rect(c[0], c[0] + 2, c[1], c[1] + 2, c[2], c[2] + 2);
+                for (int a = c[0]; a <= c[0] + 2; ++a) {
+                    for (int b = c[1]; b <= c[1] + 2; ++b) {
+                        for (int d = c[2]; d <= c[2] + 2; ++d) targets.push_back({a, b, d});
+                    }
+                }
+            }
+            for (int i = fl[0]; i <= fh[0]; ++i) {
+                for (int j = fl[1]; j <= fh[1]; ++j) finished.set_run(i, j, fl[2], fh[2]);
+            }
+            // The beads without the holes.
+            BitGrid with_holes(nx, ny, nz);
+            for (int i = 0; i < nx; ++i) {
+                for (int j = 0; j < ny; ++j) {
+                    for (int k = 0; k < nz; ++k) {
+                        if (beads.get(i, j, k) && !holes.get(i, j, k)) {
+                            with_holes.set_run(i, j, k, k);
+                        }
+                    }
+                }
+            }
+            beads = with_holes;
+        } else {
+            for (int b = 0; b < 3; ++b) box(beads, 2, nx - 3, uniform(1, 4), &targets);
+            for (int b = 0; b < 2; ++b) box(finished, 2, nx - 3, uniform(2, 7), nullptr);
+        }
+        const auto nearest = [&](const Voxel& v) {
+            long best = std::numeric_limits<long>::max();
+            for (const Voxel& t : targets) best = std::min(best, d2_of(v, t));
+            if (inside) {
+                for (int a = 0; a < 3; ++a) {
+                    const long across = std::min(v[a] - (lo - 1), hi[a] + 1 - v[a]);
+                    best = std::min(best, across * across);
+                }
+            }
+            return best;
+        };
+        const auto fin = [&](int i, int j, int k) {
+            return i >= 0 && j >= 0 && k >= 0 && i < nx && j < ny && k < nz &&
+                   finished.get(i, j, k);
+        };
+        long want = inside ? std::numeric_limits<long>::max() : -1;
+        for (int i = 0; i < nx; ++i) {
+            for (int j = 0; j < ny; ++j) {
+                for (int k = 0; k < nz; ++k) {
+                    if (!finished.get(i, j, k)) continue;
+                    const bool asked = inside ? !fin(i - 1, j, k) || !fin(i + 1, j, k) ||
+                                                    !fin(i, j - 1, k) || !fin(i, j + 1, k) ||
+                                                    !fin(i, j, k - 1) || !fin(i, j, k + 1)
+                                              : !beads.get(i, j, k);
+                    if (!asked) continue;
+                    const long d2 = nearest({i, j, k});
+                    want = inside ? std::min(want, d2) : std::max(want, d2);
+                }
+            }
+        }
+        if (want < 0) continue;  // the finished part lies inside the small beads
+        const int limit = 150;   // beyond the grid's diagonal
+        const StockDistance got = smallest_stock(beads, finished, limit);
+        ASSERT_FALSE(got.empty);
+        ASSERT_EQ(got.inside, inside);
+        ASSERT_LE(want, long{limit} * limit);
+        EXPECT_FALSE(got.beyond);
+        EXPECT_DOUBLE_EQ(got.distance, std::sqrt(static_cast<double>(want)));
+        ASSERT_TRUE(finished.get(got.i, got.j, got.k));
+        EXPECT_EQ(nearest({got.i, got.j, got.k}), want);
+        if (want > 16 * 16) ++far_cases;  // past the fine search's first reach of 8
+        ++(inside ? inside_cases : outside_cases);
+    }
+    EXPECT_GT(inside_cases, 3);
+    EXPECT_GT(outside_cases, 3);
+    EXPECT_GT(far_cases, 3);
 }
 
 TEST(VoxelGrid, SmallestStockOfNoFinishedVoxelIsEmpty) {
