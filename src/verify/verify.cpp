@@ -4,6 +4,8 @@
 #include "maxslice/verify/verify.hpp"
 
 #include <fmt/format.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <tbb/task_group.h>
 
 #include <algorithm>
@@ -59,6 +61,9 @@ constexpr double kLimitToleranceMmOrDeg = 1e-6;
 /// Most poses checked along one block (a 100 m move at 1 mm; a program sending the tool
 /// farther is caught by the axis limits).
 constexpr double kMaxSamples = 1.0e5;
+/// A block's poses are checked side by side from this many on (fewer: one after another, the
+/// threads would cost more than they save).
+constexpr std::size_t kSideBySidePoses = 8;
 /// Subdivisions used to estimate the path of a move that turns the table.
 constexpr int kArcProbe = 16;
 /// The machining stock is searched this far (mm) from the finished part's surface, and at
@@ -494,26 +499,50 @@ private:
                                         b.laser_on ? "deposit" : "travel", s.tip.x, s.tip.y,
                                         s.tip.z, clearance_, what)};
         };
-        for (const Sample& s : samples) {
-            ++poses_checked_;
-            Vec3d hit;
+        // Every pose against the material of earlier blocks, side by side (the grid does not
+        // change within a block), then taken in order as one pose after another would be.
+        const bool clearance = clearance_ > 0.0;
+        std::vector<PoseFinding>& found = pose_findings_;
+        found.assign(samples.size(), PoseFinding{});
+        for_each_sample(samples.size(), [&](std::size_t i) {
+            const Sample& s = samples[i];
+            PoseFinding& f = found[i];
             if (detail::find_occupied(grid_, origin_, voxel_, s.tip, s.dir, nozzle_region_, 0.0,
-                                      &hit)) {
-                collide(s, hit, "material deposited earlier");
+                                      &f.hit)) {
+                f.contact = true;
+                return;
+            }
+            if (substrate_ && substrate_hit(s.tip, s.dir, 0.0, false, &f.hit)) {
+                f.contact_plate = true;
+                return;
+            }
+            if (!clearance) return;
+            if (detail::find_occupied(grid_, origin_, voxel_, s.tip, s.dir, hardware_region_,
+                                      clearance_, &f.near_hit)) {
+                f.near = true;
+            } else if (substrate_ && substrate_hit(s.tip, s.dir, clearance_, true, &f.near_hit)) {
+                f.near_plate = true;
+            }
+        });
+        for (std::size_t i = 0; i < samples.size(); ++i) {
+            const Sample& s = samples[i];
+            const PoseFinding& f = found[i];
+            ++poses_checked_;
+            if (f.contact) {
+                collide(s, f.hit, "material deposited earlier");
                 return;
             }
             if (!substrate_) {
                 note_below_plate(b, s, rep);
-            } else if (substrate_hit(s.tip, s.dir, 0.0, false, &hit)) {
-                collide(s, hit, "the substrate plate (machine.substrate)");
+            } else if (f.contact_plate) {
+                collide(s, f.hit, "the substrate plate (machine.substrate)");
                 return;
             }
-            if (near || !(clearance_ > 0.0)) continue;
-            if (detail::find_occupied(grid_, origin_, voxel_, s.tip, s.dir, hardware_region_,
-                                      clearance_, &hit)) {
-                within(s, hit, "material deposited earlier");
-            } else if (substrate_ && substrate_hit(s.tip, s.dir, clearance_, true, &hit)) {
-                within(s, hit, "the substrate plate (machine.substrate)");
+            if (near || !clearance) continue;
+            if (f.near) {
+                within(s, f.near_hit, "material deposited earlier");
+            } else if (f.near_plate) {
+                within(s, f.near_hit, "the substrate plate (machine.substrate)");
             }
         }
         if (near) {
@@ -620,14 +649,18 @@ private:
                                  ? core::norm(samples.back().tip - samples.front().tip) /
                                        static_cast<double>(samples.size() - 1)
                                  : 0.0;
-        for (std::size_t i = 0; i < samples.size(); ++i) {
+        // Every pose side by side (the grid does not change within a block), then in order.
+        std::vector<PoseFinding>& found = pose_findings_;
+        found.assign(samples.size(), PoseFinding{});
+        for_each_sample(samples.size(), [&](std::size_t i) {
             const Sample& s = samples[i];
-            const Vec3d base = s.tip - s.dir * h;
-            if (on_plate(base)) continue;
-            Vec3d hit;
-            if (detail::find_occupied(grid_, origin_, voxel_, s.tip, s.dir, region, 0.0, &hit)) {
-                continue;
-            }
+            found[i].contact = on_plate(s.tip - s.dir * h) ||
+                               detail::find_occupied(grid_, origin_, voxel_, s.tip, s.dir, region,
+                                                     0.0, &found[i].hit);
+        });
+        for (std::size_t i = 0; i < samples.size(); ++i) {
+            const Vec3d base = samples[i].tip - samples[i].dir * h;
+            if (found[i].contact) continue;  // on the plate or on earlier material
             if (i > 0) unsupported_length_ += piece;
             if (!counted) {
                 counted = true;
@@ -839,6 +872,25 @@ private:
     };
     std::optional<OpenEnd> open_end_;  // the end of the wire being laid
     std::vector<Sample> samples_;      // the poses of the block being checked (reused)
+    /// What one pose of a block meets: contact with material or the plate, or (without
+    /// contact) material or the plate within the clearance; where. Support: `contact`.
+    struct PoseFinding {
+        bool contact = false, contact_plate = false, near = false, near_plate = false;
+        Vec3d hit, near_hit;
+    };
+    std::vector<PoseFinding> pose_findings_;  // per pose of the block being checked (reused)
+    /// fn(i) for every pose i of a block, side by side when there are enough to pay for it.
+    template <class Fn>
+    static void for_each_sample(std::size_t n, const Fn& fn) {
+        if (n < kSideBySidePoses) {
+            for (std::size_t i = 0; i < n; ++i) fn(i);
+            return;
+        }
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kSideBySidePoses / 2),
+                          [&](const tbb::blocked_range<std::size_t>& r) {
+                              for (std::size_t i = r.begin(); i != r.end(); ++i) fn(i);
+                          });
+    }
 };
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "maxslice/verify/verify.hpp"
 
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -300,6 +301,44 @@ TEST(Verify, SameInputSameReportBytes) {
     const std::string b = report_json(verified(prog.text(), p));
     EXPECT_EQ(a, b);
     EXPECT_NE(a.find("\"passed\": false"), std::string::npos);
+}
+
+// A block's poses are checked side by side: the findings, their counts and which pose each
+// names first are those of one pose after another, whatever the thread count. One program with
+// a pass within the clearance of the block's wall, a bead in mid-air and a travel through the
+// block, each a move of many poses.
+TEST(Verify, TheFindingsDoNotDependOnTheThreads) {
+    machine::Profiles p = load("reference_lmd.toml");
+    ASSERT_TRUE(p.machine.nozzle.has_value());
+    p.machine.nozzle->standoff_mm = 1.0;
+    ProgramText prog(p, ProgramDialect::kGm, false);
+    const Vec3d c = plate_centre(p);
+    zigzag_block(prog, p, c.x, c.y, kHalf, kLayers);
+    prog.move(c.x + kHalf + 4.0, c.y - 30.0, 30.0, p.process.travel_feed_mm_min);
+    prog.move(c.x + kHalf + 4.0, c.y - 30.0, 3.0, p.process.travel_feed_mm_min);
+    const int near = prog.move(c.x + kHalf + 4.0, c.y + 30.0, 3.0, p.process.travel_feed_mm_min);
+    prog.move(c.x - 5.0, c.y, 16.0, p.process.travel_feed_mm_min);
+    prog.laser(true);
+    const int air = prog.move(c.x + 5.0, c.y, 16.0, p.process.deposition_feed_mm_min);
+    prog.laser(false);
+    prog.move(c.x - kHalf - 20.0, c.y, 30.0, p.process.travel_feed_mm_min);
+    prog.move(c.x - kHalf - 20.0, c.y, 3.0, p.process.travel_feed_mm_min);
+    const int through = prog.move(c.x + kHalf + 20.0, c.y, 3.0, p.process.travel_feed_mm_min);
+    VerifySettings s;
+    s.clearance_mm = 3.0;
+    const Report many = verified(prog.text(), p, s);
+    Report one;
+    {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+        one = verified(prog.text(), p, s);
+    }
+    EXPECT_EQ(report_json(many), report_json(one));
+    ASSERT_TRUE(many.clearance.first && many.unsupported.first && many.collisions.first)
+        << report_text(many);
+    EXPECT_LE(many.clearance.first->line, near);  // the 1 mm standoff: the block itself too
+    EXPECT_EQ(many.unsupported.first->line, air);
+    EXPECT_EQ(many.collisions.first->line, through);
+    EXPECT_NEAR(many.unsupported_length_mm, 10.0, 1.0);
 }
 
 TEST(Verify, JsonReportParsesAndCarriesTheFindings) {
