@@ -61,9 +61,9 @@ struct Query {
         const Vec3d c = origin + Vec3d{(i + 0.5) * size, (j + 0.5) * size, (k + 0.5) * size};
         const Vec3d rel = c - apex;
         const double a = core::dot(rel, axis);
-        const double r = core::norm(rel - axis * a);
         if (level == 0) {
             if (a < region.a_min) return false;
+            const double r = core::norm(rel - axis * a);
             const double bound = region.distance_bound(a, r);
             if (bound > margin || (margin > 0.0 && region.distance(a, r) > margin)) return false;
             if (hit != nullptr) *hit = c;
@@ -71,6 +71,7 @@ struct Query {
         }
         const double ext = 0.5 * size * axial_half_extent;
         if (a + ext < region.a_min || a - ext > region.a_max + margin) return false;
+        const double r = core::norm(rel - axis * a);
         const double rho = 0.5 * size * std::numbers::sqrt3;
         if (region.distance_bound(a, r) > margin + rho) return false;
         for (int di = 0; di < 2; ++di) {
