@@ -110,38 +110,35 @@ BitGrid coarsened(const BitGrid& fine) {
     return out;
 }
 
-StockDistance stock_from(const BitGrid& beads, const BitGrid& finished, int limit, int first_reach);
+// Stocks are mostly a few voxels: the search starts this near and reaches farther only while it
+// finds nothing, four times as far each time (the work grows with the reach and the box).
+constexpr int kFirstReach = 8;
+
+StockDistance stock_from(const BitGrid& beads, const BitGrid& finished, int limit,
+                         const StockDistance* coarse);
 
 }  // namespace
 
 StockDistance smallest_stock(const BitGrid& beads, const BitGrid& finished, int limit) {
     limit = std::clamp(limit, 1, kMaxStockLimit);
-    // Stocks are mostly a few voxels: the search starts near and reaches farther only while it
-    // finds nothing, four times as far each time (the work grows with the reach and the box).
     // On fine grids the stock is often tens of voxels (a 1 mm machining stock at 0.075 mm):
     // the same search on grids kCoarse times coarser (set where any voxel is) first says about
     // how far to reach, and the fine search starts there. Where that guess falls short, the
     // fine search reaches farther as before: the answer is the fine grid's either way.
-    constexpr int kFirstReach = 8;
-    int first = std::min(limit, kFirstReach);
     if (std::min({finished.nx(), finished.ny(), finished.nz()}) >= kCoarse * 2 * kFirstReach) {
         const StockDistance c = stock_from(coarsened(beads), coarsened(finished),
-                                           std::max(1, limit / kCoarse + 1), kFirstReach);
-        const StockDistance probe = stock_from(beads, finished, limit, 0);  // inside or not
-        if (!c.empty && !c.beyond && c.inside == probe.inside) {
-            const int guess = static_cast<int>(std::ceil(c.distance)) * kCoarse + 2 * kCoarse;
-            first = std::clamp(guess, first, limit);
-        }
+                                           std::max(1, limit / kCoarse + 1), nullptr);
+        return stock_from(beads, finished, limit, &c);
     }
-    return stock_from(beads, finished, limit, first);
+    return stock_from(beads, finished, limit, nullptr);
 }
 
 namespace {
 
-// smallest_stock with its first reach; 0: only whether the finished part lies inside the beads
-// (and whether it is empty), nothing searched.
+// smallest_stock, its first reach guessed from `coarse` (the answer on coarser grids) when that
+// found a stock of the same kind (inside or sticking out).
 StockDistance stock_from(const BitGrid& beads, const BitGrid& finished, int limit,
-                         int first_reach) {
+                         const StockDistance* coarse) {
     StockDistance out;
     limit = std::clamp(limit, 1, kMaxStockLimit);
     const int nx = finished.nx(), ny = finished.ny(), nz = finished.nz();
@@ -170,7 +167,6 @@ StockDistance stock_from(const BitGrid& beads, const BitGrid& finished, int limi
     if (all.hi[0] < 0) return out;
     out.empty = false;
     out.inside = outside.hi[0] < 0;
-    if (first_reach <= 0) return out;
     const IndexBox& box = out.inside ? all : outside;  // the voxels asked about lie in it
     // Inside: the distance to the nearest voxel outside the beads, asked at the finished
     // part's boundary voxels (the nearest pair has its finished end there: a voxel with all six
@@ -340,7 +336,11 @@ StockDistance stock_from(const BitGrid& beads, const BitGrid& finished, int limi
         }
         return best;
     };
-    int reach = first_reach;  // the last search decides
+    int reach = std::min(limit, kFirstReach);  // the last search decides
+    if (coarse != nullptr && !coarse->empty && !coarse->beyond && coarse->inside == out.inside) {
+        const int guess = static_cast<int>(std::ceil(coarse->distance)) * kCoarse + 2 * kCoarse;
+        reach = std::clamp(guess, reach, limit);
+    }
     std::int64_t best = search(reach);
     while (best > static_cast<std::int64_t>(reach) * reach && reach < limit) {
         reach = std::min(limit, 4 * reach);
