@@ -29,6 +29,8 @@
 #include "maxslice/core/units.hpp"
 #include "maxslice/machine/machine_moves.hpp"
 #include "maxslice/machine/profile.hpp"
+#include "maxslice/machine/program_builder.hpp"
+#include "maxslice/machine/summary.hpp"
 #include "maxslice/machine/writer.hpp"
 #include "maxslice/pipeline/near_net_job.hpp"
 #include "maxslice/pipeline/orient_job.hpp"
@@ -349,7 +351,28 @@ struct Written {
     std::optional<verify::Report> report;
     bool kept = false;  // the verifier passed it (or --no-verify, or no track at all)
     double paths_s = 0.0, write_s = 0.0, verify_s = 0.0;
+    // Beads the verifier found resting on nothing, left out before it passed the program.
+    std::size_t left_out_beads = 0;
+    double left_out_mm = 0.0;
 };
+
+// A program the verifier refuses only for a few beads on nothing (the toolpaths' support
+// model and the verifier's voxels disagree at a track's end by a fraction of a voxel) has
+// those beads left out and is replayed again, at most this many times (decision 0039).
+constexpr int kLeaveOutRounds = 3;
+// ... when they are at most this share of its deposit blocks: more is a plan that does not
+// hold, and is refused.
+constexpr double kLeaveOutShare = 0.01;
+// A verifier's pose lies on the program's track within the written digits (0.001 mm and
+// 0.001 deg at the table's reach); a track this close to one is the one it lies on.
+constexpr double kLeaveOutWithinMm = 0.01;
+
+bool beads_to_leave_out(const verify::Report& report) {
+    return !report.passed() && report.passed_apart_from_support() &&
+           !report.unsupported_tips.empty() &&
+           static_cast<double>(report.unsupported.count) <=
+               kLeaveOutShare * static_cast<double>(report.deposit_moves);
+}
 
 // Writes w.program's text, naming the part file's `direction` it builds upwards, and replays
 // it in the verifier (unless --no-verify); "" when it is kept, else the verifier's refusal
@@ -381,11 +404,30 @@ core::Result<std::string> write_and_verify(Written<Planned>& w, const core::Vec3
         if (!f) return std::unexpected(core::with_context(f.error(), "placing the finished part"));
         placed_finished = std::move(*f);
     }
-    auto r = verify::verify_program(w.text, placed, profiles, {},
-                                    placed_finished ? &*placed_finished : nullptr);
-    if (!r) return std::unexpected(core::with_context(r.error(), "verifying the program"));
+    const auto replay = [&]() -> core::Result<void> {
+        auto r = verify::verify_program(w.text, placed, profiles, {},
+                                        placed_finished ? &*placed_finished : nullptr);
+        if (!r) return std::unexpected(core::with_context(r.error(), "verifying the program"));
+        w.report = std::move(*r);
+        return {};
+    };
+    if (auto ok = replay(); !ok) return std::unexpected(ok.error());
+    for (int round = 0; round < kLeaveOutRounds && beads_to_leave_out(*w.report); ++round) {
+        const double cut = machine::leave_out_deposits(
+            w.program->program, w.report->unsupported_tips, profiles.process, kLeaveOutWithinMm);
+        if (!(cut > 0.0)) break;
+        w.left_out_beads += w.report->unsupported.count;
+        w.left_out_mm += cut;
+        auto summary = machine::summarize(w.program->program, profiles.process);
+        if (!summary) return std::unexpected(summary.error());
+        w.program->summary = *summary;
+        auto again =
+            machine::write_program(w.program->program, profiles.machine, profiles.process, wo);
+        if (!again) return std::unexpected(again.error());
+        w.text = std::move(*again);
+        if (auto ok = replay(); !ok) return std::unexpected(ok.error());
+    }
     w.verify_s = seconds_since(t);
-    w.report = std::move(*r);
     w.kept = verifier_keeps(*w.report, so);
     return w.kept ? std::string()
                   : "the verifier refused its program " + verifier_counts(*w.report, true);
@@ -445,6 +487,16 @@ void print_verification(Printed& o, const std::optional<verify::Report>& report,
     o.print("build time      %.1f min (deposit %.1f, idle %.1f, dwell %.1f; verifier)\n",
             report->build_time_s / 60.0, report->deposit_time_s / 60.0, report->idle_time_s / 60.0,
             report->dwell_time_s / 60.0);
+}
+
+// "on nothing      2 beads ... left out": the beads the verifier found resting on nothing
+// and the job left out before the replay that passed (decision 0039).
+void print_left_out(Printed& o, std::size_t beads, double mm) {
+    if (beads == 0) return;
+    o.print(
+        "on nothing      %zu beads the verifier found resting on nothing left out (%.1f mm of "
+        "track); the program replayed again\n",
+        beads, mm);
 }
 
 // The orientation policy of a program job: --orient, or the default (the given direction,
@@ -875,6 +927,7 @@ JobOutcome run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
     o.print("left out        %.1f mm of track in %d layers (no bead below it)\n", p->trimmed_mm,
             p->layers_trimmed);
     print_verification(o, report, profiles.process.track_width_mm);
+    print_left_out(o, w.left_out_beads, w.left_out_mm);
     return done(kExitOk);
 }
 
@@ -1071,6 +1124,7 @@ JobOutcome run_planar_slice(const PartOptions& opt, const SliceOptions& so,
     }
 
     std::optional<pipeline::PlannedProgram> planned;
+    std::pair<std::size_t, double> left_out{0, 0.0};  // beads on nothing left out, mm
     std::optional<verify::Report> report;
     if (program_mode) {
         // Refuse a part whose overhangs need a split, never deposit on air.
@@ -1126,6 +1180,7 @@ JobOutcome run_planar_slice(const PartOptions& opt, const SliceOptions& so,
                        profiles->process.track_width_mm);
         report = std::move(w.report);
         planned = std::move(*w.program);
+        left_out = {w.left_out_beads, w.left_out_mm};
     }
 
     double volume = 0.0, hmin = 1e300, hmax = 0.0;
@@ -1164,6 +1219,7 @@ JobOutcome run_planar_slice(const PartOptions& opt, const SliceOptions& so,
         o.print("uncovered       %.2f mm2 of %.1f mm2 (%d layers over 1%%)\n",
                 planned->uncovered_mm2, planned->region_area_mm2, planned->layers_with_uncovered);
         print_verification(o, report, profiles->process.track_width_mm);
+        print_left_out(o, left_out.first, left_out.second);
     }
     // The previews and the JSON are written when this job is the one kept.
     if (!so.json_file.empty() || !so.svg_dir.empty() || !so.contact_sheet.empty()) {

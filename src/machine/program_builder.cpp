@@ -1,5 +1,8 @@
 #include "maxslice/machine/program_builder.hpp"
 
+#include <algorithm>
+#include <cmath>
+#include <optional>
 #include <vector>
 
 #include "maxslice/core/assert.hpp"
@@ -15,6 +18,14 @@ const Move* last_positioning(const Program& program) {
         if (it->kind == MoveKind::kTravel || it->kind == MoveKind::kDeposit) return &*it;
     }
     return nullptr;
+}
+
+// Distance from p to the segment [a, b].
+double to_segment(const core::Vec3d& p, const core::Vec3d& a, const core::Vec3d& b) {
+    const core::Vec3d ab = b - a;
+    const double len2 = core::dot(ab, ab);
+    const double t = len2 > 0.0 ? std::clamp(core::dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
+    return core::norm(p - (a + ab * t));
 }
 
 }  // namespace
@@ -74,6 +85,80 @@ void append_wire(Program& program, std::span<const core::Vec3d> points,
     off.powder_g_min = 0.0;
     off.dwell_ms = 0.0;
     program.moves.push_back(off);
+}
+
+double leave_out_deposits(Program& program, std::span<const core::Vec3d> tips,
+                          const ProcessProfile& process, double within_mm) {
+    if (tips.empty()) return 0.0;
+    // The tips by X: a track's candidates are those within its X range.
+    std::vector<core::Vec3d> by_x(tips.begin(), tips.end());
+    std::sort(by_x.begin(), by_x.end(),
+              [](const core::Vec3d& a, const core::Vec3d& b) { return a.x < b.x; });
+    const auto near_a_tip = [&](const core::Vec3d& a, const core::Vec3d& b) {
+        auto it = std::lower_bound(by_x.begin(), by_x.end(), std::min(a.x, b.x) - within_mm,
+                                   [](const core::Vec3d& t, double x) { return t.x < x; });
+        for (; it != by_x.end() && it->x <= std::max(a.x, b.x) + within_mm; ++it) {
+            if (to_segment(*it, a, b) <= within_mm) return true;
+        }
+        return false;
+    };
+    std::vector<Move> out;
+    out.reserve(program.moves.size());
+    core::Vec3d at{};               // where the head is
+    bool on = false;                // the laser as written so far
+    std::optional<Move> switch_on;  // the laser-on of the wire being read
+    double left_out = 0.0;
+    for (const Move& m : program.moves) {
+        switch (m.kind) {
+            case MoveKind::kLaserOn: switch_on = m; break;
+            case MoveKind::kLaserOff:
+                if (on) {
+                    Move off = m;
+                    off.position = at;
+                    out.push_back(off);
+                    on = false;
+                }
+                break;
+            case MoveKind::kTravel:
+                out.push_back(m);
+                at = m.position;
+                break;
+            case MoveKind::kDeposit: {
+                if (!near_a_tip(at, m.position)) {
+                    if (!on && switch_on) {
+                        Move again = *switch_on;
+                        again.position = at;
+                        out.push_back(again);
+                        on = true;
+                    }
+                    out.push_back(m);
+                } else {
+                    if (on) {
+                        Move off = m;
+                        off.kind = MoveKind::kLaserOff;
+                        off.position = at;
+                        off.feed_mm_min = 0.0;
+                        off.laser_w = process.laser_power_off_w;
+                        off.powder_g_min = 0.0;
+                        off.dwell_ms = 0.0;
+                        out.push_back(off);
+                        on = false;
+                    }
+                    Move idle = m;
+                    idle.kind = MoveKind::kTravel;
+                    idle.feed_mm_min = process.travel_feed_mm_min;
+                    idle.laser_w = process.laser_power_off_w;
+                    idle.powder_g_min = 0.0;
+                    out.push_back(idle);
+                    left_out += core::norm(m.position - at);
+                }
+                at = m.position;
+                break;
+            }
+        }
+    }
+    program.moves = std::move(out);
+    return left_out;
 }
 
 }  // namespace maxslice::machine

@@ -662,6 +662,9 @@ private:
             const Vec3d base = samples[i].tip - samples[i].dir * h;
             if (found[i].contact) continue;  // on the plate or on earlier material
             if (i > 0) unsupported_length_ += piece;
+            if (rep.unsupported_tips.size() < Report::kMaxUnsupportedTips) {
+                rep.unsupported_tips.push_back(samples[i].tip);
+            }
             if (!counted) {
                 counted = true;
                 ++rep.unsupported.count;

@@ -28,4 +28,12 @@ void append_wire(Program& program, std::span<const core::Vec3d> points,
                  std::span<const double> feeds, const ProcessProfile& process, int layer,
                  int region = 0, const core::Vec3d& direction = {0.0, 0.0, 1.0});
 
+/// Leaves out of `program` the deposit moves whose track passes within `within_mm` of one of
+/// `tips` (part coordinates): each becomes a travel along the same path at the travel feed,
+/// with the laser switched off before it and on again (the process's dwell) before the next
+/// deposit move kept. The job leaves out the beads the verifier finds resting on nothing
+/// (docs/decisions/0039). Returns the length of track left out (mm).
+double leave_out_deposits(Program& program, std::span<const core::Vec3d> tips,
+                          const ProcessProfile& process, double within_mm);
+
 }  // namespace maxslice::machine

@@ -84,6 +84,10 @@ struct Report {
     Finding clearance;
     Finding unsupported;  ///< deposit blocks with a bead piece resting on nothing
     double unsupported_length_mm = 0.0;
+    /// The tool tips (part frame) of the poses whose bead rests on nothing, in program order,
+    /// at most kMaxUnsupportedTips: where a job leaves beads out (decision 0039).
+    std::vector<core::Vec3d> unsupported_tips;
+    static constexpr std::size_t kMaxUnsupportedTips = 100'000;
     Finding limit_violations;  ///< blocks with a pose outside machine.axes
     /// The profile has a [machine.substrate]: the head is checked against the plate too
     /// (a hit counts as a collision).

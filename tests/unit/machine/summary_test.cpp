@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include "machine_fixtures.hpp"
+#include "maxslice/machine/program_check.hpp"
 #include "maxslice/machine/summary.hpp"
 
 namespace maxslice::machine {
@@ -62,6 +63,48 @@ TEST(Summary, RefusesBrokenMoves) {
     EXPECT_FALSE(summarize(p, process).has_value());
     p.moves[3].feed_mm_min = NAN;
     EXPECT_FALSE(summarize(p, process).has_value());
+}
+
+// The beads the verifier finds on nothing are left out (decision 0039): the deposit moves
+// they lie on become travels, the laser off over them and on again (with its dwell) before
+// the next bead; the rest of the program stays as it was.
+TEST(LeaveOut, TheMovesATipLiesOnBecomeTravelsWithTheLaserSwitchedAroundThem) {
+    const ProcessProfile process = reference_process();
+    Program p;
+    const std::vector<core::Vec3d> wire{
+        {0.0, 0.0, 1.0}, {10.0, 0.0, 1.0}, {20.0, 0.0, 1.0}, {30.0, 0.0, 1.0}};
+    append_wire(p, wire, process, 0);
+    const std::vector<core::Vec3d> other{{0.0, 5.0, 1.0}, {30.0, 5.0, 1.0}};
+    append_wire(p, other, process, 0);
+    const Program before = p;
+    // Nothing near a track: the program is left as it was.
+    const std::vector<core::Vec3d> far{{15.0, 2.5, 1.0}};
+    EXPECT_EQ(leave_out_deposits(p, far, process, 0.01), 0.0);
+    ASSERT_EQ(p.moves.size(), before.moves.size());
+    for (std::size_t i = 0; i < p.moves.size(); ++i) {
+        EXPECT_EQ(p.moves[i].kind, before.moves[i].kind);
+        EXPECT_EQ(p.moves[i].position, before.moves[i].position);
+    }
+    // A tip on the middle segment of the first wire, one at the start of the second's only one.
+    const std::vector<core::Vec3d> tips{{14.0, 0.004, 1.0}, {0.0, 5.0, 1.0}};
+    EXPECT_NEAR(leave_out_deposits(p, tips, process, 0.01), 40.0, 1e-9);
+    ASSERT_TRUE(check_program(p, testing::gm_machine(), process).has_value());
+    const auto s = summarize(p, process);
+    ASSERT_TRUE(s.has_value()) << s.error().describe();
+    EXPECT_NEAR(s->deposit_length_mm, 20.0, 1e-9);
+    EXPECT_EQ(s->laser_on_count, 2);  // the first wire in two pieces, the second left out
+    // The laser is off on every travel and on for every deposit move.
+    bool on = false;
+    for (const Move& m : p.moves) {
+        if (m.kind == MoveKind::kLaserOn) on = true;
+        if (m.kind == MoveKind::kLaserOff) on = false;
+        if (m.kind == MoveKind::kDeposit) {
+            EXPECT_TRUE(on);
+        }
+        if (m.kind == MoveKind::kTravel) {
+            EXPECT_FALSE(on);
+        }
+    }
 }
 
 }  // namespace
