@@ -24,12 +24,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <complex>
-#include <cstdint>
 #include <exception>
 #include <limits>
 #include <new>
-#include <numbers>
 #include <optional>
 #include <vector>
 
@@ -78,152 +75,26 @@ constexpr double kBandMarginVoxels = 2.0;
 // grown by the stock, and its surface lies within a fraction of a voxel of the grown one.
 constexpr double kLeastVolumeShare = 0.99;
 // volumeToMesh's adaptivity: facets merged where the surface is flat to this share of a voxel;
-// the mesh stays closed. At 0.05 the merges cut into the rounded stock of convex edges and
-// corners where they do not lie on voxel centres (a cube's corner kept 1.03 of a 1.5 mm
-// stock): 0.01 keeps it (decision 0039).
-constexpr double kAdaptivity = 0.01;
+// the mesh stays closed and the deviation far below the stock.
+constexpr double kAdaptivity = 0.05;
 
-// A harmonic below this share of its weight says nothing of the part's turn: what is left
-// of one that cancels out (a regular polygon's facets) is rounding.
-constexpr double kLeastHarmonic = 1e-6;
-// The sector a direction is brought into when the turn is chosen among quarter turns: centred
-// off the axes and diagonals, so that no direction a designed part favours lies on its edges.
-constexpr double kSectorOffsetRad = 10.0 * std::numbers::pi / 180.0;
-
-// The grids' origin lies this share of a fine voxel below and before the part's lower corner,
-// so faces along the axes (most of a designed part's) lie a quarter voxel off the voxel
-// centres, and grown by a stock of whole voxels, so does the surface. On the centres each such
-// voxel is a tie, and a part read back with its coordinates rounded otherwise (turned, saved
-// as floats) lands on the other side of it: another near-net shape, another plan. (Half a
-// voxel would put them as far from the centres, but the rounded edges' samples too.)
-constexpr double kOriginShiftVoxels = 0.25;
-
-using Harmonic = std::complex<double>;
-
-// The angle a harmonic gives, 1/m of its argument; nullopt when it is too weak to tell.
-std::optional<double> angle_of(const Harmonic& h, double weight, int m) {
-    if (!(weight > 0.0) || !(std::abs(h) > kLeastHarmonic * weight)) return std::nullopt;
-    return std::arg(h) / m;
-}
-
-// The quarter turn (0..3) that brings direction `a` (rad), seen in a frame turned by `base`,
-// into the sector around +X; with `period` pi (an axis, not a direction) 0 or 1.
-int quarter_of(double a, double base, double period) {
-    const int turns = period < 4.0 ? 2 : 4;
-    const auto k = static_cast<long>(
-        std::floor((a - base - kSectorOffsetRad + std::numbers::pi / 4) / (std::numbers::pi / 2)));
-    return static_cast<int>(((k % turns) + turns) % turns);
-}
-
-// The turn about Z (rad) that sets the part in its own frame before the grids are laid, so
-// that a part turned about Z gets the same grids relative to itself and so the same near-net
-// shape, turned: the voxels are axis-aligned, and a field sampled on other voxels differs by
-// a fraction of one, enough to change where the planner splits (docs/decisions/0039).
-// Up to quarter turns, the turn lays the part's walls along the axes (the fourth harmonic of
-// the facets' horizontal normals, weighted by area); a part whose walls do not tell (turned
-// facets of regular polygons cancel out) is turned by where its surface lies (fourth, second,
-// then first harmonic of the facets' places about their centroid). The quarter turn is then
-// taken from the first harmonic of where the surface lies, or the second. Each step uses only
-// what turns with the part, so turning the part adds its angle to the result (up to rounding,
-// and up to the symmetries of a part that none of them tells apart).
-double own_turn(const mesh::TriangleMesh& m) {
-    Harmonic walls{};
-    double wall_weight = 0.0;
-    double area = 0.0;
-    core::Vec3d centroid{};
-    for (std::size_t t = 0; t < m.triangles.size(); ++t) {
-        const core::Vec3d a = m.corner(t, 0), b = m.corner(t, 1), c = m.corner(t, 2);
-        const core::Vec3d n = core::cross(b - a, c - a);
-        const Harmonic h{n.x, n.y};
-        const double r = std::abs(h);
-        if (r > 0.0) {
-            const Harmonic h2 = h * h;
-            walls += h2 * h2 / (r * r * r);  // r e^{4 i theta}
-            wall_weight += r;
-        }
-        const double w = core::norm(n);
-        area += w;
-        centroid += (a + b + c) * w;
-    }
-    if (!(area > 0.0)) return 0.0;
-    centroid = centroid / (3.0 * area);
-    Harmonic p1{}, p2{}, p4{};
-    double w2 = 0.0, w3 = 0.0;
-    for (std::size_t t = 0; t < m.triangles.size(); ++t) {
-        const core::Vec3d a = m.corner(t, 0), b = m.corner(t, 1), c = m.corner(t, 2);
-        const double w = core::norm(core::cross(b - a, c - a));
-        const core::Vec3d q = (a + b + c) / 3.0 - centroid;
-        const Harmonic h{q.x, q.y};
-        const double r = std::abs(h);
-        const Harmonic h2 = h * h;
-        p1 += h * (r * r * w);  // w r^3 e^{i psi}: about the centroid, w h alone sums to 0
-        p2 += h2 * w;           // w r^2 e^{2 i psi}
-        if (r > 0.0) p4 += h2 * h2 * (w / (r * r));
-        w2 += r * r * w;
-        w3 += r * r * r * w;
-    }
-    std::optional<double> phi = angle_of(walls, wall_weight, 4);
-    if (!phi) phi = angle_of(p4, w2, 4);
-    if (!phi) phi = angle_of(p2, w2, 2);
-    if (!phi) phi = angle_of(p1, w3, 1);
-    if (!phi) return 0.0;
-    int k = 0;
-    if (const auto d = angle_of(p1, w3, 1)) {
-        k = quarter_of(*d, *phi, 2.0 * std::numbers::pi);
-    } else if (const auto ax = angle_of(p2, w2, 2)) {
-        k = quarter_of(*ax, *phi, std::numbers::pi);
-    }
-    return *phi + k * std::numbers::pi / 2;
-}
-
-// The grids' frame: the part turned about Z by -turn, its lower corner the grids' origin.
-// Small index coordinates keep the float precision of the fields and of the extracted points.
-struct GridFrame {
-    double cos = 1.0;
-    double sin = 0.0;
-    core::Vec3d origin;
-
-    GridFrame(const mesh::TriangleMesh& m, double voxel) {
-        const double turn = own_turn(m);
-        if (std::abs(turn) > 1e-12) {  // a part already in its own frame is left untouched
-            cos = std::cos(turn);
-            sin = std::sin(turn);
-        }
-        core::Box3d box;
-        for (const mesh::Triangle& t : m.triangles) {
-            for (const std::uint32_t v : t) box.add(unturned(m.vertices[v]));
-        }
-        origin = box.min - core::Vec3d{1.0, 1.0, 1.0} * (kOriginShiftVoxels * voxel);
-    }
-    // A part-frame point in the turned frame.
-    [[nodiscard]] core::Vec3d unturned(const core::Vec3d& p) const {
-        return {cos * p.x + sin * p.y, -sin * p.x + cos * p.y, p.z};
-    }
-    // A point of the grids (relative to the origin, mm) in the part frame.
-    [[nodiscard]] core::Vec3d to_part(const core::Vec3d& g) const {
-        const core::Vec3d q = origin + g;
-        return {cos * q.x - sin * q.y, sin * q.x + cos * q.y, q.z};
-    }
-};
-
-// Our mesh as OpenVDB's mesh adapter wants it: corners in the grid's index space (the grids'
-// frame, in voxels), read on the fly in double.
+// Our mesh as OpenVDB's mesh adapter wants it: corners in the grid's index space (relative to
+// the part's lower corner, in voxels), read on the fly in double.
 class IndexSpaceMesh {
 public:
-    IndexSpaceMesh(const mesh::TriangleMesh& m, const GridFrame& frame, double voxel)
-        : mesh_(m), frame_(frame), inv_voxel_(1.0 / voxel) {}
+    IndexSpaceMesh(const mesh::TriangleMesh& m, const core::Vec3d& origin, double voxel)
+        : mesh_(m), origin_(origin), inv_voxel_(1.0 / voxel) {}
     [[nodiscard]] std::size_t polygonCount() const { return mesh_.triangles.size(); }
     [[nodiscard]] std::size_t pointCount() const { return mesh_.vertices.size(); }
     [[nodiscard]] std::size_t vertexCount(std::size_t) const { return 3; }
     void getIndexSpacePoint(std::size_t n, std::size_t v, openvdb::Vec3d& pos) const {
-        const core::Vec3d p =
-            (frame_.unturned(mesh_.corner(n, static_cast<int>(v))) - frame_.origin) * inv_voxel_;
+        const core::Vec3d p = (mesh_.corner(n, static_cast<int>(v)) - origin_) * inv_voxel_;
         pos = openvdb::Vec3d(p.x, p.y, p.z);
     }
 
 private:
     const mesh::TriangleMesh& mesh_;
-    const GridFrame& frame_;
+    core::Vec3d origin_;
     double inv_voxel_;
 };
 
@@ -248,17 +119,17 @@ double fine_voxel(double area_mm2, double stock, double radius) {
 }
 
 // volumeToMesh's points and polygons as our mesh: quads split along a fixed diagonal, points
-// taken back to the part frame, unused points dropped, normals outward.
+// shifted back to the part frame, unused points dropped, normals outward.
 mesh::TriangleMesh to_mesh(const std::vector<openvdb::Vec3s>& points,
                            const std::vector<openvdb::Vec3I>& triangles,
-                           const std::vector<openvdb::Vec4I>& quads, const GridFrame& frame) {
+                           const std::vector<openvdb::Vec4I>& quads, const core::Vec3d& origin) {
     mesh::TriangleMesh out;
     std::vector<std::uint32_t> index(points.size(), std::numeric_limits<std::uint32_t>::max());
     const auto vertex = [&](unsigned i) {
         if (index[i] == std::numeric_limits<std::uint32_t>::max()) {
             index[i] = static_cast<std::uint32_t>(out.vertices.size());
             const openvdb::Vec3s& p = points[i];
-            out.vertices.push_back(frame.to_part(core::Vec3d{p.x(), p.y(), p.z()}));
+            out.vertices.push_back(origin + core::Vec3d{p.x(), p.y(), p.z()});
         }
         return index[i];
     };
@@ -286,12 +157,12 @@ struct IndexPolygons {
     std::vector<openvdb::Vec4I> polygons;  // triangles with index 3 = INVALID_IDX
 };
 
-core::Result<IndexPolygons> closing(const mesh::TriangleMesh& finished, const GridFrame& frame,
+core::Result<IndexPolygons> closing(const mesh::TriangleMesh& finished, const core::Vec3d& origin,
                                     double radius, double depth, double voxel, double fine_voxel,
                                     Interrupter& interrupter, std::size_t& active) {
     const openvdb::math::Transform::Ptr xform =
         openvdb::math::Transform::createLinearTransform(voxel);
-    const IndexSpaceMesh adapter(finished, frame, voxel);
+    const IndexSpaceMesh adapter(finished, origin, voxel);
     const float margin = static_cast<float>(kBandMarginVoxels);
     openvdb::FloatGrid::Ptr field = openvdb::tools::meshToVolume<openvdb::FloatGrid>(
         interrupter, adapter, *xform, static_cast<float>(radius / voxel) + margin, margin);
@@ -351,7 +222,9 @@ core::Result<NearNet> compute(const mesh::TriangleMesh& part, const NearNetSetti
                         report.area_mm2, voxel, kMaxSurfaceVoxels, stock),
             "near-net shape");
     }
-    const GridFrame frame(finished, voxel);
+    // The grids' index space starts at the part's lower corner: small index coordinates keep
+    // the float precision of the fields and of the extracted points.
+    const core::Vec3d origin = report.bounding_box.min;
     openvdb::initialize();
     Interrupter interrupter(progress);
     NearNet out;
@@ -365,7 +238,7 @@ core::Result<NearNet> compute(const mesh::TriangleMesh& part, const NearNetSetti
         openvdb::math::Transform::createLinearTransform(voxel);
 
     if (progress != nullptr) progress->report("near-net", 0.0);
-    const IndexSpaceMesh adapter(finished, frame, voxel);
+    const IndexSpaceMesh adapter(finished, origin, voxel);
     openvdb::FloatGrid::Ptr field = openvdb::tools::meshToVolume<openvdb::FloatGrid>(
         interrupter, adapter, *xform, ex_band, margin);
     if (interrupter.wasInterrupted()) {
@@ -376,7 +249,7 @@ core::Result<NearNet> compute(const mesh::TriangleMesh& part, const NearNetSetti
         if (progress != nullptr) progress->report("near-net", 0.3);
         const double coarse = std::max(radius / kVoxelsPerFillRadius, kCoarseOverFine * voxel);
         const double depth = radius + std::min(kClosingDepthVoxels * coarse, stock);
-        auto closed = closing(finished, frame, radius, depth, coarse, voxel, interrupter,
+        auto closed = closing(finished, origin, radius, depth, coarse, voxel, interrupter,
                               out.report.active_voxels);
         if (!closed) return std::unexpected(closed.error());
         const openvdb::tools::QuadAndTriangleDataAdapter<openvdb::Vec3s, openvdb::Vec4I> c(
@@ -396,7 +269,7 @@ core::Result<NearNet> compute(const mesh::TriangleMesh& part, const NearNetSetti
     std::vector<openvdb::Vec4I> quads;
     openvdb::tools::volumeToMesh(*field, points, triangles, quads, stock, kAdaptivity, true);
     field.reset();
-    out.mesh = to_mesh(points, triangles, quads, frame);
+    out.mesh = to_mesh(points, triangles, quads, origin);
     if (out.mesh.triangles.empty()) {
         return core::fail(ErrorCode::kInternal, "the distance field gave an empty surface",
                           "near-net shape");

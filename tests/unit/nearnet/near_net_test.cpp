@@ -5,14 +5,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <iterator>
 #include <limits>
 #include <numbers>
-#include <vector>
 
 #include "maxslice/mesh/validation.hpp"
 #include "support/fixtures.hpp"
-#include "support/planner_fixtures.hpp"
 
 namespace maxslice::nearnet {
 namespace {
@@ -64,26 +61,6 @@ double distance_to_surface(const mesh::TriangleMesh& m, const Vec3d& p) {
                         point_triangle_distance(p, m.corner(t, 0), m.corner(t, 1), m.corner(t, 2)));
     }
     return best;
-}
-
-// The largest distance from a point of `a` to the nearest point of `b` (points sorted by X,
-// each searched within the best distance found so far).
-double farthest_from_nearest(std::vector<Vec3d> a, std::vector<Vec3d> b) {
-    const auto by_x = [](const Vec3d& p, const Vec3d& q) { return p.x < q.x; };
-    std::sort(b.begin(), b.end(), by_x);
-    double worst = 0.0;
-    for (const Vec3d& p : a) {
-        const auto at = std::lower_bound(b.begin(), b.end(), p, by_x);
-        double best = std::numeric_limits<double>::infinity();
-        for (auto it = at; it != b.end() && it->x - p.x < best; ++it) {
-            best = std::min(best, core::norm(*it - p));
-        }
-        for (auto it = at; it != b.begin() && p.x - std::prev(it)->x < best; --it) {
-            best = std::min(best, core::norm(*std::prev(it) - p));
-        }
-        worst = std::max(worst, best);
-    }
-    return worst;
 }
 
 NearNet made(const mesh::TriangleMesh& part, double stock, double fill) {
@@ -225,33 +202,6 @@ TEST(NearNet, SameBytesWithOneAndTwoThreads) {
     ASSERT_FALSE(one.mesh.empty());
     EXPECT_EQ(one.mesh.vertices, two.mesh.vertices);
     EXPECT_EQ(one.mesh.triangles, two.mesh.triangles);
-}
-
-// The grids are axis-aligned: sampled on voxels turned with the part, the field of a turned
-// part differs by a fraction of a voxel, enough to move where a plan splits. The near-net
-// shape is made in the part's own frame about Z, so a part turned about Z gets the same shape
-// turned, vertex for vertex. The fixtures cover the steps of that frame: walls along the axes
-// (the block), walls that cancel out and holes that do not (the cylinder with holes), and a
-// part whose walls and surface turn it (the helical ring).
-TEST(NearNet, APartTurnedAboutZGetsItsShapeTurned) {
-    const Vec3d z{0.0, 0.0, 1.0};
-    for (const auto& f :
-         {test::cross_hole_block(), test::cylinder_with_holes(), test::helical_ring()}) {
-        SCOPED_TRACE(f.name);
-        const NearNet base = made(f.mesh, 1.0, 10.0);
-        ASSERT_FALSE(base.mesh.empty());
-        for (const double deg : {37.0, 113.7, -71.3}) {
-            SCOPED_TRACE(deg);
-            const NearNet turned = made(test::rotated(f.mesh, z, deg), 1.0, 10.0);
-            ASSERT_EQ(turned.mesh.triangles.size(), base.mesh.triangles.size());
-            const mesh::TriangleMesh back = test::rotated(turned.mesh, z, -deg);
-            ASSERT_EQ(back.vertices.size(), base.mesh.vertices.size());
-            // Vertex for vertex, in whatever order.
-            EXPECT_LT(farthest_from_nearest(back.vertices, base.mesh.vertices), 1e-6);
-            EXPECT_NEAR(turned.report.near_net_volume_mm3, base.report.near_net_volume_mm3,
-                        1e-9 * base.report.near_net_volume_mm3);
-        }
-    }
 }
 
 TEST(NearNet, RefusesWhatItCannotDoWithAClearError) {
