@@ -368,8 +368,7 @@ constexpr double kLeaveOutShare = 0.01;
 constexpr double kLeaveOutWithinMm = 0.01;
 
 bool beads_to_leave_out(const verify::Report& report) {
-    return !report.passed() && report.passed_apart_from_support() &&
-           !report.unsupported_tips.empty() &&
+    return report.passed_apart_from_support() && !report.unsupported_tips.empty() &&
            static_cast<double>(report.unsupported.count) <=
                kLeaveOutShare * static_cast<double>(report.deposit_moves);
 }

@@ -20,6 +20,32 @@ const Move* last_positioning(const Program& program) {
     return nullptr;
 }
 
+// A travel to `to` with the laser at the process's off power, no powder, at its travel feed.
+Move travel_to(const core::Vec3d& to, const ProcessProfile& process, int layer, int region,
+               const core::Vec3d& direction) {
+    Move m;
+    m.kind = MoveKind::kTravel;
+    m.position = to;
+    m.direction = direction;
+    m.feed_mm_min = process.travel_feed_mm_min;
+    m.laser_w = process.laser_power_off_w;
+    m.layer = layer;
+    m.region = region;
+    return m;
+}
+
+// Laser and powder off at `at`, in the layer, region and direction of `like`.
+Move laser_off(const Move& like, const core::Vec3d& at, const ProcessProfile& process) {
+    Move off = like;
+    off.kind = MoveKind::kLaserOff;
+    off.position = at;
+    off.feed_mm_min = 0.0;
+    off.laser_w = process.laser_power_off_w;
+    off.powder_g_min = 0.0;
+    off.dwell_ms = 0.0;
+    return off;
+}
+
 // Distance from p to the segment [a, b].
 double to_segment(const core::Vec3d& p, const core::Vec3d& a, const core::Vec3d& b) {
     const core::Vec3d ab = b - a;
@@ -32,15 +58,7 @@ double to_segment(const core::Vec3d& p, const core::Vec3d& a, const core::Vec3d&
 
 void append_travel(Program& program, const core::Vec3d& to, const ProcessProfile& process,
                    int layer, int region, const core::Vec3d& direction) {
-    Move m;
-    m.kind = MoveKind::kTravel;
-    m.position = to;
-    m.direction = direction;
-    m.feed_mm_min = process.travel_feed_mm_min;
-    m.laser_w = process.laser_power_off_w;
-    m.layer = layer;
-    m.region = region;
-    program.moves.push_back(m);
+    program.moves.push_back(travel_to(to, process, layer, region, direction));
 }
 
 void append_wire(Program& program, std::span<const core::Vec3d> points,
@@ -78,13 +96,7 @@ void append_wire(Program& program, std::span<const core::Vec3d> points,
         d.dwell_ms = 0.0;
         program.moves.push_back(d);
     }
-    Move off = on;
-    off.kind = MoveKind::kLaserOff;
-    off.position = points.back();
-    off.laser_w = process.laser_power_off_w;
-    off.powder_g_min = 0.0;
-    off.dwell_ms = 0.0;
-    program.moves.push_back(off);
+    program.moves.push_back(laser_off(on, points.back(), process));
 }
 
 double leave_out_deposits(Program& program, std::span<const core::Vec3d> tips,
@@ -134,22 +146,10 @@ double leave_out_deposits(Program& program, std::span<const core::Vec3d> tips,
                     out.push_back(m);
                 } else {
                     if (on) {
-                        Move off = m;
-                        off.kind = MoveKind::kLaserOff;
-                        off.position = at;
-                        off.feed_mm_min = 0.0;
-                        off.laser_w = process.laser_power_off_w;
-                        off.powder_g_min = 0.0;
-                        off.dwell_ms = 0.0;
-                        out.push_back(off);
+                        out.push_back(laser_off(m, at, process));
                         on = false;
                     }
-                    Move idle = m;
-                    idle.kind = MoveKind::kTravel;
-                    idle.feed_mm_min = process.travel_feed_mm_min;
-                    idle.laser_w = process.laser_power_off_w;
-                    idle.powder_g_min = 0.0;
-                    out.push_back(idle);
+                    out.push_back(travel_to(m.position, process, m.layer, m.region, m.direction));
                     left_out += core::norm(m.position - at);
                 }
                 at = m.position;
