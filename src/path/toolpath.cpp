@@ -42,6 +42,11 @@ constexpr double kMinGapFillShare = 0.05;
 // from the innermost contour: they still overlap its track by a quarter of the overlap, and a
 // thin fill region gets one line instead of two close ones.
 constexpr double kMarginShare = 0.75;
+// An island whose fill region (inside its contour passes) is nowhere wider than twice this
+// many pitches is thin: contour passes may fill it (plan_island).
+constexpr double kThinPitches = 3.0;
+// A thin island's depth (its inscribed circle's radius) is found to this many micrometres.
+constexpr std::int64_t kThinDepthToleranceUm = 5;
 // Parts of the fill region thinner than twice this many pitches go to the gap fill.
 constexpr double kOpeningPitches = 0.5;
 // Sections of finely tessellated parts carry many vertices closer together than a track
@@ -73,6 +78,8 @@ struct Widths {
           max_margin(core::mm_to_um(kMarginShare * s.overlap * s.track_width_mm)),
           opening(core::mm_to_um(kOpeningPitches * s.pitch_mm())),
           max_link(core::mm_to_um(kMaxLinkPitches * s.pitch_mm())),
+          thin(core::mm_to_um(kThinPitches * s.pitch_mm())),
+          min_sliver(core::mm_to_um(kMinGapFillShare * s.track_width_mm)),
           min_gap(core::mm_to_um(
               std::max(kMinGapFillShare, 1.0 - 2.0 * std::max(s.overlap, kMaxGapFillOverlap)) *
               s.track_width_mm)) {}
@@ -83,6 +90,8 @@ struct Widths {
     std::int64_t max_margin;  // of the outermost fill lines, see raster.hpp
     std::int64_t opening;     // fill region parts thinner than twice this go to the gap fill
     std::int64_t max_link;    // longest link between fill lines
+    std::int64_t thin;        // an island whose fill region is nowhere wider than 2 x this
+    std::int64_t min_sliver;  // narrowest gap ever filled
     std::int64_t min_gap;     // narrowest gap filled
 };
 
@@ -92,16 +101,58 @@ struct PlannedIsland {
     double uncovered_mm2 = 0.0;
 };
 
+// Whether an island is thin: its fill region (inside its contour passes) nowhere wider than
+// twice w.thin. Such an island may be filled with contour passes all the way in.
+bool is_thin(const Paths2& island, const Widths& w) {
+    return w.passes > 0 &&
+           geom2d::offset_of(island, -(w.half + w.passes * w.pitch + w.thin)).empty();
+}
+
 // Contours, fill and gap fill of one island (an outer wire and its holes), planned in the
-// raster frame (fill lines along +x) and returned in the layer frame.
-PlannedIsland plan_island(const Paths2& island, const detail::RasterFrame& frame, const Widths& w) {
+// raster frame (fill lines along +x) and returned in the layer frame. With `concentric` (a
+// thin island), contour passes fill it all the way in instead of a raster: a raster across a
+// ring or a bent wall turns along it where it bends to the raster, and leaves wedges between
+// its long lines and the contour. The n tracks across are spread evenly over the island's
+// widest part: n / 2 passes from each side and, for odd n, the gap fill's track along the
+// middle. Of the numbers n whose spacing leaves at least half the nominal overlap (and, for
+// odd n, a middle strip the gap fill takes), the one spaced nearest the pitch: the innermost
+// tracks then overlap across the middle as neighbouring tracks do.
+PlannedIsland plan_island(const Paths2& island, const detail::RasterFrame& frame, const Widths& w,
+                          bool concentric) {
     const Paths2 local = frame.to_raster(island);
     // Track centres may run anywhere half a track inside the region: pass 0, and where
     // straight links between fill lines may go.
     const Paths2 centres = geom2d::offset_of(local, -w.half);
+    std::vector<std::int64_t> depths;  // of each pass's centre line below the boundary
+    bool middle_track = false;
+    if (concentric) {
+        std::int64_t inside = 0, outside = w.half + w.passes * w.pitch + w.thin;
+        while (outside - inside > kThinDepthToleranceUm) {
+            const std::int64_t mid = inside + (outside - inside) / 2;
+            (geom2d::offset_of(local, -mid).empty() ? outside : inside) = mid;
+        }
+        const std::int64_t across = 2 * std::max<std::int64_t>(0, inside - w.half);
+        const std::int64_t widest = w.pitch + (2 * w.half - w.pitch) / 2;
+        std::int64_t n = 2;
+        std::int64_t best = -1;
+        for (std::int64_t k = 2; across / (k - 1) >= w.pitch / 2 || k == 2; ++k) {
+            const std::int64_t spacing = across / (k - 1);
+            const bool fits =
+                spacing <= widest && (k % 2 == 0 || 2 * spacing >= 2 * w.half + w.min_gap);
+            if (fits && (best < 0 || std::abs(spacing - w.pitch) < best)) {
+                best = std::abs(spacing - w.pitch);
+                n = k;
+            }
+        }
+        const std::int64_t spacing = across / (n - 1);
+        for (std::int64_t k = 0; k < n / 2; ++k) depths.push_back(w.half + k * spacing);
+        middle_track = n % 2 == 1;
+    } else {
+        for (int k = 0; k < w.passes; ++k) depths.push_back(w.half + k * w.pitch);
+    }
     std::vector<Paths2> passes;
-    for (int k = 0; k < w.passes; ++k) {
-        Paths2 wires = k == 0 ? centres : geom2d::offset_of(local, -(w.half + k * w.pitch));
+    for (const std::int64_t depth : depths) {
+        Paths2 wires = depth == w.half ? centres : geom2d::offset_of(local, -depth);
         if (wires.empty()) break;  // narrower than this pass
         passes.push_back(std::move(wires));
     }
@@ -121,7 +172,7 @@ PlannedIsland plan_island(const Paths2& island, const detail::RasterFrame& frame
     const Paths2 eroded = geom2d::offset_of(local, -(inset + w.opening));
     detail::RouteGroup fill;
     Paths2 raster_lines;
-    if (!eroded.empty()) {
+    if (!concentric && !eroded.empty()) {
         // Growing back with mitred joins can poke past sharp corners of the inset region:
         // clip to where track centres may run.
         const Paths2 fill_region =
@@ -143,8 +194,7 @@ PlannedIsland plan_island(const Paths2& island, const detail::RasterFrame& frame
     // leaves the arm's middle to the gap fill.
     Paths2 gaps;
     for (std::size_t k = 0; k < passes.size(); ++k) {
-        const Paths2 inner =
-            geom2d::offset_of(local, -(2 * w.half + static_cast<std::int64_t>(k) * w.pitch));
+        const Paths2 inner = geom2d::offset_of(local, -(depths[k] + w.half));
         if (inner.empty()) break;
         Paths2 reached;
         if (k + 1 < passes.size()) {
@@ -166,7 +216,8 @@ PlannedIsland plan_island(const Paths2& island, const detail::RasterFrame& frame
         }
     }
     tracks.insert(tracks.end(), raster_lines.begin(), raster_lines.end());
-    for (detail::RouteStroke& gap : detail::gap_fill(gaps, 2 * w.half, w.min_gap)) {
+    for (detail::RouteStroke& gap :
+         detail::gap_fill(gaps, 2 * w.half, middle_track ? w.min_sliver : w.min_gap)) {
         tracks.push_back(gap.points);
         if (gap.closed) tracks.back().push_back(gap.points.front());
         gap.points = frame.from_raster(gap.points);
@@ -175,6 +226,17 @@ PlannedIsland plan_island(const Paths2& island, const detail::RasterFrame& frame
     const double uncovered =
         geom2d::uncovered_area_mm2(local, tracks, w.half, std::max<std::int64_t>(1, w.half / 8));
     return {{std::move(contours), std::move(fill)}, uncovered};
+}
+
+// A thin island planned both ways, contour passes and raster: the one that leaves less of
+// it bare (contour passes on a tie). Passes spread over the widest part fit an island of
+// even width (a tube's wall, a ring); a wall with a tower on it is filled better by the
+// raster, whose lines keep a pitch wherever it is wide.
+PlannedIsland plan_island(const Paths2& island, const detail::RasterFrame& frame, const Widths& w) {
+    PlannedIsland raster = plan_island(island, frame, w, false);
+    if (!is_thin(frame.to_raster(island), w)) return raster;
+    PlannedIsland passes = plan_island(island, frame, w, true);
+    return passes.uncovered_mm2 <= raster.uncovered_mm2 ? std::move(passes) : std::move(raster);
 }
 
 }  // namespace

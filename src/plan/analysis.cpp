@@ -33,19 +33,6 @@ core::Vec3d to_3d(const slice::PlaneFrame& f, geom2d::Centroid2 c) {
     return f.origin + f.u * (c.x / core::kMicronsPerMm) + f.v * (c.y / core::kMicronsPerMm);
 }
 
-// The region's loops moved from one plane to another along the other's normal (orthogonal
-// projection onto it).
-Paths2 project(const Paths2& region, const slice::PlaneFrame& from, const slice::PlaneFrame& to) {
-    Paths2 out;
-    out.reserve(region.size());
-    for (const Path2& path : region) {
-        Path2& q = out.emplace_back();
-        q.reserve(path.size());
-        for (const Point2& p : path) q.push_back(to.to_2d(from.to_3d(p)));
-    }
-    return out;
-}
-
 // The pieces of a region: each outer wire with its holes.
 std::vector<Paths2> pieces_of(const Paths2& region) {
     return geom2d::build_wire_tree(region, geom2d::FillRule::kPositive).islands();
@@ -69,6 +56,18 @@ std::vector<Paths2> quadrants(const Paths2& piece, geom2d::Centroid2 c) {
 }
 
 }  // namespace
+
+Paths2 project_paths(const Paths2& region, const slice::PlaneFrame& from,
+                     const slice::PlaneFrame& to) {
+    Paths2 out;
+    out.reserve(region.size());
+    for (const Path2& path : region) {
+        Path2& q = out.emplace_back();
+        q.reserve(path.size());
+        for (const Point2& p : path) q.push_back(to.to_2d(from.to_3d(p)));
+    }
+    return out;
+}
 
 double angle_deg(const core::Vec3d& a, const core::Vec3d& b) {
     const double na = core::norm(a), nb = core::norm(b);
@@ -98,7 +97,7 @@ core::Result<NeighbourAnalysis> analyse_neighbours(const Paths2& lower_in,
         std::max<std::int64_t>(1, core::mm_to_um(kSimplifyShare * s.track_width_mm));
     const Paths2 lower_s = geom2d::simplify(lower_in, tolerance);
     const Paths2& lower = lower_s;
-    const Paths2 u = geom2d::simplify(project(upper, upper_plane, lower_plane), tolerance);
+    const Paths2 u = geom2d::simplify(project_paths(upper, upper_plane, lower_plane), tolerance);
     if (geom2d::signed_area_mm2(u) <= 0.0) return out;  // nothing above: carried
 
     // h: the distance between the planes along N_b, at U's centroid.
@@ -110,12 +109,25 @@ core::Result<NeighbourAnalysis> analyse_neighbours(const Paths2& lower_in,
     const Paths2 raw = geom2d::difference_of(u, grown);
     if (raw.empty()) return out;
 
-    // Slivers narrower than a track: a morphological opening by half a track.
+    // Slivers narrower than a track: a morphological opening by half a track. Not so an island
+    // of U that meets nothing of L: narrow or not, it starts in the air.
     const auto half = core::mm_to_um(s.track_width_mm / 2);
-    const Paths2 opened =
-        geom2d::intersection_of(geom2d::offset_of(geom2d::offset_of(raw, -half), half), raw);
-
     const bool lower_empty = geom2d::signed_area_mm2(lower) <= 0.0;
+    Paths2 floating;
+    if (!lower_empty) {
+        for (const Paths2& island : pieces_of(u)) {
+            if (geom2d::intersection_of(island, grown).empty()) {
+                floating.insert(floating.end(), island.begin(), island.end());
+            }
+        }
+    }
+    Paths2 opened =
+        geom2d::intersection_of(geom2d::offset_of(geom2d::offset_of(raw, -half), half), raw);
+    if (!floating.empty()) {
+        opened.insert(opened.end(), floating.begin(), floating.end());
+        opened = geom2d::union_of(opened);
+    }
+
     std::vector<Paths2> pieces;
     for (Paths2& piece : pieces_of(opened)) {
         if (geom2d::signed_area_mm2(piece) < s.min_piece_area_mm2) continue;
@@ -131,6 +143,11 @@ core::Result<NeighbourAnalysis> analyse_neighbours(const Paths2& lower_in,
     }
     if (pieces.empty()) return out;
 
+    // L where a track fits: L opened by half a track.
+    const Paths2 lower_tracked =
+        lower_empty ? Paths2{}
+                    : geom2d::intersection_of(
+                          geom2d::offset_of(geom2d::offset_of(lower, -half), half), lower);
     bool any_touching = false;
     for (Paths2& piece : pieces) {
         OverhangPiece p;
@@ -165,6 +182,11 @@ core::Result<NeighbourAnalysis> analyse_neighbours(const Paths2& lower_in,
                 p.contact_center = to_3d(lower_plane, {0.5 * static_cast<double>(x0 + x1),
                                                        0.5 * static_cast<double>(y0 + y1)});
             }
+        }
+        if (!p.touches_lower && !lower_empty && !lower_tracked.empty()) {
+            // A piece that touches nothing hangs from L where a track is laid, not from a
+            // sliver of L narrower than one (left bare: it carries nothing).
+            p.P = lower_plane.to_3d(geom2d::closest_boundary_point(lower_tracked, c).point);
         }
         if (!p.touches_lower) p.contact_center = p.P;
         any_touching = any_touching || p.touches_lower;

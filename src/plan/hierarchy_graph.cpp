@@ -359,7 +359,7 @@ private:
         for (std::size_t k = 0; k < t.uppers.size(); ++k) {
             const Layer& upper = plan_.layers[static_cast<std::size_t>(t.uppers[k])];
             if (upper.after_gap || !may_overlap(lower, upper)) continue;
-            const Paths2 u = projected(upper, lower);
+            const Paths2 u = project_paths(upper.wires.paths(), upper.plane, lower.plane);
             const std::int64_t grow = growth_um(lower, upper);
             // The grown region lies within twice the growth of lower (mitred corners): a
             // piece whose box stays clear of that has no overlap.
@@ -386,20 +386,6 @@ private:
             if (a.lo[k] > b.hi[k] + gap || b.lo[k] > a.hi[k] + gap) return false;
         }
         return true;
-    }
-
-    // Area (mm2) where upper, projected onto lower's plane, overlaps lower grown by the
-    // self-supporting allowance and a track: what the analysis calls carried (slivers
-    // narrower than a track included) rests on lower.
-    // Upper's section projected onto lower's plane (um, lower's frame).
-    static Paths2 projected(const Layer& upper, const Layer& lower) {
-        Paths2 u;
-        for (const geom2d::Path2& path : upper.wires.paths()) {
-            geom2d::Path2& q = u.emplace_back();
-            for (const geom2d::Point2& p : path)
-                q.push_back(lower.plane.to_2d(upper.plane.to_3d(p)));
-        }
-        return u;
     }
 
     // How far lower is grown before the overlap is measured: the self-supporting allowance

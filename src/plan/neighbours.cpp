@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <utility>
 
 #include "maxslice/core/units.hpp"
@@ -32,9 +33,17 @@ core::Result<std::optional<bool>> Planner::check_splits(int rid, int lower, cons
     const Region& rr = plan_.regions[static_cast<std::size_t>(rid)];
     const auto k = static_cast<std::size_t>(look_back_);
     if (k > 1 && rr.layers.size() >= k) refs.push_back(rr.layers[rr.layers.size() - k]);
+    // L as far as it stands on the look-back layer: an island of L that floats (a thin feature
+    // starting in the air) carries nothing, so what stands on it is judged as floating too.
+    std::optional<Paths2> grounded;
+    if (refs.size() > 1 && !rr.layers.empty() && rr.layers.back() == lower) {
+        grounded = grounded_from(rid, refs.back());
+        if (grounded && geom2d::signed_area_mm2(*grounded) <= 0.0) grounded.reset();
+    }
     for (const int ref : refs) {
         const Layer& l = plan_.layers[static_cast<std::size_t>(ref)];
-        auto a = analyse_neighbours(l.wires.paths(), l.plane, u, s.plane, analysis_);
+        auto a = analyse_neighbours(ref == lower && grounded ? *grounded : l.wires.paths(), l.plane,
+                                    u, s.plane, analysis_);
         if (!a) {
             return std::unexpected(core::with_context(
                 a.error(), fmt::format("region {}, height {:.3f} mm", rid, s.span.cut)));
@@ -71,28 +80,22 @@ core::Result<std::optional<bool>> Planner::check_splits(int rid, int lower, cons
     return std::optional<bool>();
 }
 
-// Whether piece p (in the frame of layer `ref`, a track's height below the region's last
-// layer) rests on material of the layers after ref that grew out of ref: from ref up,
-// each layer's islands that meet the grounded part of the layer before (grown by the
-// self-supporting allowance) are grounded. A piece over an island that floats in those
-// layers (a thin feature starting in the air, narrower than a track at first) is not.
-// Planar layers of one direction only (their frames share the in-plane axes); false
-// otherwise.
-bool Planner::grounded_between(int rid, int ref, const OverhangPiece& p) const {
+// The islands of region rid's last layer that stand on layer `ref` (a track's height below
+// it) through the layers between, in the last layer's frame: from ref up, each layer's
+// islands that meet the grounded part of the layer before (projected onto its plane and grown
+// by the self-supporting allowance) are grounded. An island that floats in those layers (a
+// thin feature starting in the air, narrower than a track at first) is not. nullopt when
+// ref is not one of the region's layers.
+std::optional<Paths2> Planner::grounded_from(int rid, int ref) const {
     const Region& rr = plan_.regions[static_cast<std::size_t>(rid)];
-    const Layer& base = plan_.layers[static_cast<std::size_t>(ref)];
     const auto from = std::find(rr.layers.begin(), rr.layers.end(), ref);
-    if (from == rr.layers.end()) return false;
-    const auto grow = core::mm_to_um(
-        s_.layer_mm * std::tan(s_.self_supporting_deg * std::numbers::pi / 180.0) + kGroundSlackMm);
-    Paths2 grounded = base.wires.paths();
+    if (from == rr.layers.end()) return std::nullopt;
+    const Layer* below = &plan_.layers[static_cast<std::size_t>(ref)];
+    Paths2 grounded = below->wires.paths();
     for (auto it = from + 1; it != rr.layers.end(); ++it) {
         const Layer& l = plan_.layers[static_cast<std::size_t>(*it)];
-        if (l.tilted || base.tilted || !(l.plane.normal == base.plane.normal) ||
-            !(l.plane.u == base.plane.u) || !(l.plane.v == base.plane.v)) {
-            return false;
-        }
-        const Paths2 reach = geom2d::offset_of(grounded, grow);
+        const Paths2 reach =
+            geom2d::offset_of(project_paths(grounded, below->plane, l.plane), ground_growth_um(l));
         Paths2 next;
         for (Paths2& island : l.wires.islands()) {
             if (!geom2d::intersection_of(island, reach).empty()) {
@@ -100,8 +103,30 @@ bool Planner::grounded_between(int rid, int ref, const OverhangPiece& p) const {
             }
         }
         grounded = std::move(next);
+        below = &l;
     }
-    return !geom2d::intersection_of(p.region, geom2d::offset_of(grounded, grow)).empty();
+    return grounded;
+}
+
+// How far a grounded island reaches into layer l above it (um): the self-supporting allowance
+// over l's thickness, and rounding room.
+std::int64_t Planner::ground_growth_um(const Layer& l) const {
+    return core::mm_to_um(std::max(l.thickness_max_mm, s_.layer_mm) *
+                              std::tan(s_.self_supporting_deg * std::numbers::pi / 180.0) +
+                          kGroundSlackMm);
+}
+
+// Whether piece p (in the frame of layer `ref`, a track's height below the region's last
+// layer) rests on material of the layers after ref that grew out of ref (grounded_from).
+bool Planner::grounded_between(int rid, int ref, const OverhangPiece& p) const {
+    const std::optional<Paths2> grounded = grounded_from(rid, ref);
+    if (!grounded) return false;
+    const Layer& last = plan_.layers[static_cast<std::size_t>(
+        plan_.regions[static_cast<std::size_t>(rid)].layers.back())];
+    const Layer& base = plan_.layers[static_cast<std::size_t>(ref)];
+    const Paths2 on_ref = project_paths(*grounded, last.plane, base.plane);
+    return !geom2d::intersection_of(p.region, geom2d::offset_of(on_ref, ground_growth_um(last)))
+                .empty();
 }
 
 void Planner::record_unreachable(int rid, int lower, const slice::Slice& s,

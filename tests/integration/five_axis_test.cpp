@@ -341,6 +341,35 @@ TEST(FiveAxis, PartsAsGivenBuildWithTheFinishedPartInsideTheBeads) {
     }
 }
 
+// Issue 24's two-turn helical ring as given, and turned about Z by 37 and 90 degrees: each is
+// built (verified clean, a separate `maxslice verify` passing it) however the near-net shape's
+// voxels fall on it. Its near-net shape fills the turns into one band, which the first split
+// plane (at the ground end) cuts again half a turn on, at a slant: the tail of the first turn
+// beyond that cut starts in the air in the base region's cell, as a sliver narrower than a
+// track. It is built from the column over the ground end, not hung from that sliver.
+TEST(FiveAxis, TheHelicalRingIsBuiltAsGivenAndTurnedAboutZ) {
+    const fs::path dir = temp_dir("helical");
+    for (const double turn : {0.0, 37.0, 90.0}) {
+        SCOPED_TRACE(turn);
+        PlannerFixture f = maxslice::test::helical_ring();
+        f.name += "_" + std::to_string(static_cast<int>(turn));
+        f.mesh = maxslice::test::rotated(f.mesh, {0.0, 0.0, 1.0}, turn);
+        const fs::path part = export_fixture(f, dir);
+        const fs::path program = dir / (f.name + ".gm");
+        const CliRun r = run_cli({"slice", part.string(), "--profile", kReference5.string(), "-o",
+                                  program.string(), "--orient", "given"});
+        ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+        expect_clean(read_figures(r.out), r.out);
+        std::vector<std::string> verify = {"verify",      program.string(), "--model",
+                                           part.string(), "--profile",      kReference5.string()};
+        if (r.out.find("process         finer 1") != std::string::npos) {
+            verify.insert(verify.end(), {"--finer", "1"});
+        }
+        const CliRun v = run_cli(verify);
+        EXPECT_EQ(v.exit_code, 0) << v.out << v.err;
+    }
+}
+
 // One fixture through each of the other bundled table profiles (their dialects and, for
 // Siemens, the B/C table).
 TEST(FiveAxis, FixturesBuildCleanWithTheOtherTableProfiles) {
@@ -432,10 +461,13 @@ TEST(FiveAxis, PartsTooFineForTheReferenceTrackBuildCleanWithTheFineTrack) {
         << grown.out;
     expect_clean(read_figures(grown.out), grown.out);
     // With the fine track already, the hint is the units: the angle block is in inches
-    // (MANIFEST.md); read as mm it is 1.35 mm across and mostly narrower than 0.8 mm.
+    // (MANIFEST.md); read as mm it is 1.35 mm across and mostly narrower than 0.8 mm. The part
+    // as it is: the fine profile's near-net shape (0.5 mm stock) makes it a block the fine
+    // track's contour passes fill, and that program holds all of it.
     const fs::path block = kTestData / "meshes/trimesh/angle_block.STL";
-    const CliRun small = run_cli({"slice", block.string(), "--repair", "--profile", fine.string(),
-                                  "-o", (dir / "b.gm").string()});
+    const CliRun small =
+        run_cli({"slice", block.string(), "--repair", "--profile",
+                 net_shape_copy(fine, dir).string(), "-o", (dir / "b.gm").string()});
     EXPECT_EQ(small.exit_code, 2) << small.out << small.err;
     EXPECT_FALSE(fs::exists(dir / "b.gm"));
     expect_short_of_part(small.err);

@@ -424,7 +424,7 @@ TEST(PlanCli, ARefusalSaysWhenTheRegionInTheWayPointsDown) {
 // region at least 5 % of a track's square rests on the layers of other regions across its
 // base plane (decision 0033). A split plane can cut the region's own branch in a sliver
 // smaller than that; such a piece rests where half of it touches, or is listed as resting on
-// nothing (the ring's 0.27 mm2 sliver above a bare layer is, and the job refuses it).
+// nothing.
 TEST(PlanCli, EveryFirstPieceOfTheHelicalRingsSidewaysRegionsRestsOnAnotherRegion) {
     const fs::path dir = temp_dir("helical_first_pieces");
     const fs::path part = dir / "helical_ring.stl";

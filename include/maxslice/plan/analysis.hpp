@@ -61,4 +61,10 @@ struct NeighbourAnalysis {
 /// Angle between two vectors in degrees, in [0, 180]; 0 when either is zero.
 [[nodiscard]] double angle_deg(const core::Vec3d& a, const core::Vec3d& b);
 
+/// A region's loops (um, in frame `from`) moved onto the plane of frame `to` along to's normal
+/// (orthogonal projection), in to's frame.
+[[nodiscard]] geom2d::Paths2 project_paths(const geom2d::Paths2& region,
+                                           const slice::PlaneFrame& from,
+                                           const slice::PlaneFrame& to);
+
 }  // namespace maxslice::plan

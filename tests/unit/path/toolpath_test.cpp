@@ -335,7 +335,8 @@ TEST(Toolpath, ContoursComeBeforeTheFillOfTheirIsland) {
 TEST(Toolpath, ZigzagFollowsTheLongSideOfARotatedRectangle) {
     for (const double angle : {30.0, 0.0, 90.0, 151.0}) {
         SCOPED_TRACE(angle);
-        const geom2d::WireTree tree = region({rotated_rect(10, 20, 100, 10, angle)});
+        // 20 mm wide: wider than a thin island, whose contour passes fill it (ThinIslands...).
+        const geom2d::WireTree tree = region({rotated_rect(10, 20, 100, 20, angle)});
         const LayerToolpath tp = plan(tree, settings());
         EXPECT_LT(angle_between_deg(tp.raster_angle_deg, angle), 1.0);
         const auto segs = long_fill_segments(tp, 20.0);
@@ -359,13 +360,13 @@ TEST(Toolpath, RasterFollowsTheLongestBoxOfAnLAndAnArbitraryHull) {
 TEST(Toolpath, RasterAngleSettingOverridesTheOrientation) {
     PathSettings s = settings();
     s.raster_angle_deg = 45.0;
-    const LayerToolpath tp = plan(region({rect(0, 0, 100, 10)}), s);
+    const LayerToolpath tp = plan(region({rect(0, 0, 100, 20)}), s);
     EXPECT_DOUBLE_EQ(tp.raster_angle_deg, 45.0);
     const auto segs = long_fill_segments(tp, 5.0);
     ASSERT_FALSE(segs.empty());
     for (const auto& [a, b] : segs) EXPECT_LT(angle_between_deg(direction_deg(a, b), 45.0), 1.0);
     s.raster_angle_deg = -135.0;  // the same direction
-    EXPECT_DOUBLE_EQ(plan(region({rect(0, 0, 100, 10)}), s).raster_angle_deg, 45.0);
+    EXPECT_DOUBLE_EQ(plan(region({rect(0, 0, 100, 20)}), s).raster_angle_deg, 45.0);
 }
 
 TEST(Toolpath, NeighbouringLinesAreLinkedIntoOneZigzag) {
@@ -470,6 +471,41 @@ TEST(Toolpath, SliversBetweenTracksGetATrackAlongTheirMiddle) {
         }
     }
     EXPECT_EQ(closed_fill, 1);
+}
+
+// A thin island (here rings 6 to 12 mm wide, the near-net wall of a tube) is filled with
+// contour passes, the same number from each side, spread evenly so that neighbouring tracks
+// lie at most a pitch apart plus half the overlap: no raster line runs along the ring where
+// it bends to the raster (which left wedges bare between long lines and the contour), and
+// the ring is covered. An odd number of tracks across puts the gap fill's one along the
+// middle.
+TEST(Toolpath, ThinIslandsAreFilledWithEvenlySpreadContourPasses) {
+    const PathSettings s = settings();
+    for (double width = 6.0; width <= 16.01; width += 0.5) {
+        SCOPED_TRACE(width);
+        const geom2d::WireTree ring = annulus(30.0, 30.0 - width);
+        const LayerToolpath tp = plan(ring, s);
+        expect_valid(ring, s, tp, {}, 0.995);
+        std::vector<double> radii;  // of the closed strokes, from the centre
+        for (const Stroke& st : tp.strokes) {
+            EXPECT_TRUE(st.kind == StrokeKind::kContour || st.points.front() == st.points.back())
+                << "an open stroke: a raster line or a scrap of one";
+            double r = 0.0;
+            for (const Point2& p : st.points) {
+                r += std::hypot(static_cast<double>(p.x), static_cast<double>(p.y));
+            }
+            radii.push_back(r / static_cast<double>(st.points.size()) / 1000.0);
+        }
+        std::sort(radii.begin(), radii.end());
+        ASSERT_GE(radii.size(), 2u);
+        EXPECT_NEAR(radii.front(), 30.0 - width + s.track_width_mm / 2, 0.05);
+        EXPECT_NEAR(radii.back(), 30.0 - s.track_width_mm / 2, 0.05);
+        for (std::size_t k = 1; k < radii.size(); ++k) {
+            EXPECT_LE(radii[k] - radii[k - 1],
+                      s.pitch_mm() + (s.track_width_mm - s.pitch_mm()) / 2 + 0.05);
+            EXPECT_GT(radii[k] - radii[k - 1], 0.5 * s.pitch_mm());
+        }
+    }
 }
 
 TEST(Toolpath, AShelfBesideATowerLeavesNoSliverBare) {

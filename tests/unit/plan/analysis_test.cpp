@@ -74,6 +74,41 @@ TEST(Neighbours, ASeparateIslandIsUnrelated) {
     EXPECT_GT(a.pieces.front().ang_deg, 80.0);
 }
 
+// An island of U that meets nothing of L starts in the air however narrow it is: a 2 mm
+// wide, 10 mm long rib (narrower than the 2.5 mm track, whose opening would take a ledge that
+// wide away) is a floating piece.
+TEST(Neighbours, AFloatingIslandNarrowerThanATrackIsAPiece) {
+    const Paths2 upper = geom2d::union_of({rect(0, 0, 20, 20), rect(30, 5, 32, 15)});
+    const auto a = analyse({rect(0, 0, 20, 20)}, upper);
+    ASSERT_EQ(a.pieces.size(), 1u);
+    const OverhangPiece& p = a.pieces.front();
+    EXPECT_FALSE(p.touches_lower);
+    EXPECT_NEAR(p.area_mm2, 20.0, 1e-6);
+    EXPECT_NEAR(p.C.x, 31.0, 1e-3);
+    // The same rib joined to L's edge by U's own material is a ledge the opening takes.
+    const Paths2 joined = geom2d::union_of({rect(0, 0, 20, 20), rect(20, 5, 22, 15)});
+    EXPECT_TRUE(analyse({rect(0, 0, 20, 20)}, joined).pieces.empty());
+}
+
+// A floating piece hangs from L where a track fits, not from a sliver of L narrower than one
+// (which gets no bead and carries nothing): P lies on the 20 mm square's edge, not on the
+// 1 mm sliver standing between the square and the piece.
+TEST(Neighbours, AFloatingPieceHangsFromLWhereATrackFits) {
+    const Paths2 lower = geom2d::union_of({rect(0, 0, 20, 20), rect(30, 0, 31, 20)});
+    const Paths2 upper = geom2d::union_of({rect(0, 0, 20, 20), rect(35, 5, 45, 15)});
+    const auto a = analyse(lower, upper);
+    ASSERT_EQ(a.pieces.size(), 1u);
+    const OverhangPiece& p = a.pieces.front();
+    EXPECT_FALSE(p.touches_lower);
+    EXPECT_NEAR(p.P.x, 20.0, 0.05);
+    EXPECT_NEAR(p.P.y, 10.0, 0.05);
+    EXPECT_NEAR(p.contact_center.x, 20.0, 0.05);
+    // Without the square, the sliver is all of L: the piece hangs from it.
+    const auto b = analyse({rect(30, 0, 31, 20)}, {rect(35, 5, 45, 15)});
+    ASSERT_EQ(b.pieces.size(), 1u);
+    EXPECT_NEAR(b.pieces.front().P.x, 31.0, 0.05);
+}
+
 TEST(Neighbours, ARingAllRoundIsCutIntoFourWays) {
     // A mushroom: a 10 x 10 stem under a 40 x 40 cap: the overhang's centroid lies inside
     // the stem, so it is cut into quadrants, each pointing out its own way.

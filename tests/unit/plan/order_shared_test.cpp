@@ -79,29 +79,4 @@ TEST(OrderSharedMeshes, EverySharedMeshOrderIsCollisionFree) {
     EXPECT_GE(complete, 15);
 }
 
-// NIST FTC-6 along +Z, planned without a head (the seed's sideways directions), has a piece
-// floating straight above the layer below (its centroid over that layer's material, clear of
-// it): no sideways region reaches it. The planner leaves the piece in its layer, records why
-// ("unreachable") and lists the layers resting on nothing. With the machine's head the
-// planner leans earlier regions (decision 0029) and this piece no longer arises; with the
-// reference profile's near-net shape it does not float either.
-TEST(PlannerSharedSlow, AFloatingPieceNoSidewaysRegionReachesIsLeftInPlace) {
-    ms::pipeline::PrepareSettings ps;
-    auto part = ms::pipeline::prepare_part(
-        fs::path(MAXSLICE_TESTDATA_DIR) / "step" / "nist" / "nist_ftc_06_asme1_rd.stp", ps);
-    ASSERT_TRUE(part.has_value()) << part.error().describe();
-    const ms::plan::PlanSettings settings;
-    ASSERT_FALSE(settings.head.has_value());
-    auto plan = ms::plan::plan_part(part->imported.mesh, {0.0, 0.0, 1.0}, settings);
-    ASSERT_TRUE(plan.has_value()) << plan.error().describe();
-    int unreachable = 0;
-    for (const ms::plan::Decision& d : plan->decisions) {
-        if (d.kind != ms::plan::Decision::Kind::kUnreachable) continue;
-        ++unreachable;
-        EXPECT_NE(ms::plan::describe(*plan, d).find("floats straight above"), std::string::npos);
-    }
-    EXPECT_GE(unreachable, 1);
-    EXPECT_FALSE(plan->unsupported_layers.empty());
-}
-
 }  // namespace
