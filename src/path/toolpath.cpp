@@ -108,8 +108,8 @@ bool is_thin(const Paths2& island, const Widths& w) {
            geom2d::offset_of(island, -(w.half + w.passes * w.pitch + w.thin)).empty();
 }
 
-// Contours, fill and gap fill of one island (an outer wire and its holes), planned in the
-// raster frame (fill lines along +x) and returned in the layer frame. With `concentric` (a
+// Contours, fill and gap fill of one island (an outer wire and its holes, `local`: in the
+// raster frame, fill lines along +x), returned in the layer frame. With `concentric` (a
 // thin island), contour passes fill it all the way in instead of a raster: a raster across a
 // ring or a bent wall turns along it where it bends to the raster, and leaves wedges between
 // its long lines and the contour. The n tracks across are spread evenly over the island's
@@ -117,9 +117,8 @@ bool is_thin(const Paths2& island, const Widths& w) {
 // middle. Of the numbers n whose spacing leaves at least half the nominal overlap (and, for
 // odd n, a middle strip the gap fill takes), the one spaced nearest the pitch: the innermost
 // tracks then overlap across the middle as neighbouring tracks do.
-PlannedIsland plan_island(const Paths2& island, const detail::RasterFrame& frame, const Widths& w,
+PlannedIsland plan_island(const Paths2& local, const detail::RasterFrame& frame, const Widths& w,
                           bool concentric) {
-    const Paths2 local = frame.to_raster(island);
     // Track centres may run anywhere half a track inside the region: pass 0, and where
     // straight links between fill lines may go.
     const Paths2 centres = geom2d::offset_of(local, -w.half);
@@ -233,9 +232,10 @@ PlannedIsland plan_island(const Paths2& island, const detail::RasterFrame& frame
 // even width (a tube's wall, a ring); a wall with a tower on it is filled better by the
 // raster, whose lines keep a pitch wherever it is wide.
 PlannedIsland plan_island(const Paths2& island, const detail::RasterFrame& frame, const Widths& w) {
-    PlannedIsland raster = plan_island(island, frame, w, false);
-    if (!is_thin(frame.to_raster(island), w)) return raster;
-    PlannedIsland passes = plan_island(island, frame, w, true);
+    const Paths2 local = frame.to_raster(island);
+    PlannedIsland raster = plan_island(local, frame, w, false);
+    if (!is_thin(local, w)) return raster;
+    PlannedIsland passes = plan_island(local, frame, w, true);
     return passes.uncovered_mm2 <= raster.uncovered_mm2 ? std::move(passes) : std::move(raster);
 }
 

@@ -33,6 +33,12 @@ core::Vec3d to_3d(const slice::PlaneFrame& f, geom2d::Centroid2 c) {
     return f.origin + f.u * (c.x / core::kMicronsPerMm) + f.v * (c.y / core::kMicronsPerMm);
 }
 
+// A region without its parts narrower than twice `half` (um): a morphological opening.
+Paths2 opened_by(const Paths2& region, std::int64_t half) {
+    return geom2d::intersection_of(geom2d::offset_of(geom2d::offset_of(region, -half), half),
+                                   region);
+}
+
 // The pieces of a region: each outer wire with its holes.
 std::vector<Paths2> pieces_of(const Paths2& region) {
     return geom2d::build_wire_tree(region, geom2d::FillRule::kPositive).islands();
@@ -121,8 +127,7 @@ core::Result<NeighbourAnalysis> analyse_neighbours(const Paths2& lower_in,
             }
         }
     }
-    Paths2 opened =
-        geom2d::intersection_of(geom2d::offset_of(geom2d::offset_of(raw, -half), half), raw);
+    Paths2 opened = opened_by(raw, half);
     if (!floating.empty()) {
         opened.insert(opened.end(), floating.begin(), floating.end());
         opened = geom2d::union_of(opened);
@@ -144,10 +149,7 @@ core::Result<NeighbourAnalysis> analyse_neighbours(const Paths2& lower_in,
     if (pieces.empty()) return out;
 
     // L where a track fits: L opened by half a track.
-    const Paths2 lower_tracked =
-        lower_empty ? Paths2{}
-                    : geom2d::intersection_of(
-                          geom2d::offset_of(geom2d::offset_of(lower, -half), half), lower);
+    const Paths2 lower_tracked = lower_empty ? Paths2{} : opened_by(lower, half);
     bool any_touching = false;
     for (Paths2& piece : pieces) {
         OverhangPiece p;

@@ -33,17 +33,17 @@ core::Result<std::optional<bool>> Planner::check_splits(int rid, int lower, cons
     const Region& rr = plan_.regions[static_cast<std::size_t>(rid)];
     const auto k = static_cast<std::size_t>(look_back_);
     if (k > 1 && rr.layers.size() >= k) refs.push_back(rr.layers[rr.layers.size() - k]);
-    // L as far as it stands on the look-back layer: an island of L that floats (a thin feature
-    // starting in the air) carries nothing, so what stands on it is judged as floating too.
-    std::optional<Paths2> grounded;
-    if (refs.size() > 1 && !rr.layers.empty() && rr.layers.back() == lower) {
-        grounded = grounded_from(rid, refs.back());
-        if (grounded && geom2d::signed_area_mm2(*grounded) <= 0.0) grounded.reset();
-    }
+    // What of the region's last layer stands on the look-back layer (grounded_from): L as the
+    // analysis sees it, an island of L that floats (a thin feature starting in the air)
+    // carrying nothing, so that what stands on it is judged as floating too.
+    const std::optional<Paths2> grounded =
+        refs.size() > 1 ? grounded_from(rid, refs.back()) : std::nullopt;
+    const bool l_grounded =
+        grounded && rr.layers.back() == lower && geom2d::signed_area_mm2(*grounded) > 0.0;
     for (const int ref : refs) {
         const Layer& l = plan_.layers[static_cast<std::size_t>(ref)];
-        auto a = analyse_neighbours(ref == lower && grounded ? *grounded : l.wires.paths(), l.plane,
-                                    u, s.plane, analysis_);
+        auto a = analyse_neighbours(ref == lower && l_grounded ? *grounded : l.wires.paths(),
+                                    l.plane, u, s.plane, analysis_);
         if (!a) {
             return std::unexpected(core::with_context(
                 a.error(), fmt::format("region {}, height {:.3f} mm", rid, s.span.cut)));
@@ -52,8 +52,8 @@ core::Result<std::optional<bool>> Planner::check_splits(int rid, int lower, cons
             // A piece that does not touch the look-back layer may stand on the layers in
             // between, grown out of it (a rail on the roof of an undercut built since):
             // then it is an overhang by its angle, not a floating piece.
-            if (ref != lower && !p.touches_lower && p.ang_deg <= s_.beta_deg &&
-                grounded_between(rid, ref, p)) {
+            if (ref != lower && !p.touches_lower && p.ang_deg <= s_.beta_deg && grounded &&
+                stands_on(*grounded, rid, ref, p)) {
                 continue;
             }
             if (!p.touches_lower && !has_sideways(ref, p)) {
@@ -117,14 +117,13 @@ std::int64_t Planner::ground_growth_um(const Layer& l) const {
 }
 
 // Whether piece p (in the frame of layer `ref`, a track's height below the region's last
-// layer) rests on material of the layers after ref that grew out of ref (grounded_from).
-bool Planner::grounded_between(int rid, int ref, const OverhangPiece& p) const {
-    const std::optional<Paths2> grounded = grounded_from(rid, ref);
-    if (!grounded) return false;
+// layer) rests on material of the layers after ref that grew out of ref: `grounded`, what
+// grounded_from(rid, ref) found of the last layer.
+bool Planner::stands_on(const Paths2& grounded, int rid, int ref, const OverhangPiece& p) const {
     const Layer& last = plan_.layers[static_cast<std::size_t>(
         plan_.regions[static_cast<std::size_t>(rid)].layers.back())];
     const Layer& base = plan_.layers[static_cast<std::size_t>(ref)];
-    const Paths2 on_ref = project_paths(*grounded, last.plane, base.plane);
+    const Paths2 on_ref = project_paths(grounded, last.plane, base.plane);
     return !geom2d::intersection_of(p.region, geom2d::offset_of(on_ref, ground_growth_um(last)))
                 .empty();
 }

@@ -122,7 +122,8 @@ private:
     // neighbours.cpp
     core::Result<std::optional<bool>> check_splits(int rid, int lower, const geom2d::Paths2& u,
                                                    const slice::Slice& s);
-    [[nodiscard]] bool grounded_between(int rid, int ref, const OverhangPiece& p) const;
+    [[nodiscard]] bool stands_on(const geom2d::Paths2& grounded, int rid, int ref,
+                                 const OverhangPiece& p) const;
     [[nodiscard]] std::optional<geom2d::Paths2> grounded_from(int rid, int ref) const;
     [[nodiscard]] std::int64_t ground_growth_um(const Layer& l) const;
     void record_unreachable(int rid, int lower, const slice::Slice& s, const OverhangPiece& p);
