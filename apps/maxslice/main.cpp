@@ -595,7 +595,8 @@ struct JobOutcome {
     // A kept program's figures: whether it misses the target, by the verifier (a closed
     // model) or, without its report, by the share of the section area without a track; and
     // whether it may be written at all: under 97 % of the finished part (of the part without a
-    // near-net shape) inside its beads, where the verifier can tell, it may not.
+    // near-net shape) inside its beads, where the verifier can tell, or of an open finished
+    // part's closed near-net shape covered, it may not.
     void note_figures(const std::optional<verify::Report>& report, double uncovered_mm2,
                       double area_mm2, double track_width_mm) {
         const double open = area_mm2 > 0.0 ? uncovered_mm2 / area_mm2 : 0.0;
@@ -623,15 +624,29 @@ struct JobOutcome {
                                                          report->excess >= verify::kMaxExcess)) ||
                     report->finished_low();
             }
-            if (report->finished_low()) {
+            // An open finished part's figure is an estimate (the verifier cannot tell its
+            // inside): the closed near-net shape's coverage judges the program then, as
+            // `maxslice verify` does.
+            const bool estimated =
+                report->finished_given && !report->finished_judged() && report->coverage_low();
+            if (report->finished_low() || estimated) {
+                const std::string held =
+                    estimated ? fmt::format(
+                                    "covers {:.2f}% of the near-net shape (the finished "
+                                    "part is open: {:.2f}% of it inside the beads, an "
+                                    "estimate)",
+                                    100.0 * report->coverage, 100.0 * report->finished_inside)
+                              : fmt::format(
+                                    "holds {:.2f}% of the {} inside its beads (smallest "
+                                    "stock {:.2f} mm)",
+                                    100.0 * report->finished_inside,
+                                    report->finished_given ? "finished part" : "part",
+                                    report->smallest_stock_mm);
                 short_of_part = core::Error{
                     core::ErrorCode::kInvalidInput,
-                    fmt::format("the program holds {:.2f}% of the {} inside its beads (smallest "
-                                "stock {:.2f} mm), under the {:.0f}% a written program must "
-                                "({}); nothing written",
-                                100.0 * report->finished_inside,
-                                report->finished_given ? "finished part" : "part",
-                                report->smallest_stock_mm, 100.0 * verify::kMinCoverage,
+                    fmt::format("the program {}, under the {:.0f}% a written program must ({}); "
+                                "nothing written",
+                                held, 100.0 * verify::kMinCoverage,
                                 left_out.empty()
                                     ? narrow_features_hint(track_width_mm)
                                     : left_out + "; or " + narrow_features_hint(track_width_mm)),
