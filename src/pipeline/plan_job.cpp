@@ -10,6 +10,7 @@
 #include <optional>
 #include <system_error>
 #include <tuple>
+#include <vector>
 
 #include <tbb/parallel_for.h>
 
@@ -834,18 +835,26 @@ std::string plan_summary(const PlannedPart& planned, const mesh::ValidationRepor
         }
     }
     put(out, "tilted layers   {}\n", p.tilted_layer_count());
-    // A run of decisions where the tilt gave up is one line.
-    const auto gave_up = [](const plan::Decision& d) {
-        return d.kind == plan::Decision::Kind::kTiltGaveUp;
+    // The tilts and the give-ups, in the order taken; a run of give-ups with no tilt between
+    // them is one line (the splits and other decisions between them are listed above).
+    std::vector<const plan::Decision*> tilts;
+    for (const plan::Decision& d : p.decisions) {
+        if (d.kind == plan::Decision::Kind::kTilt || d.kind == plan::Decision::Kind::kTiltGaveUp) {
+            tilts.push_back(&d);
+        }
+    }
+    const auto gave_up = [&](std::size_t i) {
+        return tilts[i]->kind == plan::Decision::Kind::kTiltGaveUp;
     };
-    for (std::size_t i = 0; i < p.decisions.size(); ++i) {
-        const plan::Decision& d = p.decisions[i];
-        if (d.kind == plan::Decision::Kind::kTilt) put(out, "  {}\n", plan::describe(p, d));
-        if (!gave_up(d)) continue;
+    for (std::size_t i = 0; i < tilts.size(); ++i) {
+        if (!gave_up(i)) {
+            put(out, "  {}\n", plan::describe(p, *tilts[i]));
+            continue;
+        }
         std::size_t j = i;
-        while (j + 1 < p.decisions.size() && gave_up(p.decisions[j + 1])) ++j;
+        while (j + 1 < tilts.size() && gave_up(j + 1)) ++j;
         put(out, "  {}\n",
-            plan::describe_tilt_gave_up(p, d.layer, p.decisions[j].layer, j - i + 1));
+            plan::describe_tilt_gave_up(p, tilts[i]->layer, tilts[j]->layer, j - i + 1));
         i = j;
     }
     put(out, "tilts wanted    {} (overhangs with alpha < Ang <= beta left planar)\n",
