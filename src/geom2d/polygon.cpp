@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "maxslice/core/units.hpp"
 
@@ -83,6 +84,73 @@ Path2 convex_hull(const Paths2& paths) {
     }
     hull.resize(k - 1);  // the last point repeats the first
     return hull;
+}
+
+namespace {
+
+double normalize_half_turn(double a) {
+    if (a < 0.0) a += std::numbers::pi;
+    if (a >= std::numbers::pi) a -= std::numbers::pi;
+    return a;
+}
+
+}  // namespace
+
+double long_side_angle(const Paths2& outer_wires) {
+    const Path2 hull = convex_hull(outer_wires);
+    const std::size_t n = hull.size();
+    if (n < 2) return 0.0;
+    if (n == 2) {
+        return normalize_half_turn(std::atan2(static_cast<double>(hull[1].y - hull[0].y),
+                                              static_cast<double>(hull[1].x - hull[0].x)));
+    }
+    const auto at = [&](std::size_t j) -> const Point2& { return hull[j % n]; };
+    // Rotating calipers: for each hull edge, the extreme points along the edge (max and min
+    // projection) and across it (farthest from its line) move forward monotonically, so the
+    // whole sweep is O(n). All measures are exact integers in the edge's unnormalised
+    // direction; the ratio does not depend on its length.
+    std::size_t jmax = 1;
+    std::size_t jfar = 1;
+    std::size_t jmin = 1;
+    double best_ratio = -1.0;
+    double best_angle = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+        const Point2 a = hull[i];
+        const Point2 b = at(i + 1);
+        const std::int64_t ex = b.x - a.x;
+        const std::int64_t ey = b.y - a.y;
+        const auto proj = [&](const Point2& p) {
+            return static_cast<Int128>(ex) * (p.x - a.x) + static_cast<Int128>(ey) * (p.y - a.y);
+        };
+        const auto height = [&](const Point2& p) { return cross(a, b, p); };
+        jmax = std::max(jmax, i + 1);
+        for (std::size_t steps = 0; steps < n && proj(at(jmax + 1)) > proj(at(jmax)); ++steps) {
+            ++jmax;
+        }
+        jfar = std::max(jfar, jmax);
+        for (std::size_t steps = 0; steps < n && height(at(jfar + 1)) > height(at(jfar)); ++steps) {
+            ++jfar;
+        }
+        jmin = std::max(jmin, jfar);
+        for (std::size_t steps = 0; steps < n && proj(at(jmin + 1)) < proj(at(jmin)); ++steps) {
+            ++jmin;
+        }
+        const double along = static_cast<double>(proj(at(jmax)) - proj(at(jmin)));
+        const double across = static_cast<double>(height(at(jfar)));
+        if (along <= 0.0 || across <= 0.0) continue;
+        const double ratio = std::max(along, across) / std::min(along, across);
+        const double angle = along >= across
+                                 ? std::atan2(static_cast<double>(ey), static_cast<double>(ex))
+                                 : std::atan2(static_cast<double>(ex), static_cast<double>(-ey));
+        const double normalized = normalize_half_turn(angle);
+        constexpr double kTie = 1e-12;
+        if (ratio > best_ratio * (1.0 + kTie) ||
+            (ratio >= best_ratio * (1.0 - kTie) && normalized < best_angle)) {
+            best_ratio = ratio;
+            best_angle = normalized;
+        }
+    }
+    return best_angle;
 }
 
 Containment locate_point(const Paths2& region, Point2 p) {

@@ -37,7 +37,10 @@
 #include <openvdb/tools/VolumeToMesh.h>
 #include <openvdb/util/NullInterrupter.h>
 
+#include "maxslice/core/units.hpp"
+#include "maxslice/geom2d/polygon.hpp"
 #include "maxslice/mesh/holes.hpp"
+#include "maxslice/mesh/triangle_mesh.hpp"
 #include "maxslice/mesh/validation.hpp"
 
 namespace maxslice::nearnet {
@@ -78,24 +81,96 @@ constexpr double kLeastVolumeShare = 0.99;
 // the mesh stays closed and the deviation far below the stock.
 constexpr double kAdaptivity = 0.05;
 
-// Our mesh as OpenVDB's mesh adapter wants it: corners in the grid's index space (relative to
-// the part's lower corner, in voxels), read on the fly in double.
+// Beyond this the plan's integer micrometres would overflow: the grids keep the part's axes.
+constexpr double kMaxPlanMm = 1e6;
+
+// The part's plan angle about Z (radians in [0, pi)), which turns with the part: the long side
+// of the hull of its vertices' XY projection (geom2d::long_side_angle, the raster's rule).
+double plan_angle(const mesh::TriangleMesh& part) {
+    geom2d::Path2 plan;
+    plan.reserve(part.vertices.size());
+    for (const core::Vec3d& v : part.vertices) {
+        if (!(std::abs(v.x) < kMaxPlanMm && std::abs(v.y) < kMaxPlanMm)) return 0.0;
+        plan.push_back({core::mm_to_um(v.x), core::mm_to_um(v.y)});
+    }
+    return geom2d::long_side_angle({plan});
+}
+
+// The grids' frame is the part's own: turned about Z to the long side of its plan
+// (plan_angle), centred on the part's box in that frame in X and Y, at its lowest point in Z.
+// The voxels then fall on the part the same way however it is turned about Z (up to a half
+// turn, or a quarter where the plan's hull is square: the lattice maps onto itself by both),
+// and so does the near-net shape (the planner's verdict would otherwise change with the
+// voxels' fall on a filled hole or a grazing face); small coordinates keep the float precision
+// of the fields and of the extracted points. In X and Y the voxel centres lie half a voxel off
+// the box's middle: a face a whole number of voxels from the middle (common in parts drawn in
+// round numbers) is not grown onto a plane of voxels, where the turn's rounding would decide
+// on which side of the isovalue each voxel falls.
+class GridFrame {
+public:
+    explicit GridFrame(const mesh::TriangleMesh& part) {
+        const double angle = plan_angle(part);
+        c_ = snap_unit(std::cos(angle));
+        s_ = snap_unit(std::sin(angle));
+        core::Vec3d lo{std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
+                       std::numeric_limits<double>::max()};
+        core::Vec3d hi = -lo;
+        for (const core::Vec3d& v : part.vertices) {
+            const core::Vec3d t = turned(v);
+            lo = {std::min(lo.x, t.x), std::min(lo.y, t.y), std::min(lo.z, t.z)};
+            hi = {std::max(hi.x, t.x), std::max(hi.y, t.y), std::max(hi.z, t.z)};
+        }
+        origin_ = {0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y), lo.z};
+    }
+    // A point of the part in the index space of a grid of `voxel`.
+    [[nodiscard]] core::Vec3d to_index(const core::Vec3d& p, double voxel) const {
+        return (turned(p) - origin_) * (1.0 / voxel) + kCellShift;
+    }
+    // A point a grid of `voxel` gives (its index times the voxel) in the part's frame.
+    [[nodiscard]] core::Vec3d to_part(const core::Vec3d& q, double voxel) const {
+        const core::Vec3d t = q - kCellShift * voxel + origin_;
+        return {c_ * t.x - s_ * t.y, s_ * t.x + c_ * t.y, t.z};
+    }
+    // A point a grid of `from` gives, in the index space of a grid of `to`.
+    [[nodiscard]] static core::Vec3d reindexed(const core::Vec3d& q, double from, double to) {
+        return (q - kCellShift * from) * (1.0 / to) + kCellShift;
+    }
+
+private:
+    static constexpr core::Vec3d kCellShift{0.5, 0.5, 0.0};
+    // Cosines and sines of quarter turns exact: a part along an axis keeps its grid's axes.
+    static double snap_unit(double v) {
+        constexpr double kSnap = 1e-12;
+        if (std::abs(v) < kSnap) return 0.0;
+        if (std::abs(std::abs(v) - 1.0) < kSnap) return std::copysign(1.0, v);
+        return v;
+    }
+    [[nodiscard]] core::Vec3d turned(const core::Vec3d& p) const {
+        return {c_ * p.x + s_ * p.y, -s_ * p.x + c_ * p.y, p.z};
+    }
+    double c_ = 1.0;
+    double s_ = 0.0;
+    core::Vec3d origin_;
+};
+
+// Our mesh as OpenVDB's mesh adapter wants it: corners in the grid's index space (the grids'
+// frame, in voxels), read on the fly in double.
 class IndexSpaceMesh {
 public:
-    IndexSpaceMesh(const mesh::TriangleMesh& m, const core::Vec3d& origin, double voxel)
-        : mesh_(m), origin_(origin), inv_voxel_(1.0 / voxel) {}
+    IndexSpaceMesh(const mesh::TriangleMesh& m, const GridFrame& frame, double voxel)
+        : mesh_(m), frame_(frame), voxel_(voxel) {}
     [[nodiscard]] std::size_t polygonCount() const { return mesh_.triangles.size(); }
     [[nodiscard]] std::size_t pointCount() const { return mesh_.vertices.size(); }
     [[nodiscard]] std::size_t vertexCount(std::size_t) const { return 3; }
     void getIndexSpacePoint(std::size_t n, std::size_t v, openvdb::Vec3d& pos) const {
-        const core::Vec3d p = (mesh_.corner(n, static_cast<int>(v)) - origin_) * inv_voxel_;
+        const core::Vec3d p = frame_.to_index(mesh_.corner(n, static_cast<int>(v)), voxel_);
         pos = openvdb::Vec3d(p.x, p.y, p.z);
     }
 
 private:
     const mesh::TriangleMesh& mesh_;
-    core::Vec3d origin_;
-    double inv_voxel_;
+    const GridFrame& frame_;
+    double voxel_;
 };
 
 // Cancels OpenVDB's long loops when the caller cancels the job.
@@ -119,17 +194,18 @@ double fine_voxel(double area_mm2, double stock, double radius) {
 }
 
 // volumeToMesh's points and polygons as our mesh: quads split along a fixed diagonal, points
-// shifted back to the part frame, unused points dropped, normals outward.
+// taken back to the part's frame, unused points dropped, normals outward.
 mesh::TriangleMesh to_mesh(const std::vector<openvdb::Vec3s>& points,
                            const std::vector<openvdb::Vec3I>& triangles,
-                           const std::vector<openvdb::Vec4I>& quads, const core::Vec3d& origin) {
+                           const std::vector<openvdb::Vec4I>& quads, const GridFrame& frame,
+                           double voxel) {
     mesh::TriangleMesh out;
     std::vector<std::uint32_t> index(points.size(), std::numeric_limits<std::uint32_t>::max());
     const auto vertex = [&](unsigned i) {
         if (index[i] == std::numeric_limits<std::uint32_t>::max()) {
             index[i] = static_cast<std::uint32_t>(out.vertices.size());
             const openvdb::Vec3s& p = points[i];
-            out.vertices.push_back(origin + core::Vec3d{p.x(), p.y(), p.z()});
+            out.vertices.push_back(frame.to_part(core::Vec3d{p.x(), p.y(), p.z()}, voxel));
         }
         return index[i];
     };
@@ -157,12 +233,12 @@ struct IndexPolygons {
     std::vector<openvdb::Vec4I> polygons;  // triangles with index 3 = INVALID_IDX
 };
 
-core::Result<IndexPolygons> closing(const mesh::TriangleMesh& finished, const core::Vec3d& origin,
+core::Result<IndexPolygons> closing(const mesh::TriangleMesh& finished, const GridFrame& frame,
                                     double radius, double depth, double voxel, double fine_voxel,
                                     Interrupter& interrupter, std::size_t& active) {
     const openvdb::math::Transform::Ptr xform =
         openvdb::math::Transform::createLinearTransform(voxel);
-    const IndexSpaceMesh adapter(finished, origin, voxel);
+    const IndexSpaceMesh adapter(finished, frame, voxel);
     const float margin = static_cast<float>(kBandMarginVoxels);
     openvdb::FloatGrid::Ptr field = openvdb::tools::meshToVolume<openvdb::FloatGrid>(
         interrupter, adapter, *xform, static_cast<float>(radius / voxel) + margin, margin);
@@ -182,9 +258,13 @@ core::Result<IndexPolygons> closing(const mesh::TriangleMesh& finished, const co
     std::vector<openvdb::Vec4I> quads;
     openvdb::tools::volumeToMesh(*field, points, triangles, quads, -depth, 0.0, true);
     IndexPolygons out;
-    const float scale = static_cast<float>(1.0 / fine_voxel);
     out.points.reserve(points.size());
-    for (const openvdb::Vec3s& p : points) out.points.push_back(p * scale);
+    for (const openvdb::Vec3s& p : points) {
+        const core::Vec3d q =
+            GridFrame::reindexed(core::Vec3d{p.x(), p.y(), p.z()}, voxel, fine_voxel);
+        out.points.emplace_back(static_cast<float>(q.x), static_cast<float>(q.y),
+                                static_cast<float>(q.z));
+    }
     out.polygons = std::move(quads);
     for (const openvdb::Vec3I& t : triangles) {
         out.polygons.emplace_back(t[0], t[1], t[2], openvdb::util::INVALID_IDX);
@@ -222,9 +302,7 @@ core::Result<NearNet> compute(const mesh::TriangleMesh& part, const NearNetSetti
                         report.area_mm2, voxel, kMaxSurfaceVoxels, stock),
             "near-net shape");
     }
-    // The grids' index space starts at the part's lower corner: small index coordinates keep
-    // the float precision of the fields and of the extracted points.
-    const core::Vec3d origin = report.bounding_box.min;
+    const GridFrame frame(finished);
     openvdb::initialize();
     Interrupter interrupter(progress);
     NearNet out;
@@ -238,7 +316,7 @@ core::Result<NearNet> compute(const mesh::TriangleMesh& part, const NearNetSetti
         openvdb::math::Transform::createLinearTransform(voxel);
 
     if (progress != nullptr) progress->report("near-net", 0.0);
-    const IndexSpaceMesh adapter(finished, origin, voxel);
+    const IndexSpaceMesh adapter(finished, frame, voxel);
     openvdb::FloatGrid::Ptr field = openvdb::tools::meshToVolume<openvdb::FloatGrid>(
         interrupter, adapter, *xform, ex_band, margin);
     if (interrupter.wasInterrupted()) {
@@ -249,7 +327,7 @@ core::Result<NearNet> compute(const mesh::TriangleMesh& part, const NearNetSetti
         if (progress != nullptr) progress->report("near-net", 0.3);
         const double coarse = std::max(radius / kVoxelsPerFillRadius, kCoarseOverFine * voxel);
         const double depth = radius + std::min(kClosingDepthVoxels * coarse, stock);
-        auto closed = closing(finished, origin, radius, depth, coarse, voxel, interrupter,
+        auto closed = closing(finished, frame, radius, depth, coarse, voxel, interrupter,
                               out.report.active_voxels);
         if (!closed) return std::unexpected(closed.error());
         const openvdb::tools::QuadAndTriangleDataAdapter<openvdb::Vec3s, openvdb::Vec4I> c(
@@ -269,7 +347,7 @@ core::Result<NearNet> compute(const mesh::TriangleMesh& part, const NearNetSetti
     std::vector<openvdb::Vec4I> quads;
     openvdb::tools::volumeToMesh(*field, points, triangles, quads, stock, kAdaptivity, true);
     field.reset();
-    out.mesh = to_mesh(points, triangles, quads, origin);
+    out.mesh = to_mesh(points, triangles, quads, frame, voxel);
     if (out.mesh.triangles.empty()) {
         return core::fail(ErrorCode::kInternal, "the distance field gave an empty surface",
                           "near-net shape");

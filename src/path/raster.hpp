@@ -24,12 +24,6 @@ private:
     double s_ = 0.0;
 };
 
-/// The direction (radians in [0, pi)) along the long side of the orientation whose bounding
-/// box has the largest long/short ratio, over the orientations of the convex hull's edges
-/// (rotating calipers, O(n) after the hull). Ties go to the smaller angle; 0 for an empty or
-/// single-point input.
-[[nodiscard]] double long_side_angle(const geom2d::Paths2& outer_wires);
-
 /// Inputs of the zigzag fill, in the raster frame.
 struct ZigzagInput {
     const geom2d::Paths2* fill_region = nullptr;  ///< where fill line centres may run

@@ -302,7 +302,7 @@ PreparedLayer prepare_layer(const geom2d::WireTree& region, const PathSettings& 
     out.route.reserve(islands.size());
     for (const Paths2& island : islands) {
         const double angle_rad = fixed_deg ? *fixed_deg * std::numbers::pi / 180.0
-                                           : detail::long_side_angle({island.front()});
+                                           : geom2d::long_side_angle({island.front()});
         const double area = geom2d::signed_area_mm2(island);
         if (!fixed_deg && area > largest_area) {
             largest_area = area;

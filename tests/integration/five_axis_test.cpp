@@ -349,13 +349,12 @@ TEST(FiveAxis, PartsAsGivenBuildWithTheFinishedPartInsideTheBeads) {
 }
 
 // Issue 24's two-turn helical ring turned about Z by 37 and 90 degrees is built as given too
-// (verified clean, a separate `maxslice verify` passing it) however the near-net shape's
-// voxels fall on it. Its near-net shape fills the turns into one band, which the first split
-// plane (at the ground end) cuts again half a turn on, at a slant: the tail of the first turn
-// beyond that cut starts in the air in the base region's cell, as a sliver narrower than a
-// track. It is built from the column over the ground end, not hung from that sliver
-// (decision 0040).
-TEST(FiveAxis, TheHelicalRingTurnedAboutZIsBuiltAsGiven) {
+// (verified clean, a separate `maxslice verify` passing it). Its near-net shape fills the turns
+// into one band, which the first split plane (at the ground end) cuts again half a turn on, at
+// a slant: the tail of the first turn beyond that cut starts in the air in the base region's
+// cell, as a sliver narrower than a track. It is built from the column over the ground end,
+// not hung from that sliver (decision 0040). (Slow: left out of the sanitizer run.)
+TEST(FiveAxisSlow, TheHelicalRingTurnedAboutZIsBuiltAsGiven) {
     const fs::path dir = temp_dir("helical");
     for (const double turn : {37.0, 90.0}) {
         SCOPED_TRACE(turn);
@@ -364,6 +363,54 @@ TEST(FiveAxis, TheHelicalRingTurnedAboutZIsBuiltAsGiven) {
         f.mesh = maxslice::test::rotated(f.mesh, {0.0, 0.0, 1.0}, turn);
         clean_job_as_given(export_fixture(f, dir), dir / (f.name + ".gm"));
     }
+}
+
+// Turning a part about Z changes neither the head's reach nor the plate under it, and the
+// near-net shape's voxels lie in the part's own frame (decision 0041): every fixture's whole
+// job as given, with the main process, gives the same number of regions and the same verdict
+// turned by an arbitrary angle as it does as drawn. (Slow: left out of the sanitizer run.) Not
+// yet the cylinder with holes: its plan's hull is a 64-gon, whose long side ties between its
+// edges, so its grids turn by a multiple of 5.6 degrees against its holes, and the planner's
+// pieces at the filled holes' grazing rims change with the voxels (1 region as drawn, 5 turned
+// by 113 degrees).
+TEST(FiveAxisSlow, EveryFixtureTurnedAboutZKeepsItsRegionsAndItsVerdict) {
+    const fs::path dir = temp_dir("turned");
+    struct Outcome {
+        int exit_code = -1;
+        long regions = -1;
+    };
+    const auto job = [&](const PlannerFixture& f) {
+        const fs::path part = export_fixture(f, dir);
+        const CliRun r =
+            run_cli({"slice", part.string(), "--profile", kReference5.string(), "-o",
+                     (dir / (f.name + ".gm")).string(), "--orient", "given", "--finer", "off"});
+        Outcome o{r.exit_code, -1};
+        std::smatch m;
+        if (std::regex_search(r.out, m, std::regex(R"(\nregions +(\d+) )"))) {
+            o.regions = std::stol(m[1]);
+        }
+        return o;
+    };
+    int built = 0;
+    for (const PlannerFixture& f : maxslice::test::all_planner_fixtures()) {
+        if (f.name == "cylinder_with_holes") continue;
+        SCOPED_TRACE(f.name);
+        const Outcome given = job(f);
+        PlannerFixture turned = f;
+        turned.name += "_turned";
+        const maxslice::core::Box3d box = maxslice::mesh::bounding_box(f.mesh);
+        turned.mesh = maxslice::test::rotated(
+            f.mesh, {0.0, 0.0, 1.0}, 113.0,
+            {0.5 * (box.min.x + box.max.x), 0.5 * (box.min.y + box.max.y), 0.0});
+        const Outcome other = job(turned);
+        EXPECT_EQ(given.exit_code, other.exit_code);
+        EXPECT_EQ(given.regions, other.regions);
+        if (given.exit_code == 0) {
+            EXPECT_GT(given.regions, 0);  // the summary's line was read
+            ++built;
+        }
+    }
+    EXPECT_GT(built, 0);
 }
 
 // One fixture through each of the other bundled table profiles (their dialects and, for

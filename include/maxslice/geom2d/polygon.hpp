@@ -63,6 +63,12 @@ enum class FillRule {
 /// are collinear (2: the extreme points) or there is only one distinct point.
 [[nodiscard]] Path2 convex_hull(const Paths2& paths);
 
+/// The direction (radians in [0, pi)) along the long side of the orientation whose bounding
+/// box has the largest long/short ratio, over the orientations of the convex hull's edges
+/// (rotating calipers, O(n) after the hull). Ties go to the smaller angle; 0 for an empty or
+/// single-point input.
+[[nodiscard]] double long_side_angle(const Paths2& outer_wires);
+
 /// Where a point lies relative to a region.
 enum class Containment { kOutside, kBoundary, kInside };
 

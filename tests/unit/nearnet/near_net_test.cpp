@@ -96,7 +96,11 @@ TEST(NearNet, CubeGrowsByTheStockWithRoundedEdges) {
         a * a * a + 6 * a * a * s + 3 * pi * a * s * s + 4.0 / 3.0 * pi * s * s * s;
     const double v = mesh::signed_volume(n.mesh);
     EXPECT_LT(v, std::pow(a + 2 * s, 3));  // the edges are rounded, not square
-    EXPECT_NEAR(v, grown, 0.01 * (grown - a * a * a));
+    // The adaptive mesher's merged facets cut chords of the rounded edges, deeper or shallower
+    // as the voxels fall on them: 1.6 % of the stock's volume short with the grown faces half a
+    // voxel off the grid's planes (the grid centred on the cube, decision 0041), under 1 % with
+    // them on the planes (square edges would be 2.1 % over: the test above).
+    EXPECT_NEAR(v, grown, 0.02 * (grown - a * a * a));
     EXPECT_NEAR(n.report.near_net_volume_mm3, v, 1e-9 * v);
     EXPECT_NEAR(n.report.finished_volume_mm3, a * a * a, 1e-9 * a * a * a);
     // Its box is the cube's grown by s on every side, up and down too.
@@ -126,7 +130,7 @@ TEST(NearNet, AnOpenSurfaceGrowsAsTheSolidItBounds) {
     const double pi = std::numbers::pi;
     const double grown =
         a * a * a + 6 * a * a * s + 3 * pi * a * s * s + 4.0 / 3.0 * pi * s * s * s;
-    EXPECT_NEAR(n.report.near_net_volume_mm3, grown, 0.01 * (grown - a * a * a));
+    EXPECT_NEAR(n.report.near_net_volume_mm3, grown, 0.02 * (grown - a * a * a));
     EXPECT_NEAR(n.report.finished_volume_mm3, a * a * a, 1e-9 * a * a * a);
     EXPECT_GT(winding(n.mesh, {0.5 * a, 0.5 * a, 0.5 * a}), 0.5);  // solid, not a shell
 }
@@ -186,6 +190,41 @@ TEST(NearNet, FillAloneClosesTheHoleWithoutGrowingTheOutside) {
     const core::Box3d box = mesh::bounding_box(n.mesh);
     EXPECT_NEAR(box.max.x, 10.0, n.report.voxel_mm);
     EXPECT_NEAR(box.min.z, 0.0, n.report.voxel_mm);
+}
+
+// The largest distance from a vertex of `a` to the surface of `b`.
+double farthest_vertex_gap(const mesh::TriangleMesh& a, const mesh::TriangleMesh& b) {
+    double worst = 0.0;
+    for (const Vec3d& p : a.vertices) worst = std::max(worst, distance_to_surface(b, p));
+    return worst;
+}
+
+TEST(NearNet, TurningThePartAboutZTurnsItsNearNetShape) {
+    // The grids lie in the part's own frame: a part turned about Z gets the same voxels, so its
+    // near-net shape is the first one turned (with the grids along the world's axes, the voxels
+    // fell otherwise on the filled holes and the rounded edges, by over a tenth of a mm, and
+    // the planner's verdict changed with the turn).
+    test::PlateSpec spec;
+    spec.n_holes = 4;
+    spec.hole_radius = 2.0;
+    spec.thickness = 6.0;
+    // (A block on one end: the plate alone is symmetric, and would not show a turn by half.)
+    const mesh::TriangleMesh part =
+        test::merged(test::plate_with_holes(spec), test::box({0, 0, spec.thickness}, {8, 10, 10}));
+    const Vec3d centre{2.0 * spec.cell, 0.5 * spec.cell, 0.0};
+    const NearNet given = made(part, 0.5, 6.0);
+    for (const double deg : {37.0, 90.0, 151.0}) {
+        const NearNet turned = made(test::rotated(part, {0, 0, 1}, deg, centre), 0.5, 6.0);
+        const mesh::TriangleMesh back = test::rotated(turned.mesh, {0, 0, 1}, -deg, centre);
+        ASSERT_FALSE(back.empty());
+        EXPECT_NEAR(turned.report.near_net_volume_mm3, given.report.near_net_volume_mm3,
+                    1e-5 * given.report.near_net_volume_mm3)
+            << deg;
+        EXPECT_LT(farthest_vertex_gap(back, given.mesh), 1e-3) << deg;
+        EXPECT_LT(farthest_vertex_gap(given.mesh, back), 1e-3) << deg;
+    }
+    // The holes were filled (the figures compare filled shapes, not just grown plates).
+    EXPECT_GT(winding(given.mesh, {1.5 * spec.cell, 0.5 * spec.cell, 3.0}), 0.5);
 }
 
 TEST(NearNet, SameBytesWithOneAndTwoThreads) {
