@@ -18,11 +18,15 @@ mkdir -p out
   -o out/flanged_bushing.ngc
 # The multi-axis plan and its collision-checked build order (one region for this part).
 "$bin" plan "$part" --plan out/plan.json --svg out/plan --order-out out/plan_order.ply
-# A part with an overhang no planar build holds: planned (3 regions, the boss sideways),
-# ordered, written for the A/C table machine and verified; then verified again on its own.
+# A part with an overhang no planar build holds, kept as it stands (as material added to a
+# part on the table would be): planned (3 regions, the boss built sideways), ordered, written
+# for the A/C table machine and verified; then verified again on its own. (Without
+# --orient given, the search stands it on its end instead: one planar region.)
 seat=examples/parts/bearing_seat.stl
-"$bin" slice "$seat" --profile examples/profiles/reference_5axis_ac.toml -o out/bearing_seat_5axis.gm
-"$bin" plan "$seat" --plan out/bearing_seat_plan.json --order-out out/bearing_seat_order.ply
+"$bin" slice "$seat" --profile examples/profiles/reference_5axis_ac.toml --orient given \
+  -o out/bearing_seat_5axis.gm
+"$bin" plan "$seat" --profile examples/profiles/reference_5axis_ac.toml --orient given \
+  --plan out/bearing_seat_plan.json --order-out out/bearing_seat_order.ply
 "$bin" verify out/bearing_seat_5axis.gm --model "$seat" \
   --profile examples/profiles/reference_5axis_ac.toml --json out/bearing_seat_verify.json
 echo "maxslice demo: wrote out/flanged_bushing.gm, out/flanged_bushing.ngc, out/slices.json,"

@@ -153,6 +153,16 @@ double long_side_angle(const Paths2& outer_wires) {
     return best_angle;
 }
 
+PlaneTurn plane_turn(double angle_rad) {
+    constexpr double kSnap = 1e-12;
+    const auto snapped = [](double v) {
+        if (std::abs(v) < kSnap) return 0.0;
+        if (std::abs(std::abs(v) - 1.0) < kSnap) return std::copysign(1.0, v);
+        return v;
+    };
+    return {snapped(std::cos(angle_rad)), snapped(std::sin(angle_rad))};
+}
+
 Containment locate_point(const Paths2& region, Point2 p) {
     // Winding number (Sunday's crossing rule, half-open in y), with an exact on-edge test.
     long winding = 0;

@@ -23,10 +23,12 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <exception>
 #include <limits>
 #include <new>
+#include <numbers>
 #include <optional>
 #include <vector>
 
@@ -96,31 +98,48 @@ double plan_angle(const mesh::TriangleMesh& part) {
     return geom2d::long_side_angle({plan});
 }
 
-// The grids' frame is the part's own: turned about Z to the long side of its plan
-// (plan_angle), centred on the part's box in that frame in X and Y, at its lowest point in Z.
-// The voxels then fall on the part the same way however it is turned about Z (up to a half
-// turn, or a quarter where the plan's hull is square: the lattice maps onto itself by both),
-// and so does the near-net shape (the planner's verdict would otherwise change with the
-// voxels' fall on a filled hole or a grazing face); small coordinates keep the float precision
-// of the fields and of the extracted points. In X and Y the voxel centres lie half a voxel off
-// the box's middle: a face a whole number of voxels from the middle (common in parts drawn in
-// round numbers) is not grown onto a plane of voxels, where the turn's rounding would decide
-// on which side of the isovalue each voxel falls.
+// The grids' frame is the part's own: turned about Z to the long side of its plan (plan_angle,
+// modulo a quarter turn, by which the square lattice maps onto itself), then by the quarter
+// turn that puts the vertices' mean in the frame's first quadrant (the long side is a line
+// without a direction; OpenVDB's adaptive mesher, merging within leaves counted from the
+// index origin, does not map onto itself by a half turn of the lattice), centred on the part's
+// box in that frame in X and Y, at its lowest point in Z. The voxels then fall on the part the
+// same way however it is turned about Z, and so does the near-net shape (the planner's verdict
+// would otherwise change with the voxels' fall on a filled hole or a grazing face); small
+// coordinates keep the float precision of the fields and of the extracted points. In X and Y
+// the voxel centres lie half a voxel off the box's middle: a face a whole number of voxels
+// from the middle (common in parts drawn in round numbers) is not grown onto a plane of
+// voxels, where the turn's rounding would decide on which side of the isovalue each voxel
+// falls.
 class GridFrame {
 public:
     explicit GridFrame(const mesh::TriangleMesh& part) {
-        const double angle = plan_angle(part);
-        c_ = snap_unit(std::cos(angle));
-        s_ = snap_unit(std::sin(angle));
-        core::Vec3d lo{std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
-                       std::numeric_limits<double>::max()};
-        core::Vec3d hi = -lo;
-        for (const core::Vec3d& v : part.vertices) {
-            const core::Vec3d t = turned(v);
-            lo = {std::min(lo.x, t.x), std::min(lo.y, t.y), std::min(lo.z, t.z)};
-            hi = {std::max(hi.x, t.x), std::max(hi.y, t.y), std::max(hi.z, t.z)};
+        const double angle = std::fmod(plan_angle(part), 0.5 * std::numbers::pi);
+        const geom2d::PlaneTurn turn = geom2d::plane_turn(angle);
+        c_ = turn.c;
+        s_ = turn.s;
+        // The quarter turn of the frame that puts the vertices' mean in its first quadrant
+        // (none where the mean is at the box's middle: the part is then symmetric enough that
+        // the frame's other quarter turns give the same voxels, up to a mirror).
+        const Box first = box(part);
+        const core::Vec3d offset = first.mean - first.middle();
+        // The mean as the frame turned by k quarter turns sees it.
+        const std::array<core::Vec3d, 4> seen{offset,
+                                              {offset.y, -offset.x, 0.0},
+                                              {-offset.x, -offset.y, 0.0},
+                                              {-offset.y, offset.x, 0.0}};
+        for (std::size_t k = 0; k < seen.size(); ++k) {
+            if (seen[k].x > kMeanTie && seen[k].y > -kMeanTie) {
+                for (std::size_t j = 0; j < k; ++j) {
+                    const double c = c_;
+                    c_ = -s_;
+                    s_ = c;
+                }
+                break;
+            }
         }
-        origin_ = {0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y), lo.z};
+        const Box turned_box = box(part);
+        origin_ = {turned_box.middle().x, turned_box.middle().y, turned_box.lo.z};
     }
     // A point of the part in the index space of a grid of `voxel`.
     [[nodiscard]] core::Vec3d to_index(const core::Vec3d& p, double voxel) const {
@@ -138,12 +157,30 @@ public:
 
 private:
     static constexpr core::Vec3d kCellShift{0.5, 0.5, 0.0};
-    // Cosines and sines of quarter turns exact: a part along an axis keeps its grid's axes.
-    static double snap_unit(double v) {
-        constexpr double kSnap = 1e-12;
-        if (std::abs(v) < kSnap) return 0.0;
-        if (std::abs(std::abs(v) - 1.0) < kSnap) return std::copysign(1.0, v);
-        return v;
+    // Below this (mm) the vertices' mean is on an axis of the frame (float noise: ~1e-5 mm).
+    static constexpr double kMeanTie = 1e-3;
+    struct Box {
+        core::Vec3d lo{std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
+                       std::numeric_limits<double>::max()};
+        core::Vec3d hi = -lo;
+        core::Vec3d mean;  // of the vertices, in the plan (z is 0)
+        [[nodiscard]] core::Vec3d middle() const { return (lo + hi) * 0.5; }
+    };
+    // The part's box and the mean of its vertices, in the frame.
+    [[nodiscard]] Box box(const mesh::TriangleMesh& part) const {
+        Box b;
+        core::Vec3d sum;
+        for (const core::Vec3d& v : part.vertices) {
+            const core::Vec3d t = turned(v);
+            b.lo = {std::min(b.lo.x, t.x), std::min(b.lo.y, t.y), std::min(b.lo.z, t.z)};
+            b.hi = {std::max(b.hi.x, t.x), std::max(b.hi.y, t.y), std::max(b.hi.z, t.z)};
+            sum = sum + t;
+        }
+        if (!part.vertices.empty()) {
+            b.mean = sum * (1.0 / static_cast<double>(part.vertices.size()));
+            b.mean.z = 0.0;
+        }
+        return b;
     }
     [[nodiscard]] core::Vec3d turned(const core::Vec3d& p) const {
         return {c_ * p.x + s_ * p.y, -s_ * p.x + c_ * p.y, p.z};

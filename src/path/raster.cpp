@@ -31,14 +31,6 @@ std::int64_t round_half_away(double v) {
     return static_cast<std::int64_t>(v >= 0.0 ? v + 0.5 : v - 0.5);
 }
 
-// Snaps cosines and sines of quarter turns to exact values.
-double snap_unit(double v) {
-    constexpr double kSnap = 1e-12;
-    if (std::abs(v) < kSnap) return 0.0;
-    if (std::abs(std::abs(v) - 1.0) < kSnap) return std::copysign(1.0, v);
-    return v;
-}
-
 Int128 cross(Point2 o, Point2 a, Point2 b) {
     return static_cast<Int128>(a.x - o.x) * (b.y - o.y) -
            static_cast<Int128>(a.y - o.y) * (b.x - o.x);
@@ -532,8 +524,11 @@ private:
 
 }  // namespace
 
-RasterFrame::RasterFrame(double angle_rad)
-    : c_(snap_unit(std::cos(angle_rad))), s_(snap_unit(std::sin(angle_rad))) {}
+RasterFrame::RasterFrame(double angle_rad) {
+    const geom2d::PlaneTurn turn = geom2d::plane_turn(angle_rad);
+    c_ = turn.c;
+    s_ = turn.s;
+}
 
 Point2 RasterFrame::to_raster(Point2 p) const {
     const double x = static_cast<double>(p.x);

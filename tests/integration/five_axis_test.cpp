@@ -70,6 +70,7 @@ struct Figures {
     bool finished_line = false;
     double finished_pct = NAN;
     double stock_mm = NAN;
+    bool finished_estimated = false;  // "(estimates: the mesh is not closed)" follows
 };
 
 Figures read_figures(const std::string& out);
@@ -111,6 +112,7 @@ Figures read_figures(const std::string& out) {
         f.finished_line = true;
         f.finished_pct = std::stod(m[1].str());
         f.stock_mm = std::stod(m[2].str());
+        f.finished_estimated = m.suffix().str().starts_with(" (estimates");
     }
     return f;
 }
@@ -396,15 +398,18 @@ TEST(FiveAxisSlow, EveryFixtureTurnedAboutZKeepsItsRegionsAndItsVerdict) {
         if (f.name == "cylinder_with_holes") continue;
         SCOPED_TRACE(f.name);
         const Outcome given = job(f);
-        PlannerFixture turned = f;
-        turned.name += "_turned";
-        const maxslice::core::Box3d box = maxslice::mesh::bounding_box(f.mesh);
-        turned.mesh = maxslice::test::rotated(
-            f.mesh, {0.0, 0.0, 1.0}, 113.0,
-            {0.5 * (box.min.x + box.max.x), 0.5 * (box.min.y + box.max.y), 0.0});
-        const Outcome other = job(turned);
-        EXPECT_EQ(given.exit_code, other.exit_code);
-        EXPECT_EQ(given.regions, other.regions);
+        // (Past a half turn too: the plan's long side is a line, without a direction.)
+        for (const double deg : {113.0, 247.0}) {
+            PlannerFixture turned = f;
+            turned.name += "_turned";
+            const maxslice::core::Box3d box = maxslice::mesh::bounding_box(f.mesh);
+            turned.mesh = maxslice::test::rotated(
+                f.mesh, {0.0, 0.0, 1.0}, deg,
+                {0.5 * (box.min.x + box.max.x), 0.5 * (box.min.y + box.max.y), 0.0});
+            const Outcome other = job(turned);
+            EXPECT_EQ(given.exit_code, other.exit_code) << deg;
+            EXPECT_EQ(given.regions, other.regions) << deg;
+        }
         if (given.exit_code == 0) {
             EXPECT_GT(given.regions, 0);  // the summary's line was read
             ++built;
@@ -1404,8 +1409,12 @@ TEST(FiveAxis, EverySharedModelIsBuiltOrRefusedCleanly) {
         // are not a rule: where the program holds under 99.5 % of the finished part or has 5 %
         // excess, the job tried the profile's finer process (decisions 0019, 0030) and took it
         // or said it does no better, and a coverage under 97 % is warned with its figure.
-        if (f.finished_pct < 100.0 * maxslice::verify::kFinishedInsideTarget ||
-            f.excess_pct >= 5.0) {
+        // Where the finished part is open, its figure is an estimate and the near-net shape's
+        // coverage (under 97 %) decides instead, as it decides whether the program is written.
+        const bool short_of_target =
+            f.finished_estimated ? f.coverage_pct < 97.0
+                                 : f.finished_pct < 100.0 * maxslice::verify::kFinishedInsideTarget;
+        if (short_of_target || f.excess_pct >= 5.0) {
             EXPECT_TRUE(r.out.find("process         finer 1") != std::string::npos ||
                         r.err.find("the profile's finer processes do no better") !=
                             std::string::npos)

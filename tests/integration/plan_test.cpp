@@ -391,14 +391,16 @@ TEST(PlanCli, ALayerOnNothingWhereNoTrackFitsIsLeftBare) {
 }
 
 // A refusal names a region split off pointing down (a piece hanging below the sideways region
-// it grows from) and says so: box_sides.STEP as given splits a piece off a region built
-// sideways, along a direction more than 90 degrees from the plate's normal, and the only way
-// to it the nozzle has is from below.
-TEST(PlanCli, ARefusalSaysWhenTheRegionInTheWayPointsDown) {
+// it grows from) and says so: box_sides.STEP as given, with the fine A/C profile (0.8 mm
+// track), splits a piece off a region built sideways, along a direction more than 90 degrees
+// from the plate's normal, and the only way to it the nozzle has is from below.
+// (Out of the sanitizer run: the 0.8 mm track plans for over 20 s in release.)
+TEST(PlanCliSlow, ARefusalSaysWhenTheRegionInTheWayPointsDown) {
     const fs::path part = kTestData / "step" / "trimesh" / "box_sides.STEP";
     const fs::path dir = temp_dir("points_down");
     const fs::path plan = dir / "plan.json";
-    const CliRun r = run_cli({"plan", part.string(), "--profile", reference_profile().string(),
+    const CliRun r = run_cli({"plan", part.string(), "--profile",
+                              (kSource / "examples/profiles/fine_5axis_ac.toml").string(),
                               "--orient", "given", "--plan", plan.string()});
     ASSERT_EQ(r.exit_code, 2) << r.err;
     const std::string key = "deg from the plate's normal, down";
@@ -851,8 +853,12 @@ TEST(PlanCli, OrientAutoFindsTheSameBuildForATurnedPart) {
     }
     EXPECT_EQ(a.at("summary").at("regions"), b.at("summary").at("regions"));
     EXPECT_EQ(a.at("summary").at("splits"), b.at("summary").at("splits"));
-    EXPECT_EQ(a.at("summary").at("tilted_layers").get<int>() > 0,
-              b.at("summary").at("tilted_layers").get<int>() > 0);
+    // (The near-net shape is voxelised in the file's frame, which a turn off the Z axis
+    // changes: the voxels fall otherwise by a fraction of one, and a layer at the chain's
+    // 10-degree threshold may tilt in one and not the other.)
+    EXPECT_LE(std::abs(a.at("summary").at("tilted_layers").get<int>() -
+                       b.at("summary").at("tilted_layers").get<int>()),
+              1);
     // The rule: no layer on nothing first, then the fewest splits, then the fewest tilts.
     for (const nlohmann::json* j : {&a, &b}) {
         const auto& orient = j->at("orientation");

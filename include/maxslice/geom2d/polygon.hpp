@@ -69,6 +69,14 @@ enum class FillRule {
 /// single-point input.
 [[nodiscard]] double long_side_angle(const Paths2& outer_wires);
 
+/// A turn in the plane: the cosine and sine of its angle, exact (0 and +-1) at quarter turns,
+/// so that a frame along the axes stays exactly along them.
+struct PlaneTurn {
+    double c = 1.0;
+    double s = 0.0;
+};
+[[nodiscard]] PlaneTurn plane_turn(double angle_rad);
+
 /// Where a point lies relative to a region.
 enum class Containment { kOutside, kBoundary, kInside };
 
