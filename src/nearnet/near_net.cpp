@@ -23,7 +23,6 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <exception>
 #include <limits>
@@ -118,28 +117,22 @@ public:
         const geom2d::PlaneTurn turn = geom2d::plane_turn(angle);
         c_ = turn.c;
         s_ = turn.s;
-        // The quarter turn of the frame that puts the vertices' mean in its first quadrant
-        // (none where the mean is at the box's middle: the part is then symmetric enough that
-        // the frame's other quarter turns give the same voxels, up to a mirror).
-        const Box first = box(part);
-        const core::Vec3d offset = first.mean - first.middle();
-        // The mean as the frame turned by k quarter turns sees it.
-        const std::array<core::Vec3d, 4> seen{offset,
-                                              {offset.y, -offset.x, 0.0},
-                                              {-offset.x, -offset.y, 0.0},
-                                              {-offset.y, offset.x, 0.0}};
-        for (std::size_t k = 0; k < seen.size(); ++k) {
-            if (seen[k].x > kMeanTie && seen[k].y > -kMeanTie) {
-                for (std::size_t j = 0; j < k; ++j) {
-                    const double c = c_;
-                    c_ = -s_;
-                    s_ = c;
-                }
-                break;
-            }
+        // The quarter turn of the frame that puts the vertices' mean, seen from the box's
+        // middle, in its first quadrant (none where the mean is at the middle: the part is then
+        // symmetric enough that the other quarter turns give the same voxels, up to a mirror;
+        // four quarter turns are the frame again). A quarter turn maps the box onto the turned
+        // frame's box, so its middle and lowest point turn with it.
+        const Box b = box(part);
+        core::Vec3d middle = (b.lo + b.hi) * 0.5;
+        core::Vec3d seen = b.mean - middle;
+        for (int k = 0; k < 4 && !(seen.x > kMeanTie && seen.y > -kMeanTie); ++k) {
+            const double c = c_;
+            c_ = -s_;
+            s_ = c;
+            seen = {seen.y, -seen.x, 0.0};
+            middle = {middle.y, -middle.x, middle.z};
         }
-        const Box turned_box = box(part);
-        origin_ = {turned_box.middle().x, turned_box.middle().y, turned_box.lo.z};
+        origin_ = {middle.x, middle.y, b.lo.z};
     }
     // A point of the part in the index space of a grid of `voxel`.
     [[nodiscard]] core::Vec3d to_index(const core::Vec3d& p, double voxel) const {
@@ -163,8 +156,7 @@ private:
         core::Vec3d lo{std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
                        std::numeric_limits<double>::max()};
         core::Vec3d hi = -lo;
-        core::Vec3d mean;  // of the vertices, in the plan (z is 0)
-        [[nodiscard]] core::Vec3d middle() const { return (lo + hi) * 0.5; }
+        core::Vec3d mean;  // of the vertices
     };
     // The part's box and the mean of its vertices, in the frame.
     [[nodiscard]] Box box(const mesh::TriangleMesh& part) const {
@@ -176,10 +168,8 @@ private:
             b.hi = {std::max(b.hi.x, t.x), std::max(b.hi.y, t.y), std::max(b.hi.z, t.z)};
             sum = sum + t;
         }
-        if (!part.vertices.empty()) {
+        if (!part.vertices.empty())
             b.mean = sum * (1.0 / static_cast<double>(part.vertices.size()));
-            b.mean.z = 0.0;
-        }
         return b;
     }
     [[nodiscard]] core::Vec3d turned(const core::Vec3d& p) const {
