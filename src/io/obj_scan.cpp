@@ -1,17 +1,21 @@
 // A strict first look at OBJ text before assimp parses it. Assimp's number parser reads
 // "3.1+e2" as 3.1 and stops, and its index checks report no line; both would let a damaged
-// file through as a different shape or fail without saying where. This pass checks the
-// 'v', 'f', 'p' and 'l' statements, joins lines continued with a trailing backslash, and
-// hands assimp only the statements that carry surface geometry (vertices, texture
-// coordinates, normals, faces of 3 or more corners, objects, groups, smoothing groups), each
-// on one line, with every other statement (points, lines, shorter faces, materials, curves,
-// unknown keywords) left as blank lines so that line numbers stay the file's. maxslice reads
-// only faces, and assimp mishandles some of the rest: its parser writes through wild pointers
-// on a material library with an unknown statement before a face, and leaks the mesh of an
-// object or group holding a one-point line after a face (both found by fuzz/fuzz_obj). The
-// points, lines and short faces are counted here for the warnings. Faces with more
-// corners than the PLY and OFF readers take (kMaxPolygonCorners) are refused here, before
-// anything triangulates them.
+// file through as a different shape or fail without saying where. This pass reads the file
+// as statements (a line ends at LF, CR LF or a lone CR; a trailing backslash continues it),
+// checks the 'v', 'f', 'p' and 'l' statements, and writes the text assimp reads itself: for
+// each vertex "v x y z", for each face of 3 or more corners "f" and its vertices' numbers
+// counted from 1 (relative indices resolved, texture and normal references dropped), and the
+// names of objects and groups, each on its statement's first line so that line numbers stay
+// the file's. Nothing of the file's own text reaches assimp but those names' tokens, so
+// assimp never sees a statement this pass did not check. Everything else (texture
+// coordinates, normals, smoothing groups, points, lines, shorter faces, materials, curves,
+// unknown keywords) becomes blank lines: maxslice reads only faces, and assimp mishandles
+// some of the rest (found by fuzz/fuzz_obj, docs/fuzzing.md): it writes through wild pointers
+// on a material library with an unknown statement before a face, leaks the mesh of an object
+// or group holding a one-point line after a face, and leaks it again when a face hidden
+// behind a lone CR in a group's name points past the vertices. The points, lines and short
+// faces are counted here for the warnings. Faces with more corners than the PLY and OFF
+// readers take (kMaxPolygonCorners) are refused here, before anything triangulates them.
 
 #include <fmt/format.h>
 
@@ -20,6 +24,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <iterator>
 #include <string>
 
 #include "polygon_soup.hpp"
@@ -49,10 +54,12 @@ public:
         st.joined.clear();
         bool continued = false;
         while (pos_ < text_.size()) {
-            std::size_t eol = text_.find('\n', pos_);
+            // A line ends at LF, CR LF or a lone CR (classic Mac OS files), as assimp reads it.
+            std::size_t eol = text_.find_first_of("\r\n", pos_);
             if (eol == std::string_view::npos) eol = text_.size();
             std::string_view piece = text_.substr(pos_, eol - pos_);
             pos_ = eol + 1;
+            if (eol + 1 < text_.size() && text_[eol] == '\r' && text_[eol + 1] == '\n') ++pos_;
             ++line_;
             while (!piece.empty() && is_blank(piece.back())) piece.remove_suffix(1);
             if (!piece.empty() && piece.back() == '\\') {
@@ -83,12 +90,9 @@ private:
     std::size_t line_ = 1;
 };
 
-// Statements assimp is given (the rest become blank lines).
-bool carries_geometry(std::string_view keyword) {
-    for (const std::string_view k : {"v", "vt", "vn", "o", "g", "s"}) {
-        if (keyword == k) return true;
-    }
-    return false;
+// Names assimp is given (objects and groups); faces and vertices are written by the scan.
+bool names_a_part(std::string_view keyword) {
+    return keyword == "o" || keyword == "g";
 }
 
 // Splits a statement into its keyword and the whitespace-separated arguments.
@@ -129,9 +133,12 @@ int kind_of(std::string_view keyword) {
     return -1;
 }
 
-// One corner of a face, line or point: "7", "7/2", "7//3", "-1/-1/-1".
-core::Result<void> check_corner(std::string_view corner, const Counts& counts, std::size_t line) {
+// One corner of a face, line or point: "7", "7/2", "7//3", "-1/-1/-1". Returns the vertex's
+// number counted from 1 (a relative index resolved).
+core::Result<std::size_t> check_corner(std::string_view corner, const Counts& counts,
+                                       std::size_t line) {
     std::size_t begin = 0;
+    std::size_t vertex = 0;
     for (int part = 0; part < 3 && begin <= corner.size(); ++part) {
         std::size_t end = corner.find('/', begin);
         if (end == std::string_view::npos) end = corner.size();
@@ -159,12 +166,16 @@ core::Result<void> check_corner(std::string_view corner, const Counts& counts, s
                                               "this line",
                                               kind, i, counts.so_far[part], kKinds[part]));
         }
-        if (end == corner.size()) return {};
+        if (part == 0) {
+            vertex = i > 0 ? static_cast<std::size_t>(i)
+                           : counts.so_far[0] - static_cast<std::size_t>(-(i + 1));
+        }
+        if (end == corner.size()) return vertex;
     }
     if (begin <= corner.size()) {
         return error_at(line, fmt::format("face corner {} has more than 3 indices", shown(corner)));
     }
-    return {};
+    return vertex;
 }
 
 // A 'v' statement's point. Assimp reads 3 numbers as x y z, 4 as x y z w (divided by w) and
@@ -234,6 +245,7 @@ core::Result<ObjScan> scan_obj(std::string_view text) {
     }
     StatementReader reader(text);
     Statement st;
+    std::string face;
     scan.geometry.reserve(text.size());
     while (reader.next(st)) {
         Tokens tokens(st.text);
@@ -243,8 +255,12 @@ core::Result<ObjScan> scan_obj(std::string_view text) {
             auto point = vertex_of(tokens, st.line);
             if (!point) return std::unexpected(point.error());
             scan.geometry.append(fmt::format("v {} {} {}", (*point)[0], (*point)[1], (*point)[2]));
-        } else if (carries_geometry(keyword)) {
-            scan.geometry.append(st.text);
+        } else if (names_a_part(keyword)) {
+            scan.geometry.append(keyword);
+            for (std::string_view t = tokens.next(); !t.empty(); t = tokens.next()) {
+                scan.geometry.push_back(' ');
+                scan.geometry.append(t);
+            }
         }
         const std::size_t lines_taken = reader.line() - st.line;
         if (kind >= 0) {
@@ -254,10 +270,11 @@ core::Result<ObjScan> scan_obj(std::string_view text) {
         }
         if (keyword == "f" || keyword == "p" || keyword == "l") {
             std::size_t corners = 0;
+            face.assign("f");
             for (std::string_view t = tokens.next(); !t.empty(); t = tokens.next()) {
-                if (auto ok = check_corner(t, counts, st.line); !ok) {
-                    return std::unexpected(ok.error());
-                }
+                const auto vertex = check_corner(t, counts, st.line);
+                if (!vertex) return std::unexpected(vertex.error());
+                fmt::format_to(std::back_inserter(face), " {}", *vertex);
                 ++corners;
             }
             if (keyword == "f" && corners > kMaxPolygonCorners) {
@@ -273,7 +290,7 @@ core::Result<ObjScan> scan_obj(std::string_view text) {
                 if (scan.short_faces++ == 0) scan.first_short_face_line = st.line;
             } else {
                 ++scan.faces;
-                scan.geometry.append(st.text);
+                scan.geometry.append(face);
             }
         }
         scan.geometry.append(lines_taken, '\n');

@@ -130,8 +130,9 @@ struct ObjScan {
     std::size_t first_short_face_line = 0;
     std::size_t points = 0;  ///< 'p' elements
     std::size_t lines = 0;   ///< 'l' elements
-    /// The text assimp reads: the geometry statements, each on its first line, every other
-    /// line blank (obj_scan.cpp).
+    /// The text assimp reads, written by the scan: vertices, faces by their vertices' numbers,
+    /// object and group names, each on its statement's first line, every other line blank
+    /// (obj_scan.cpp).
     std::string geometry;
 };
 [[nodiscard]] core::Result<ObjScan> scan_obj(std::string_view text);

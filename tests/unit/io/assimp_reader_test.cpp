@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstring>
@@ -196,6 +197,36 @@ TEST(Assimp, ObjPointsLinesAndShortFacesAreCountedNotHandedToAssimp) {
     const std::string warnings = joined(r->warnings);
     EXPECT_TRUE(contains(warnings, "ignored 2 points and 2 lines")) << warnings;
     EXPECT_TRUE(contains(warnings, "fewer than 3 corners (the first at line 9)")) << warnings;
+}
+
+TEST(Assimp, ObjLinesEndAtALoneCarriageReturnToo) {
+    // A lone CR ends a line, as in classic Mac OS files and as assimp reads it: a face behind
+    // one in a group's name was handed to assimp unchecked, which leaked its mesh on the index
+    // past the vertices (fuzz/corpus/fuzz_obj/regress-face-behind-a-lone-cr).
+    ScratchDir dir;
+    std::string mac = cube_obj();
+    std::replace(mac.begin(), mac.end(), '\n', '\r');
+    expect_unit_cube(read_mesh(dir.write("mac.obj", mac)), Format::kObj);
+    const auto r =
+        read_mesh(dir.write("cr.obj", "v 0 0 0\r\nv 1 0 0\nv 0 1 0\nf 1 2 3\ng x\rf 1 2 9\n"));
+    ASSERT_FALSE(r);
+    EXPECT_TRUE(contains(r.error().message, "line 6: vertex index 9 but the file has only 3"))
+        << r.error().describe();
+}
+
+TEST(Assimp, ObjFacesAreReadByTheirVerticesAlone) {
+    // Texture and normal references, relative indices and leading zeros give the same
+    // triangles as plain vertex numbers: assimp is handed "f" and the vertices' numbers only.
+    ScratchDir dir;
+    const std::string base = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n";
+    const auto plain = read_mesh(dir.write("p.obj", base + "f 1 2 3\nf 2 4 3\n"));
+    ASSERT_TRUE(plain) << plain.error().describe();
+    const auto dressed = read_mesh(dir.write(
+        "d.obj",
+        base + "vt 0 0\nvt 1 1 1\nvn 0 0 1\ns 1\nf 001/1/1 -3/2/1 3//1\nf 2/-1 -1/1 -2/2\n"));
+    ASSERT_TRUE(dressed) << dressed.error().describe();
+    EXPECT_EQ(dressed->mesh.triangles, plain->mesh.triangles);
+    EXPECT_EQ(dressed->mesh.vertices, plain->mesh.vertices);
 }
 
 TEST(Assimp, ObjLineContinuation) {
