@@ -12,7 +12,8 @@
 //    scattered bumps; grown, they would hang below a flat underside as islands in the air. So
 //    C is taken a little deeper, at D1 <= -(r + e), e = half a coarse voxel but at most s:
 //    the band of width e it then leaves along the walls of a filled hole is within s of both
-//    sides, and the growth fills it.
+//    sides, and the growth fills it. Fills that open at the plate are carried down to it
+//    (fills_down_to_the_plate).
 // 2. The growth, on the fine grid (voxel ~ s / 2): the union's distance is the smaller of X's
 //    and C's (exact outside, which is all the isovalue s > 0 needs), meshed at s.
 // The closing adds nothing when r <= s (a hole narrower than 2 s is filled by the stock alone:
@@ -81,6 +82,15 @@ constexpr double kLeastVolumeShare = 0.99;
 // volumeToMesh's adaptivity: facets merged where the surface is flat to this share of a voxel;
 // the mesh stays closed and the deviation far below the stock.
 constexpr double kAdaptivity = 0.05;
+
+// A voxel of the closing counts as a fill, or as air under one, when its centre lies at least
+// this many voxels outside the part (not on its surface, where the closing's coarse surface
+// stands out by up to a third of a voxel).
+constexpr double kFillClearOfPartVoxels = 0.25;
+// How far inside C (in voxels) a fill carried down to the plate puts the voxel on the plate:
+// with the voxel under it a voxel outside, C's surface lies within a thousandth of a voxel of
+// the plate.
+constexpr double kOnPlateVoxels = 1e-3;
 
 // Beyond this the plan's integer micrometres would overflow: the grids keep the part's axes.
 constexpr double kMaxPlanMm = 1e6;
@@ -260,6 +270,46 @@ struct IndexPolygons {
     std::vector<openvdb::Vec4I> polygons;  // triangles with index 3 = INVALID_IDX
 };
 
+// The closing's fills carried down to the plate. A ball's round end leaves the mouth of a
+// filled hole, slot or inside corner open at the plate to a height of up to r - sqrt(r^2 -
+// w^2 / 4) + e (w its width): the fill would start above the plate as an overhang over the
+// hole, built in the air or by a region of its own, at a height the voxels decide (the cylinder
+// with holes turned 113 degrees about Z: 5 regions, against 1 as drawn). In every column of
+// the coarse grid whose lowest fill (inside C, clearly outside X) lies within that height and
+// has only air under it, the air down to the plate joins C, and the voxel under the plate
+// stays out of it (the near-net shape keeps its lowest point). Nothing else changes: a chamfer
+// at the plate, or the gap under an overhang near it, has no fill above it and stays as the
+// part has it. `part` is X's distance and `closed` D1 (C = {D1 <= -depth}), on one grid whose
+// index z is the height over the part's lowest point in voxels.
+void fills_down_to_the_plate(const openvdb::FloatGrid& part, openvdb::FloatGrid& closed,
+                             double depth, double voxel, double reach) {
+    const openvdb::CoordBBox box = closed.evalActiveVoxelBoundingBox();
+    if (box.empty()) return;
+    const int top = static_cast<int>(std::ceil(reach / voxel));
+    const float fill_at_most = static_cast<float>(-depth);
+    const float air_above = static_cast<float>(kFillClearOfPartVoxels * voxel);
+    // Inside C above the plate; on the plate only just inside, and a voxel outside under it,
+    // so that C's surface there lies on the plate.
+    const float inside = static_cast<float>(-depth - 0.5 * voxel);
+    const float on_plate = static_cast<float>(-depth - kOnPlateVoxels * voxel);
+    const float outside = static_cast<float>(-depth + voxel);
+    openvdb::FloatGrid::ConstAccessor x = part.getConstAccessor();
+    openvdb::FloatGrid::Accessor c = closed.getAccessor();
+    for (int i = box.min().x(); i <= box.max().x(); ++i) {
+        for (int j = box.min().y(); j <= box.max().y(); ++j) {
+            int k = 0;
+            while (k <= top && x.getValue({i, j, k}) > air_above &&
+                   c.getValue({i, j, k}) > fill_at_most) {
+                ++k;
+            }
+            // The fill over air from the plate up: k is its lowest voxel.
+            if (k == 0 || k > top || x.getValue({i, j, k}) <= air_above) continue;
+            for (int q = 0; q < k; ++q) c.setValue({i, j, q}, q == 0 ? on_plate : inside);
+            c.setValue({i, j, -1}, std::max(c.getValue({i, j, -1}), outside));
+        }
+    }
+}
+
 core::Result<IndexPolygons> closing(const mesh::TriangleMesh& finished, const GridFrame& frame,
                                     double radius, double depth, double voxel, double fine_voxel,
                                     Interrupter& interrupter, std::size_t& active) {
@@ -273,13 +323,15 @@ core::Result<IndexPolygons> closing(const mesh::TriangleMesh& finished, const Gr
         return core::fail(ErrorCode::kCancelled, "cancelled", "near-net shape");
     }
     active = std::max(active, static_cast<std::size_t>(field->activeVoxelCount()));
-    field = openvdb::tools::levelSetRebuild(*field, static_cast<float>(radius), margin,
+    const openvdb::FloatGrid::Ptr part = field;
+    field = openvdb::tools::levelSetRebuild(*part, static_cast<float>(radius), margin,
                                             static_cast<float>(radius / voxel) + margin,
                                             xform.get(), &interrupter);
     if (interrupter.wasInterrupted()) {
         return core::fail(ErrorCode::kCancelled, "cancelled", "near-net shape");
     }
     active = std::max(active, static_cast<std::size_t>(field->activeVoxelCount()));
+    fills_down_to_the_plate(*part, *field, depth, voxel, depth);
     std::vector<openvdb::Vec3s> points;
     std::vector<openvdb::Vec3I> triangles;
     std::vector<openvdb::Vec4I> quads;

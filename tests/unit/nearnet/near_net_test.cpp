@@ -10,6 +10,7 @@
 
 #include "maxslice/mesh/validation.hpp"
 #include "support/fixtures.hpp"
+#include "support/planner_fixtures.hpp"
 
 namespace maxslice::nearnet {
 namespace {
@@ -166,6 +167,43 @@ TEST(NearNet, HoleNarrowerThanTheThresholdIsFilledAWiderOneStaysOpen) {
     // Without the fill the narrow hole stays open too (the test is not passed by the stock).
     const NearNet unfilled = made(test::tube(10.0, 2.0, height), stock, 0.0);
     EXPECT_LT(winding(unfilled.mesh, {0.0, 0.0, 0.5 * height}), 0.5);
+}
+
+TEST(NearNet, AHoleOpenAtThePlateIsFilledDownToIt) {
+    // The closing's fills are carried down to the plate: a ball's round end would leave the
+    // hole's mouth open about r - sqrt(r^2 - w^2 / 4) high (0.8 mm here, and half a coarse
+    // voxel more), and the fill would start above the plate, an overhang over the hole. Its
+    // top mouth, in the air, keeps the round end, and nothing goes below the grown bottom.
+    const double stock = 0.5, fill = 6.0, height = 20.0;
+    const NearNet n = made(test::tube(10.0, 2.0, height), stock, fill);
+    expect_closed(n.mesh);
+    for (const double z : {-0.5 * stock, 0.05, 0.4, 0.5 * height}) {
+        EXPECT_GT(winding(n.mesh, {0.0, 0.0, z}), 0.5) << z;
+    }
+    EXPECT_LT(winding(n.mesh, {0.0, 0.0, height - 0.05}), 0.5);
+    EXPECT_NEAR(mesh::bounding_box(n.mesh).min.z, -stock, 0.01 * stock);
+}
+
+TEST(NearNet, AChamferAtThePlateIsNotFilled) {
+    // Only the closing's fills are carried down: the chamfer along a block's bottom edge (a
+    // slope over the plate, not a hole) keeps its shape, and the near-net shape's footprint on
+    // the plate is the one it has without the fill. (Closed with its mirror image under the
+    // plate, the part met the image in a groove there, which the fill took: plate_holes.STL's
+    // footprint then grew past its plate.)
+    const mesh::TriangleMesh part = test::chamfered_block(3.0, 3.0);
+    const double stock = 1.0;
+    const auto lowest_x = [](const mesh::TriangleMesh& m) {
+        const double bottom = mesh::bounding_box(m).min.z;
+        double x = std::numeric_limits<double>::infinity();
+        for (const Vec3d& v : m.vertices) {
+            if (v.z < bottom + 0.5) x = std::min(x, v.x);
+        }
+        return x;
+    };
+    const NearNet filled = made(part, stock, 10.0);
+    const NearNet grown = made(part, stock, 0.0);
+    EXPECT_NEAR(lowest_x(filled.mesh), lowest_x(grown.mesh), 0.01);
+    EXPECT_GT(lowest_x(filled.mesh), 2.0);  // the chamfer runs 3 mm in at the plate
 }
 
 TEST(NearNet, AFlatFaceStaysFlatWhereTheFillIsOn) {
