@@ -282,10 +282,10 @@ struct IndexPolygons {
 // part has it. `part` is X's distance and `closed` D1 (C = {D1 <= -depth}), on one grid whose
 // index z is the height over the part's lowest point in voxels.
 void fills_down_to_the_plate(const openvdb::FloatGrid& part, openvdb::FloatGrid& closed,
-                             double depth, double voxel, double reach) {
+                             double depth, double voxel) {
     const openvdb::CoordBBox box = closed.evalActiveVoxelBoundingBox();
     if (box.empty()) return;
-    const int top = static_cast<int>(std::ceil(reach / voxel));
+    const int top = static_cast<int>(std::ceil(depth / voxel));  // r + e: the highest mouth
     const float fill_at_most = static_cast<float>(-depth);
     const float air_above = static_cast<float>(kFillClearOfPartVoxels * voxel);
     // Inside C above the plate; on the plate only just inside, and a voxel outside under it,
@@ -331,7 +331,7 @@ core::Result<IndexPolygons> closing(const mesh::TriangleMesh& finished, const Gr
         return core::fail(ErrorCode::kCancelled, "cancelled", "near-net shape");
     }
     active = std::max(active, static_cast<std::size_t>(field->activeVoxelCount()));
-    fills_down_to_the_plate(*part, *field, depth, voxel, depth);
+    fills_down_to_the_plate(*part, *field, depth, voxel);
     std::vector<openvdb::Vec3s> points;
     std::vector<openvdb::Vec3I> triangles;
     std::vector<openvdb::Vec4I> quads;
