@@ -96,6 +96,9 @@ core::Result<NeighbourAnalysis> analyse_neighbours(const Paths2& lower_in,
     if (!(s.min_piece_area_mm2 >= 0.0) || !std::isfinite(s.min_piece_area_mm2)) {
         return invalid("min_piece_area_mm2 must be a non-negative number");
     }
+    if (!(s.max_allowance_height_mm >= 0.0) || !std::isfinite(s.max_allowance_height_mm)) {
+        return invalid("max_allowance_height_mm must be a non-negative number");
+    }
     NeighbourAnalysis out;
     // Vertices that move a boundary by less than this are dropped first: finely tessellated
     // round sections would otherwise make every offset resolve thousands of tiny edges.
@@ -109,8 +112,10 @@ core::Result<NeighbourAnalysis> analyse_neighbours(const Paths2& lower_in,
     // h: the distance between the planes along N_b, at U's centroid.
     const geom2d::Centroid2 uc = geom2d::centroid_um(upper);
     const double h = lower_plane.height(to_3d(upper_plane, uc));
-    const auto allowance =
-        core::mm_to_um(std::max(0.0, h) * std::tan(s.self_supporting_deg * std::numbers::pi / 180));
+    const double h_allowed =
+        s.max_allowance_height_mm > 0.0 ? std::min(h, s.max_allowance_height_mm) : h;
+    const auto allowance = core::mm_to_um(std::max(0.0, h_allowed) *
+                                          std::tan(s.self_supporting_deg * std::numbers::pi / 180));
     const Paths2 grown = allowance > 0 ? geom2d::offset_of(lower, allowance) : lower;
     const Paths2 raw = geom2d::difference_of(u, grown);
     if (raw.empty()) return out;

@@ -28,6 +28,8 @@ AnalysisSettings analysis_settings(const PlanSettings& s) {
     a.self_supporting_deg = s.self_supporting_deg;
     a.min_piece_area_mm2 =
         s.min_piece_area_mm2 > 0.0 ? s.min_piece_area_mm2 : s.track_width_mm * s.track_width_mm;
+    // The look-back layer lies at most this far below U (every layer at its thickest).
+    a.max_allowance_height_mm = (look_back_layers(s) + 1) * s.h_max_mm;
     return a;
 }
 

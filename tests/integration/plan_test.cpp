@@ -561,8 +561,7 @@ TEST(PlanCli, APieceStartingPartWayUpARegionRestsOnTheRegionBehindIt) {
     const nlohmann::json j = ftc09_plan_as_given("orphans");
     ASSERT_FALSE(j.empty());
     const auto& layers = j.at("layers");
-    // No layer part-way up a region rests on nothing. (A region's first layer may: FTC-09's
-    // region turned and leaned for an 8.9 mm2 piece that touches nothing starts in the air.)
+    // No layer part-way up a region rests on nothing.
     for (const auto& id : j.at("unsupported_layers")) {
         EXPECT_EQ(layers.at(id.get<std::size_t>()).at("index_in_region").get<int>(), 0)
             << "layer " << id.get<int>() << " part-way up its region rests on nothing";
@@ -583,6 +582,36 @@ TEST(PlanCli, APieceStartingPartWayUpARegionRestsOnTheRegionBehindIt) {
         }
     }
     EXPECT_GT(across, 0) << "a piece part-way up a region rests only on another region";
+}
+
+// NIST FTC-09 as given: where a split plane cuts the plate at a slant, the piece a region's
+// walk meets first may be a tip narrower than a track (no bead), with nothing behind it. What
+// is laid on the tip rests on the region behind it as well, where the plane cut it from, so
+// the tip is left bare and no layer rests on nothing.
+TEST(PlanCli, WhatIsLaidOnABareTipRestsOnTheRegionBehindIt) {
+    const nlohmann::json j = ftc09_plan_as_given("tips");
+    ASSERT_FALSE(j.empty());
+    const auto& layers = j.at("layers");
+    EXPECT_TRUE(j.at("unsupported_layers").empty()) << j.at("unsupported_layers").dump();
+    const auto& bare = j.at("bare_unsupported_layers");
+    ASSERT_FALSE(bare.empty());
+    int carried = 0;
+    for (const auto& id : bare) {
+        const auto& tip = layers.at(id.get<std::size_t>());
+        EXPECT_TRUE(tip.at("parents").empty());
+        for (const auto& c : tip.at("children")) {
+            const auto& child = layers.at(c.get<std::size_t>());
+            bool elsewhere = false;
+            for (const auto& q : child.at("parents")) {
+                if (q != id && layers.at(q.get<std::size_t>()).at("region") != tip.at("region")) {
+                    elsewhere = true;
+                }
+            }
+            EXPECT_TRUE(elsewhere) << "layer " << c << " rests on the bare tip " << id << " alone";
+            ++carried;
+        }
+    }
+    EXPECT_GT(carried, 0) << "a layer is laid on a bare tip and on the region behind it";
 }
 
 // A region leaned up for the head's reach does not follow its chain of centroids (decision

@@ -15,6 +15,10 @@ struct AnalysisSettings {
     double track_width_mm = 2.5;        ///< pieces narrower than a track are slivers
     double self_supporting_deg = 20.0;  ///< phi_self: L is grown by h * tan(phi_self)
     double min_piece_area_mm2 = 1.0;    ///< pieces smaller than this are dropped
+    /// The height h of the allowance is at most this (mm; 0: no limit). Layers further apart
+    /// have empty sections between them (a gap): nothing bridges it, so L is grown by no more
+    /// than over the walk's look-back height.
+    double max_allowance_height_mm = 0.0;
 };
 
 /// How the upper slice U stands on the lower slice L.

@@ -122,12 +122,38 @@ TEST(Neighbours, ARingAllRoundIsCutIntoFourWays) {
     }
 }
 
+// Sections with empty ones between them (a gap of 100 mm along the normal): nothing bridges
+// the gap, so an island 20 mm beside L starts in the air. Grown by 100 mm tan(phi_self) = 36 mm
+// L would take it in; the allowance's height is capped at what the walk's look-back spans.
+TEST(Neighbours, AnIslandAcrossAGapIsFloating) {
+    const slice::PlaneFrame far_above = kLower.shifted(100.0);
+    const Paths2 lower{rect(0, 0, 20, 20)};
+    const Paths2 upper{rect(40, 5, 50, 15)};
+    AnalysisSettings s;
+    auto uncapped = analyse_neighbours(lower, kLower, upper, far_above, s);
+    ASSERT_TRUE(uncapped.has_value());
+    EXPECT_TRUE(uncapped->pieces.empty());
+    s.max_allowance_height_mm = 4.2;
+    auto capped = analyse_neighbours(lower, kLower, upper, far_above, s);
+    ASSERT_TRUE(capped.has_value());
+    ASSERT_EQ(capped->pieces.size(), 1u);
+    EXPECT_FALSE(capped->pieces.front().touches_lower);
+    EXPECT_NEAR(capped->pieces.front().area_mm2, 100.0, 1e-6);
+    // Layers within the cap keep their allowance: a 0.15 mm shift is carried.
+    auto near = analyse_neighbours(lower, kLower, {rect(0.15, 0, 20.15, 20)}, kUpper, s);
+    ASSERT_TRUE(near.has_value());
+    EXPECT_TRUE(near->pieces.empty());
+}
+
 TEST(Neighbours, BadSettingsAreRefused) {
     AnalysisSettings s;
     s.track_width_mm = 0;
     EXPECT_FALSE(analyse_neighbours({}, kLower, {}, kUpper, s).has_value());
     s = {};
     s.self_supporting_deg = 95;
+    EXPECT_FALSE(analyse_neighbours({}, kLower, {}, kUpper, s).has_value());
+    s = {};
+    s.max_allowance_height_mm = -1;
     EXPECT_FALSE(analyse_neighbours({}, kLower, {}, kUpper, s).has_value());
     EXPECT_NEAR(angle_deg({1, 0, 0}, {0, 0, 1}), 90.0, 1e-12);
     EXPECT_EQ(angle_deg({0, 0, 0}, {0, 0, 1}), 0.0);
