@@ -494,9 +494,15 @@ core::Result<BuildOrder> order_layers(const Plan& plan, const OrderSettings& set
     }
     const auto cancelled = [&] { return progress != nullptr && progress->cancelled(); };
 
+    // The layers left bare (on nothing, no track fits: nothing is laid there) hold no bead:
+    // the nozzle never stands on them and they are in nobody's way.
+    std::vector<char> bare(n, 0);
+    for (const int id : plan.bare_unsupported_layers) {
+        if (id >= 0 && static_cast<std::size_t>(id) < n) bare[static_cast<std::size_t>(id)] = 1;
+    }
     std::vector<LayerShape> shapes(n);
     tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
-        if (!cancelled()) {
+        if (!cancelled() && bare[i] == 0) {
             shapes[i] = shape_of(plan.layers[i], nozzle, spacing, plan.settings.track_width_mm);
         }
     });
@@ -526,16 +532,18 @@ core::Result<BuildOrder> order_layers(const Plan& plan, const OrderSettings& set
             const int s2 = static_cast<int>(i);
             const LayerShape& a = shapes[i];
             std::vector<int> candidates;
-            tree.visit(
-                [&](const core::Vec3d& lo, const core::Vec3d& hi) {
-                    return boxes_meet(a.reach_lo, a.reach_hi, lo, hi);
-                },
-                [&](std::uint32_t s1) {
-                    if (static_cast<int>(s1) != s2 &&
-                        boxes_meet(a.reach_lo, a.reach_hi, shapes[s1].lo, shapes[s1].hi)) {
-                        candidates.push_back(static_cast<int>(s1));
-                    }
-                });
+            if (bare[i] == 0) {
+                tree.visit(
+                    [&](const core::Vec3d& lo, const core::Vec3d& hi) {
+                        return boxes_meet(a.reach_lo, a.reach_hi, lo, hi);
+                    },
+                    [&](std::uint32_t s1) {
+                        if (static_cast<int>(s1) != s2 &&
+                            boxes_meet(a.reach_lo, a.reach_hi, shapes[s1].lo, shapes[s1].hi)) {
+                            candidates.push_back(static_cast<int>(s1));
+                        }
+                    });
+            }
             std::sort(candidates.begin(), candidates.end());
             for (const int s1 : candidates) {
                 if (below.descends(s1, s2)) continue;  // S1 comes after S2 in any order

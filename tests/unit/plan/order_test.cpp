@@ -530,6 +530,32 @@ TEST(BuildOrder, ThePowderStreamNeedsOnlyToStayClear) {
     EXPECT_GT(head_far.collision_edges, head_near.collision_edges);
 }
 
+// A layer the plan leaves bare (on nothing, narrower than a track: nothing is laid there)
+// holds no bead: no nozzle stands on it and none has to keep clear of it. With the slot's right
+// wall listed as bare, the walls no longer order each other (collision edges only ever joined
+// the two walls), and no layer of the right wall has a margin.
+TEST(BuildOrder, ABareLayerHoldsNoBeadAndCarriesNoNozzle) {
+    const test::SlotSpec spec;
+    Plan p = plan_of(test::slot(spec).mesh);
+    const double mid = spec.wall_thickness + 0.5 * spec.slot_width;
+    const BuildOrder whole = order_of(p);
+    ASSERT_TRUE(whole.complete()) << outcome(whole);
+    ASSERT_GT(whole.collision_edges, 0);
+    for (const Layer& l : p.layers) {
+        const Vec3d c = middle(l);
+        if (c.z >= spec.base_height && c.x > mid) p.bare_unsupported_layers.push_back(l.id);
+    }
+    ASSERT_FALSE(p.bare_unsupported_layers.empty());
+    const BuildOrder bare = order_of(p);
+    ASSERT_TRUE(bare.complete()) << outcome(bare);
+    EXPECT_EQ(bare.collision_edges, 0);
+    EXPECT_EQ(bare.order.size(), p.layers.size());
+    for (const int id : p.bare_unsupported_layers) {
+        const double m = bare.margin_mm[static_cast<std::size_t>(id)];
+        EXPECT_FALSE(std::isfinite(m)) << "bare layer " << id << " has a margin " << m;
+    }
+}
+
 // Two columns 40 mm apart under the 5-axis cells' head, whose body (80 mm across) reaches
 // over the other column when the tip is at the foot of one: its rim passes about 1.3 mm from
 // the finished column's top corner (issue 23). The order keeps the 2 mm clearance from the
