@@ -75,6 +75,17 @@ Paths2 project_paths(const Paths2& region, const slice::PlaneFrame& from,
     return out;
 }
 
+bool rests_on_section(const Paths2& piece, const Paths2& below, double h_mm,
+                      const AnalysisSettings& s) {
+    if (geom2d::signed_area_mm2(below) <= 0.0) return false;
+    double h = std::max(0.0, h_mm);
+    if (s.max_allowance_height_mm > 0.0) h = std::min(h, s.max_allowance_height_mm);
+    const auto allowance =
+        core::mm_to_um(h * std::tan(s.self_supporting_deg * std::numbers::pi / 180));
+    const Paths2 carried = allowance > 0 ? geom2d::offset_of(below, allowance) : below;
+    return geom2d::signed_area_mm2(geom2d::difference_of(piece, carried)) < s.min_piece_area_mm2;
+}
+
 double angle_deg(const core::Vec3d& a, const core::Vec3d& b) {
     const double na = core::norm(a), nb = core::norm(b);
     if (na <= 0.0 || nb <= 0.0) return 0.0;

@@ -171,19 +171,29 @@ std::string describe_refusal(const Plan& plan, const BuildOrder& order, const No
     const int rid = region_of(c.layer);
     const Region& r = plan.regions[static_cast<std::size_t>(rid)];
     std::string out;
+    // The split that made the region, or the region it carries on (a continuation keeps the
+    // direction of the region it continues, and the reason for it).
     const Decision* made = nullptr;
-    for (const Decision& d : plan.decisions) {
-        if ((d.kind == Decision::Kind::kSplit || d.kind == Decision::Kind::kFloating) &&
-            d.new_region == rid) {
-            made = &d;
+    int from = rid;
+    for (std::size_t hops = 0; hops <= plan.regions.size() && made == nullptr; ++hops) {
+        const Decision* continued = nullptr;
+        for (const Decision& d : plan.decisions) {
+            if ((d.kind == Decision::Kind::kSplit || d.kind == Decision::Kind::kFloating) &&
+                d.new_region == from) {
+                made = &d;
+            }
+            if (d.continuation == from && d.region != from) continued = &d;
         }
+        if (made != nullptr || continued == nullptr) break;
+        from = continued->region;
     }
     if (made != nullptr) {
         const OverhangPiece& p = made->piece;
         out = fmt::format(
-            "In the way: region {}, the overhang of {:.1f} mm2 at ({:.2f}, {:.2f}, {:.2f}) built "
-            "along ({:.3f}, {:.3f}, {:.3f})",
-            rid, p.area_mm2, p.C.x, p.C.y, p.C.z, r.direction.x, r.direction.y, r.direction.z);
+            "In the way: region {}{}, the overhang of {:.1f} mm2 at ({:.2f}, {:.2f}, {:.2f}) "
+            "built along ({:.3f}, {:.3f}, {:.3f})",
+            rid, from != rid ? fmt::format(" (it carries on region {})", from) : std::string(),
+            p.area_mm2, p.C.x, p.C.y, p.C.z, r.direction.x, r.direction.y, r.direction.z);
         if (made->moved_for_reach()) {
             out += fmt::format(", {}leaned up {:.0f} deg from its sideways direction",
                                turn_words(made->split_turn_deg), made->split_lean_deg);

@@ -156,19 +156,6 @@ public:
             if (!c.others.empty()) contacts.push_back(std::move(c));
         }
         link_first_layers(contacts);
-        // What hangs from a piece that rests on nothing (a tip where a split plane cuts a
-        // blade or a wall at a slant, narrower than a track) may rest, a layer or more up,
-        // on the layers of other regions just behind it as well: the material the plane cut
-        // it from. Those contacts are sought too, so that the tip alone is left bare.
-        std::vector<Contacts> above_tips;
-        for (const int id : hanging_from_tips()) {
-            const Layer& o = layers[static_cast<std::size_t>(id)];
-            const core::Vec3d bottom =
-                o.plane.origin + o.plane.normal * (o.span.bottom - o.span.cut);
-            Contacts c = contacts_across(o, bottom, o.plane.normal, others_of(o.region));
-            if (!c.others.empty()) above_tips.push_back(std::move(c));
-        }
-        link_first_layers(above_tips);
         for (Layer& l : layers) {
             std::sort(l.parents.begin(), l.parents.end());
             std::sort(l.children.begin(), l.children.end());
@@ -269,31 +256,6 @@ private:
             }
             out.push_back(l.id);
         }
-        return out;
-    }
-
-    // The layers, in id order, that hang from the pieces without a parent (neither on the
-    // plate): every parent of theirs is such a piece or hangs from one.
-    std::vector<int> hanging_from_tips() const {
-        const std::vector<Layer>& layers = plan_.layers;
-        std::vector<char> hangs(layers.size(), 0);
-        bool any = false;
-        for (const Layer& l : layers) {
-            if (l.parents.empty() && !l.on_plate) hangs[static_cast<std::size_t>(l.id)] = 1;
-            any = any || hangs[static_cast<std::size_t>(l.id)] != 0;
-        }
-        if (!any) return {};
-        std::vector<int> out;
-        for (const int id : topological_order(plan_)) {
-            const Layer& l = layers[static_cast<std::size_t>(id)];
-            if (l.parents.empty()) continue;
-            if (std::all_of(l.parents.begin(), l.parents.end(),
-                            [&](int q) { return hangs[static_cast<std::size_t>(q)] != 0; })) {
-                hangs[static_cast<std::size_t>(id)] = 1;
-                out.push_back(id);
-            }
-        }
-        std::sort(out.begin(), out.end());
         return out;
     }
 

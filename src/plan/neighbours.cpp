@@ -56,6 +56,15 @@ core::Result<std::optional<bool>> Planner::check_splits(int rid, int lower, cons
                 stands_on(*grounded, rid, ref, p)) {
                 continue;
             }
+            if (!p.touches_lower) {
+                // A tip the region's cell cuts off the material it grows from (a wall or a
+                // blade a split plane crosses at a slant): it rests on the part's material
+                // just behind it, in another region's cell, which the hierarchy graph links it
+                // to (decision 0033). Not a floating piece to split for.
+                auto across = rests_across_cell(ref, p);
+                if (!across) return std::unexpected(across.error());
+                if (*across) continue;
+            }
             if (!p.touches_lower && !has_sideways(ref, p)) {
                 // Nothing can reach it: it stays in its layer and rests on nothing there
                 // (the plan says so; a refusal of this base, not of the whole plan).
@@ -78,6 +87,16 @@ core::Result<std::optional<bool>> Planner::check_splits(int rid, int lower, cons
         }
     }
     return std::optional<bool>();
+}
+
+// Whether piece p, which touches nothing of layer `ref`, rests on the part's material in
+// other cells at ref's plane (rests_on_section).
+core::Result<bool> Planner::rests_across_cell(int ref, const OverhangPiece& p) {
+    const Layer& l = plan_.layers[static_cast<std::size_t>(ref)];
+    if (!sections_) sections_.emplace(mesh_);
+    auto whole = sections_->section(l.plane, l.span.thickness());
+    if (!whole) return std::unexpected(whole.error());
+    return rests_on_section(p.region, *whole, l.plane.height(p.C), analysis_);
 }
 
 // The islands of region rid's last layer that stand on layer `ref` (a track's height below

@@ -125,6 +125,7 @@ private:
     [[nodiscard]] bool stands_on(const geom2d::Paths2& grounded, int rid, int ref,
                                  const OverhangPiece& p) const;
     [[nodiscard]] std::optional<geom2d::Paths2> grounded_from(int rid, int ref) const;
+    core::Result<bool> rests_across_cell(int ref, const OverhangPiece& p);
     [[nodiscard]] std::int64_t ground_growth_um(const Layer& l) const;
     void record_unreachable(int rid, int lower, const slice::Slice& s, const OverhangPiece& p);
     void record_tilt(int rid, int lower, const slice::Slice& s, const OverhangPiece& p);

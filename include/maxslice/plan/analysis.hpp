@@ -62,6 +62,14 @@ struct NeighbourAnalysis {
     const geom2d::Paths2& lower, const slice::PlaneFrame& lower_plane, const geom2d::Paths2& upper,
     const slice::PlaneFrame& upper_plane, const AnalysisSettings& settings);
 
+/// Whether an overhang piece (um, L's plane frame) rests on `below`, the part's whole section
+/// on L's plane (the material of every region's cell, not L's alone), `h_mm` under U: what of
+/// the piece lies beyond `below` grown by h tan(phi_self) (h at most the settings' cap) is
+/// smaller than the area tolerance. A piece that touches nothing of L but rests so stands on
+/// material another region lays (a tip where L's cell cuts a wall at a slant).
+[[nodiscard]] bool rests_on_section(const geom2d::Paths2& piece, const geom2d::Paths2& below,
+                                    double h_mm, const AnalysisSettings& settings);
+
 /// Angle between two vectors in degrees, in [0, 180]; 0 when either is zero.
 [[nodiscard]] double angle_deg(const core::Vec3d& a, const core::Vec3d& b);
 

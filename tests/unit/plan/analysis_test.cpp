@@ -145,6 +145,23 @@ TEST(Neighbours, AnIslandAcrossAGapIsFloating) {
     EXPECT_TRUE(near->pieces.empty());
 }
 
+// A piece that touches nothing of L may still rest on the part's material beside L's cell
+// (the whole section at L's plane): then no more of it than the area tolerance hangs.
+TEST(Neighbours, APieceRestsOnTheWholeSectionWhenLittleOfItHangs) {
+    const AnalysisSettings s;  // 20 deg, 1 mm2 tolerance
+    const Paths2 piece{rect(30, 0, 34, 10)};  // 40 mm2
+    // The whole section holds L (0..20) and the wall the cell cut off (29..40): all carried.
+    const Paths2 whole = geom2d::union_of({rect(0, 0, 20, 20), rect(29, 0, 40, 20)});
+    EXPECT_TRUE(rests_on_section(piece, whole, 0.5, s));
+    // Under L alone it hangs whole.
+    EXPECT_FALSE(rests_on_section(piece, {rect(0, 0, 20, 20)}, 0.5, s));
+    // Half of it over the wall: 20 mm2 hang, more than the tolerance.
+    EXPECT_FALSE(rests_on_section(piece, {rect(32, 0, 40, 20)}, 0.5, s));
+    // Within the allowance: the wall ends 0.1 mm short of the piece's edge (0.18 mm carried).
+    EXPECT_TRUE(rests_on_section(piece, {rect(30.1, 0, 40, 20)}, 0.5, s));
+    EXPECT_FALSE(rests_on_section(piece, {}, 0.5, s));
+}
+
 TEST(Neighbours, BadSettingsAreRefused) {
     AnalysisSettings s;
     s.track_width_mm = 0;
