@@ -148,7 +148,7 @@ TEST(Neighbours, AnIslandAcrossAGapIsFloating) {
 // A piece that touches nothing of L may still rest on the part's material beside L's cell
 // (the whole section at L's plane): then no more of it than the area tolerance hangs.
 TEST(Neighbours, APieceRestsOnTheWholeSectionWhenLittleOfItHangs) {
-    const AnalysisSettings s;  // 20 deg, 1 mm2 tolerance
+    const AnalysisSettings s;                 // 20 deg, 1 mm2 tolerance
     const Paths2 piece{rect(30, 0, 34, 10)};  // 40 mm2
     // The whole section holds L (0..20) and the wall the cell cut off (29..40): all carried.
     const Paths2 whole = geom2d::union_of({rect(0, 0, 20, 20), rect(29, 0, 40, 20)});
