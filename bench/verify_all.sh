@@ -169,8 +169,10 @@ run_job() {
         [ "$orient" = search ] || label="$rel (as given)"
         run_job "$profile" "$f" "$label" "$orient" "${extra[@]}"
         # Refused before planning because the part's footprint reaches beyond the plate
-        # (pipeline::check_fits_machine): the large cell's plate may hold it.
-        if grep -q "the part's footprint on the plate" "$work/err"; then
+        # (pipeline::check_fits_machine): the large cell's plate may hold it. The job's own
+        # refusal, not a base the search tried and refused for that ("other orientations
+        # tried: ...").
+        if grep -qE "^maxslice: error: [^ ]+: the part's footprint on the plate" "$work/err"; then
             run_job "$large" "$f" "${label/#"$rel"/"$rel [large cell]"}" "$orient" "${extra[@]}"
         fi
     done
