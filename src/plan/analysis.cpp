@@ -61,6 +61,14 @@ std::vector<Paths2> quadrants(const Paths2& piece, geom2d::Centroid2 c) {
     return out;
 }
 
+// The self-supporting allowance over a height h_mm (um): h tan(phi_self), h at most the
+// settings' cap.
+std::int64_t allowance_um(double h_mm, const AnalysisSettings& s) {
+    double h = std::max(0.0, h_mm);
+    if (s.max_allowance_height_mm > 0.0) h = std::min(h, s.max_allowance_height_mm);
+    return core::mm_to_um(h * std::tan(s.self_supporting_deg * std::numbers::pi / 180));
+}
+
 }  // namespace
 
 Paths2 project_paths(const Paths2& region, const slice::PlaneFrame& from,
@@ -78,10 +86,7 @@ Paths2 project_paths(const Paths2& region, const slice::PlaneFrame& from,
 bool rests_on_section(const Paths2& piece, const Paths2& below, double h_mm,
                       const AnalysisSettings& s) {
     if (geom2d::signed_area_mm2(below) <= 0.0) return false;
-    double h = std::max(0.0, h_mm);
-    if (s.max_allowance_height_mm > 0.0) h = std::min(h, s.max_allowance_height_mm);
-    const auto allowance =
-        core::mm_to_um(h * std::tan(s.self_supporting_deg * std::numbers::pi / 180));
+    const auto allowance = allowance_um(h_mm, s);
     const Paths2 carried = allowance > 0 ? geom2d::offset_of(below, allowance) : below;
     return geom2d::signed_area_mm2(geom2d::difference_of(piece, carried)) < s.min_piece_area_mm2;
 }
@@ -123,10 +128,7 @@ core::Result<NeighbourAnalysis> analyse_neighbours(const Paths2& lower_in,
     // h: the distance between the planes along N_b, at U's centroid.
     const geom2d::Centroid2 uc = geom2d::centroid_um(upper);
     const double h = lower_plane.height(to_3d(upper_plane, uc));
-    const double h_allowed =
-        s.max_allowance_height_mm > 0.0 ? std::min(h, s.max_allowance_height_mm) : h;
-    const auto allowance = core::mm_to_um(std::max(0.0, h_allowed) *
-                                          std::tan(s.self_supporting_deg * std::numbers::pi / 180));
+    const auto allowance = allowance_um(h, s);
     const Paths2 grown = allowance > 0 ? geom2d::offset_of(lower, allowance) : lower;
     const Paths2 raw = geom2d::difference_of(u, grown);
     if (raw.empty()) return out;

@@ -60,7 +60,7 @@ core::Result<std::optional<bool>> Planner::check_splits(int rid, int lower, cons
                 // A tip the region's cell cuts off the material it grows from (a wall or a
                 // blade a split plane crosses at a slant): it rests on the part's material
                 // just behind it, in another region's cell, which the hierarchy graph links it
-                // to (decision 0033). Not a floating piece to split for.
+                // to (decisions 0033, 0042). Not a floating piece to split for.
                 auto across = rests_across_cell(ref, p);
                 if (!across) return std::unexpected(across.error());
                 if (*across) continue;
