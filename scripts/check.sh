@@ -12,5 +12,5 @@ bash scripts/setup.sh
 bash scripts/build.sh release -DMAXSLICE_WERROR=ON
 ctest --preset release
 bash scripts/build.sh asan -DMAXSLICE_WERROR=ON
-ctest --preset asan -E "Manifest[./]|EverySharedModel|EverySharedMesh|PlanCliSlow\.|FiveAxisSlow\."
+ctest --preset asan -E "Manifest[./]|EverySharedModel|EverySharedMesh|PlanCliSlow\.|FiveAxisSlow\.|BuildOrderSlow\."
 bash fuzz/run.sh -b build/asan -t "${MAXSLICE_FUZZ_SECONDS:-60}" -j 2

@@ -144,6 +144,26 @@ std::string describe(const Plan& plan, const Region& r) {
     return fmt::format("split from region {}", r.parent);
 }
 
+const Decision* deciding_split(const Plan& plan, int region, int* from) {
+    int at = region;
+    for (std::size_t hops = 0; hops <= plan.regions.size(); ++hops) {
+        const Decision* carried = nullptr;
+        for (const Decision& d : plan.decisions) {
+            if ((d.kind == Decision::Kind::kSplit || d.kind == Decision::Kind::kFloating) &&
+                d.new_region == at) {
+                if (from != nullptr) *from = at;
+                return &d;
+            }
+            const bool far = std::find(d.far_regions.begin(), d.far_regions.end(), at) !=
+                             d.far_regions.end();
+            if ((d.continuation == at && d.region != at) || far) carried = &d;
+        }
+        if (carried == nullptr) break;
+        at = carried->region;
+    }
+    return nullptr;
+}
+
 namespace detail {
 
 std::string unreachable_refusal(const OverhangPiece& p) {
@@ -173,20 +193,8 @@ std::string describe_refusal(const Plan& plan, const BuildOrder& order, const No
     std::string out;
     // The split that made the region, or the region it carries on (a continuation keeps the
     // direction of the region it continues, and the reason for it).
-    const Decision* made = nullptr;
     int from = rid;
-    for (std::size_t hops = 0; hops <= plan.regions.size() && made == nullptr; ++hops) {
-        const Decision* continued = nullptr;
-        for (const Decision& d : plan.decisions) {
-            if ((d.kind == Decision::Kind::kSplit || d.kind == Decision::Kind::kFloating) &&
-                d.new_region == from) {
-                made = &d;
-            }
-            if (d.continuation == from && d.region != from) continued = &d;
-        }
-        if (made != nullptr || continued == nullptr) break;
-        from = continued->region;
-    }
+    const Decision* made = deciding_split(plan, rid, &from);
     if (made != nullptr) {
         const OverhangPiece& p = made->piece;
         out = fmt::format(

@@ -58,6 +58,13 @@ constexpr double kBoxSlackMm = 1e-9;
 // this share and this many micrometres: rounding never hides a closer point.
 constexpr double kLimitPadShare = 1e-9;
 constexpr double kLimitPadUm = 1e-3;
+// A collision on a cycle of the order whose margin lies within the samples' cover of the
+// clearance is measured again on the met layer sampled this many times finer across its
+// section and on this many planes through its thickness (a smaller cover) ...
+constexpr double kFinerSamples = 4.0;
+constexpr int kFinerPlanes = 3;
+// ... at most this many times in one order.
+constexpr int kMaxRemeasured = 256;
 
 struct Vec2 {
     double x = 0.0;
@@ -166,7 +173,10 @@ geom2d::Paths2 apex_region(const Layer& l, double track_width_mm) {
     return out;
 }
 
-LayerShape shape_of(const Layer& l, const Nozzle& nozzle, double spacing, double track_width_mm) {
+// The nozzle check's view of layer l: samples `spacing` apart across its section on `planes`
+// planes through its thickness (its faces and evenly between them).
+LayerShape shape_of(const Layer& l, const Nozzle& nozzle, double spacing, double track_width_mm,
+                    int planes = 2) {
     LayerShape s;
     s.top = l.top;
     s.d = l.top.normal;
@@ -192,10 +202,11 @@ LayerShape shape_of(const Layer& l, const Nozzle& nozzle, double spacing, double
     }
     s.print_index = detail::RegionDistance(s.print);
     const double half = std::max(l.thickness_max_mm, l.span.thickness()) / 2.0;
-    s.cover = std::hypot(spacing * std::numbers::sqrt2 / 2.0, half);
+    s.cover = std::hypot(spacing * std::numbers::sqrt2 / 2.0, half / (planes - 1));
     for (const Vec2& q : sample_region(own, spacing)) {
         const geom2d::Point2 p{core::mm_to_um(q.x), core::mm_to_um(q.y)};
-        for (const double h : {-half, half}) {
+        for (int k = 0; k < planes; ++k) {
+            const double h = -half + 2.0 * half * k / (planes - 1);
             const core::Vec3d x = l.plane.to_3d(p, h);
             s.samples.push_back(x);
             grow(s.lo, s.hi, x);
@@ -460,6 +471,124 @@ std::string describe(const Plan& plan, int id) {
     return fmt::format("layer {} (region {}, slice {})", id, l.region, l.index_in_region);
 }
 
+// Kahn's algorithm over the precedence `after`, preferring the current side, then region,
+// then direction: out.order, and per layer the parents left unordered (indegree, all 0 when
+// every layer is ordered).
+void order_kahn(const Plan& plan, const std::vector<std::vector<int>>& after, BuildOrder& out,
+                std::vector<int>& indegree) {
+    const std::size_t n = plan.layers.size();
+    std::fill(indegree.begin(), indegree.end(), 0);
+    for (const std::vector<int>& a : after) {
+        for (const int c : a) ++indegree[static_cast<std::size_t>(c)];
+    }
+    std::vector<int> ready;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (indegree[i] == 0) ready.push_back(static_cast<int>(i));
+    }
+    int last = -1;
+    const auto key = [&](int id) {
+        const Layer& l = plan.layers[static_cast<std::size_t>(id)];
+        int rank = 3;
+        if (last >= 0) {
+            const Layer& p = plan.layers[static_cast<std::size_t>(last)];
+            if (out.side_of[static_cast<std::size_t>(id)] ==
+                out.side_of[static_cast<std::size_t>(last)]) {
+                rank = 0;
+            } else if (l.region == p.region) {
+                rank = 1;
+            } else if (core::dot(l.top.normal, p.top.normal) > 1.0 - 1e-9) {
+                rank = 2;
+            }
+        }
+        return std::tuple(rank, l.region, l.index_in_region, id);
+    };
+    out.order.clear();
+    out.order.reserve(n);
+    while (!ready.empty()) {
+        const auto best = std::min_element(ready.begin(), ready.end(),
+                                           [&](int a, int b) { return key(a) < key(b); });
+        const int id = *best;
+        *best = ready.back();
+        ready.pop_back();
+        out.order.push_back(id);
+        last = id;
+        for (const int c : after[static_cast<std::size_t>(id)]) {
+            if (--indegree[static_cast<std::size_t>(c)] == 0) ready.push_back(c);
+        }
+    }
+}
+
+// Stuck: a cycle among the layers left unordered. Walks back along "must follow" from one of
+// them until a layer repeats; returns the collisions on that cycle.
+std::vector<const CollisionEdge*> stuck_cycle(
+    const Plan& plan, const std::vector<std::vector<CollisionEdge>>& collisions_into,
+    const std::vector<int>& indegree) {
+    const std::size_t n = plan.layers.size();
+    std::vector<std::vector<std::pair<int, const CollisionEdge*>>> before(n);
+    for (const Layer& l : plan.layers) {
+        for (const int c : l.children)
+            before[static_cast<std::size_t>(c)].push_back({l.id, nullptr});
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+        for (const CollisionEdge& e : collisions_into[i]) before[i].push_back({e.first, &e});
+    }
+    int start = -1;
+    for (std::size_t i = 0; i < n && start < 0; ++i) {
+        if (indegree[i] > 0) start = static_cast<int>(i);
+    }
+    std::vector<int> seen(n, -1);
+    std::vector<std::pair<int, const CollisionEdge*>> walk;
+    int at = start;
+    while (seen[static_cast<std::size_t>(at)] < 0) {
+        seen[static_cast<std::size_t>(at)] = static_cast<int>(walk.size());
+        for (const auto& [p, e] : before[static_cast<std::size_t>(at)]) {
+            if (indegree[static_cast<std::size_t>(p)] > 0) {
+                walk.push_back({at, e});
+                at = p;
+                break;
+            }
+        }
+    }
+    std::vector<const CollisionEdge*> out;
+    for (std::size_t k = static_cast<std::size_t>(seen[static_cast<std::size_t>(at)]);
+         k < walk.size(); ++k) {
+        if (walk[k].second != nullptr) out.push_back(walk[k].second);
+    }
+    return out;
+}
+
+// The conflicts of a cycle of collisions, for people.
+void name_conflicts(const Plan& plan, const std::vector<const CollisionEdge*>& cycle,
+                    const std::vector<LayerShape>& shapes, const Nozzle& nozzle,
+                    const detail::HeadProfile& head, BuildOrder& out) {
+    for (const CollisionEdge* e : cycle) {
+        Conflict c;
+        c.layer = e->first;
+        c.other = e->second;
+        // The pair's deepest meeting: the edge's is the first sample found below the
+        // clearance, which says nothing of how far in the head would reach.
+        const Meeting deep = meet(shapes[static_cast<std::size_t>(c.layer)],
+                                  shapes[static_cast<std::size_t>(c.other)], nozzle, head, true);
+        const Meeting& mt = deep.margin < e->meeting.margin ? deep : e->meeting;
+        c.apex = mt.apex;
+        c.hit = mt.hit;
+        c.in_stream = mt.in_stream;
+        c.cover_mm = mt.cover;
+        c.margin_mm = mt.margin - (c.in_stream ? nozzle.clearance_mm : 0.0);
+        c.reason = fmt::format(
+            "the {} on {} at ({:.2f}, {:.2f}, {:.2f}) would meet {} at ({:.2f}, {:.2f}, "
+            "{:.2f}) (clearance {:.2f} mm < {:.2f}), so {} must come first, yet {} must come "
+            "before it ({})",
+            c.in_stream ? "powder stream" : "nozzle", describe(plan, c.layer), c.apex.x, c.apex.y,
+            c.apex.z, describe(plan, c.other), c.hit.x, c.hit.y, c.hit.z, c.margin_mm,
+            c.in_stream ? 0.0 : nozzle.clearance_mm, describe(plan, c.layer),
+            describe(plan, c.other),
+            descends(plan, c.layer, c.other) ? "it is deposited on it"
+                                             : "through the other conflicts listed");
+        out.conflicts.push_back(std::move(c));
+    }
+}
+
 }  // namespace
 
 double BuildOrder::smallest_margin_mm() const {
@@ -563,117 +692,58 @@ core::Result<BuildOrder> order_layers(const Plan& plan, const OrderSettings& set
     BuildOrder out;
     std::vector<std::vector<int>> after(n);  // after[a]: layers that must follow a
     std::vector<std::vector<CollisionEdge>> collisions_into(n);  // by `second`
-    std::vector<int> indegree(n, 0);
     for (const Layer& l : plan.layers) {
-        for (const int c : l.children) {
-            after[static_cast<std::size_t>(l.id)].push_back(c);
-            ++indegree[static_cast<std::size_t>(c)];
-        }
+        for (const int c : l.children) after[static_cast<std::size_t>(l.id)].push_back(c);
     }
     for (std::size_t i = 0; i < n; ++i) {
         for (const auto& [s1, m] : meets[i]) {
             if (m.margin >= nozzle.clearance_mm) continue;
             after[i].push_back(s1);
-            ++indegree[static_cast<std::size_t>(s1)];
             collisions_into[static_cast<std::size_t>(s1)].push_back({static_cast<int>(i), s1, m});
             ++out.collision_edges;
         }
     }
-
-    // Kahn's algorithm, preferring the current side, then region, then direction.
     out.side_of = sides_of(plan, topo);
-    std::vector<int> ready;
-    for (std::size_t i = 0; i < n; ++i) {
-        if (indegree[i] == 0) ready.push_back(static_cast<int>(i));
-    }
-    int last = -1;
-    const auto key = [&](int id) {
-        const Layer& l = plan.layers[static_cast<std::size_t>(id)];
-        int rank = 3;
-        if (last >= 0) {
-            const Layer& p = plan.layers[static_cast<std::size_t>(last)];
-            if (out.side_of[static_cast<std::size_t>(id)] ==
-                out.side_of[static_cast<std::size_t>(last)]) {
-                rank = 0;
-            } else if (l.region == p.region) {
-                rank = 1;
-            } else if (core::dot(l.top.normal, p.top.normal) > 1.0 - 1e-9) {
-                rank = 2;
+    std::vector<int> indegree(n, 0);
+    // Ordered; when stuck, the collisions on a cycle whose margin the samples' cover leaves in
+    // doubt are measured again finer, and those that then keep the clearance are dropped.
+    int remeasured = 0;
+    std::vector<std::pair<int, int>> measured_finer;  // (first, second), sorted
+    for (;;) {
+        order_kahn(plan, after, out, indegree);
+        if (out.order.size() == n) break;
+        std::vector<const CollisionEdge*> cycle = stuck_cycle(plan, collisions_into, indegree);
+        bool dropped = false;
+        for (const CollisionEdge* e : cycle) {
+            const std::pair<int, int> pair{e->first, e->second};
+            if (!settings.measure_doubtful_again || remeasured >= kMaxRemeasured ||
+                e->meeting.margin + e->meeting.cover < nozzle.clearance_mm ||
+                std::binary_search(measured_finer.begin(), measured_finer.end(), pair)) {
+                continue;
             }
-        }
-        return std::tuple(rank, l.region, l.index_in_region, id);
-    };
-    out.order.reserve(n);
-    while (!ready.empty()) {
-        const auto best = std::min_element(ready.begin(), ready.end(),
-                                           [&](int a, int b) { return key(a) < key(b); });
-        const int id = *best;
-        *best = ready.back();
-        ready.pop_back();
-        out.order.push_back(id);
-        last = id;
-        for (const int c : after[static_cast<std::size_t>(id)]) {
-            if (--indegree[static_cast<std::size_t>(c)] == 0) ready.push_back(c);
-        }
-    }
-
-    // Stuck: a cycle among the layers left. Walk back along "must follow" from one of them
-    // until a layer repeats, and name the collisions on that cycle.
-    if (out.order.size() < n) {
-        std::vector<std::vector<std::pair<int, const CollisionEdge*>>> before(n);
-        for (const Layer& l : plan.layers) {
-            for (const int c : l.children)
-                before[static_cast<std::size_t>(c)].push_back({l.id, nullptr});
-        }
-        for (std::size_t i = 0; i < n; ++i) {
-            for (const CollisionEdge& e : collisions_into[i]) before[i].push_back({e.first, &e});
-        }
-        int start = -1;
-        for (std::size_t i = 0; i < n && start < 0; ++i) {
-            if (indegree[i] > 0) start = static_cast<int>(i);
-        }
-        std::vector<int> seen(n, -1);
-        std::vector<std::pair<int, const CollisionEdge*>> walk;
-        int at = start;
-        while (seen[static_cast<std::size_t>(at)] < 0) {
-            seen[static_cast<std::size_t>(at)] = static_cast<int>(walk.size());
-            for (const auto& [p, e] : before[static_cast<std::size_t>(at)]) {
-                if (indegree[static_cast<std::size_t>(p)] > 0) {
-                    walk.push_back({at, e});
-                    at = p;
-                    break;
-                }
+            measured_finer.insert(
+                std::lower_bound(measured_finer.begin(), measured_finer.end(), pair), pair);
+            ++remeasured;
+            const LayerShape finer =
+                shape_of(plan.layers[static_cast<std::size_t>(e->second)], nozzle,
+                         spacing / kFinerSamples, plan.settings.track_width_mm, kFinerPlanes);
+            const Meeting m = meet(shapes[static_cast<std::size_t>(e->first)], finer, nozzle, head);
+            if (m.margin < nozzle.clearance_mm) continue;
+            // Keeps the clearance: no longer an edge; its margin is the finer one.
+            for (auto& [s1, kept] : meets[static_cast<std::size_t>(e->first)]) {
+                if (s1 == e->second) kept = m;
             }
+            std::vector<int>& a = after[static_cast<std::size_t>(e->first)];
+            a.erase(std::find(a.begin(), a.end(), e->second));
+            std::vector<CollisionEdge>& into = collisions_into[static_cast<std::size_t>(e->second)];
+            into.erase(into.begin() + (e - into.data()));
+            --out.collision_edges;
+            dropped = true;
+            break;  // the cycle's other edges point into the vector changed
         }
-        for (std::size_t k = static_cast<std::size_t>(seen[static_cast<std::size_t>(at)]);
-             k < walk.size(); ++k) {
-            const CollisionEdge* e = walk[k].second;
-            if (e == nullptr) continue;
-            Conflict c;
-            c.layer = e->first;
-            c.other = e->second;
-            // The pair's deepest meeting: the edge's is the first sample found below the
-            // clearance, which says nothing of how far in the head would reach.
-            const Meeting deep =
-                meet(shapes[static_cast<std::size_t>(c.layer)],
-                     shapes[static_cast<std::size_t>(c.other)], nozzle, head, true);
-            const Meeting& mt = deep.margin < e->meeting.margin ? deep : e->meeting;
-            c.apex = mt.apex;
-            c.hit = mt.hit;
-            c.in_stream = mt.in_stream;
-            c.cover_mm = mt.cover;
-            c.margin_mm = mt.margin - (c.in_stream ? nozzle.clearance_mm : 0.0);
-            c.reason = fmt::format(
-                "the {} on {} at ({:.2f}, {:.2f}, {:.2f}) would meet {} at ({:.2f}, {:.2f}, "
-                "{:.2f}) (clearance {:.2f} mm < {:.2f}), so {} must come first, yet {} must come "
-                "before it ({})",
-                c.in_stream ? "powder stream" : "nozzle", describe(plan, c.layer), c.apex.x,
-                c.apex.y, c.apex.z, describe(plan, c.other), c.hit.x, c.hit.y, c.hit.z, c.margin_mm,
-                c.in_stream ? 0.0 : nozzle.clearance_mm, describe(plan, c.layer),
-                describe(plan, c.other),
-                descends(plan, c.layer, c.other) ? "it is deposited on it"
-                                                 : "through the other conflicts listed");
-            out.conflicts.push_back(std::move(c));
+        if (!dropped) {
+            name_conflicts(plan, cycle, shapes, nozzle, head, out);
+            break;
         }
     }
 

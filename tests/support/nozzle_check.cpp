@@ -103,7 +103,8 @@ double to_segment(double t, double r, double t0, double r0, double t1, double r1
     const double dt = t1 - t0, dr = r1 - r0;
     double s = ((t - t0) * dt + (r - r0) * dr) / (dt * dt + dr * dr);
     s = std::min(1.0, std::max(0.0, s));
-    return std::hypot(t - t0 - s * dt, r - r0 - s * dr);
+    const double et = t - t0 - s * dt, er = r - r0 - s * dr;
+    return std::sqrt(et * et + er * er);  // not std::hypot: ten times slower, no gain here
 }
 
 // The slice t in [lo, hi] of the cone r <= t tan(a): inside, minus the depth (to its side,
@@ -127,7 +128,7 @@ double to_body(const plan::Nozzle& n, double t, double r) {
     const double lo = n.cone_length_mm, hi = lo + n.body_length_mm, rad = n.body_radius_mm;
     const double dt = std::max({lo - t, 0.0, t - hi}), dr = std::max(r - rad, 0.0);
     if (dt == 0.0 && dr == 0.0) return -std::min({t - lo, hi - t, rad - r});
-    return std::hypot(dt, dr);
+    return std::sqrt(dt * dt + dr * dr);
 }
 
 // (t, r) of x for the head at apex along axis; false at or below the apex's plane.

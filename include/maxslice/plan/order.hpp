@@ -22,6 +22,10 @@ struct OrderSettings {
     /// Spacing (mm) of the points sampled on each layer (its boundary and inside, on its
     /// bottom and top faces); 0 = half a track width.
     double sample_spacing_mm = 0.0;
+    /// When the order is stuck, measure the collisions on the cycle whose margin the samples'
+    /// cover leaves in doubt again on finer samples, and drop those that keep the clearance
+    /// (decision 0043). Off: every such collision stands (for tests).
+    bool measure_doubtful_again = true;
 };
 
 /// Two layers the nozzle cannot serve in any order: depositing `layer` would hit `other`,

@@ -208,6 +208,12 @@ struct Plan {
 /// that made it (as a sideways region, or as the continuation on the near side).
 [[nodiscard]] std::string describe(const Plan& plan, const Region& r);
 
+/// The split that chose region `region`'s direction: the one that made it sideways, or, for
+/// a region that carries on another's direction (a continuation or a far region), that
+/// region's, followed back. *from (when given) is the region the split made. Null for the base
+/// region and those carrying on its direction.
+[[nodiscard]] const Decision* deciding_split(const Plan& plan, int region, int* from = nullptr);
+
 /// Plans a part standing on the plate along base_direction (its lowest point on the base
 /// plane): the base region is sliced in uniform layers; every pair of neighbouring layers is
 /// analysed (analyse_neighbours); an overhang piece with Ang > beta (or one that does not

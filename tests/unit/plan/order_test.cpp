@@ -839,5 +839,46 @@ TEST(BuildOrder, EmptyPlanGivesAnEmptyCompleteOrder) {
     EXPECT_FALSE(std::isfinite(o->smallest_margin_mm()));
 }
 
+// A collision on a cycle of the order whose margin the samples' cover leaves in doubt is
+// measured again on finer samples of the layer met (decision 0043). With samples 6 mm apart
+// (a cover of more than 4 mm) two fixtures, planned for the reference head, get no order
+// unless the doubtful collisions are measured again; measured again, they get one that the
+// independent check finds keeps the clearance.
+TEST(BuildOrderSlow, ACollisionTheSamplesLeaveInDoubtIsMeasuredAgain) {
+    Nozzle head;
+    head.half_angle_deg = 30;
+    head.cone_length_mm = 45;
+    head.body_radius_mm = 30;
+    head.body_length_mm = 120;
+    head.clearance_mm = 1;
+    int rescued = 0;
+    for (const auto& f : test::all_planner_fixtures()) {
+        if (f.name != "cross_hole_block" && f.name != "tab_with_hole") continue;
+        SCOPED_TRACE(f.name);
+        PlanSettings ps = settings();
+        ps.head = head;
+        auto p = plan_part(f.mesh, {0, 0, 1}, ps);
+        ASSERT_TRUE(p.has_value()) << p.error().describe();
+        OrderSettings s;
+        s.nozzle = head;
+        s.sample_spacing_mm = 6.0;
+        s.measure_doubtful_again = false;
+        const BuildOrder coarse = order_of(*p, s);
+        EXPECT_FALSE(coarse.complete());
+        s.measure_doubtful_again = true;
+        const BuildOrder o = order_of(*p, s);
+        ASSERT_TRUE(o.complete()) << outcome(o);
+        expect_valid_order(*p, o, s.nozzle);
+        EXPECT_GE(o.smallest_margin_mm(), head.clearance_mm);
+        test::NozzleCheckSettings check;
+        check.clearance_mm = head.clearance_mm;
+        const auto hits = test::brute_force_collisions(*p, o, head, kTrackMm, check);
+        EXPECT_TRUE(hits.empty()) << hits.size()
+                                  << " pairs closer than the clearance:" << first_collisions(hits);
+        ++rescued;
+    }
+    EXPECT_EQ(rescued, 2);
+}
+
 }  // namespace
 }  // namespace maxslice::plan
