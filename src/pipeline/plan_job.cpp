@@ -224,10 +224,16 @@ core::Result<std::vector<int>> laden_hanging(const plan::Plan& plan, std::span<c
 
 namespace {
 
+// What may hang from bare layers all the same, in all: this share of the plan's volume
+// (decision 0044).
+constexpr double kLeftOutShare = 1e-3;
+
 // Moves the plan's layers on nothing that get no track to bare_unsupported_layers, unless a
 // layer with a track hangs from them: one whose parents all hang from them (its tracks would
 // all be cut to the beads below, a feature left out, decision 0013). Such a bare layer stays
-// on nothing: the part (a body floating free, reached through a sliver) needs support.
+// on nothing: the part (a body floating free, reached through a sliver) needs support; unless
+// what hangs from it is a crumb (decision 0044: the bare layers in id order while all that
+// hangs from them stays under kLeftOutShare of the plan), which is left out with it.
 core::Result<void> set_aside_bare(plan::Plan& plan, const path::PathSettings& tracks) {
     if (plan.unsupported_layers.empty()) return {};
     auto bare = trackless_layers(plan, plan.unsupported_layers, tracks);
@@ -250,6 +256,16 @@ core::Result<void> set_aside_bare(plan::Plan& plan, const path::PathSettings& tr
                 keep[static_cast<std::size_t>(q)] = 1;
                 up.push_back(q);
             }
+        }
+    }
+    double left_out = 0.0;
+    const double crumb = kLeftOutShare * plan.volume_mm3();
+    for (const int id : *bare) {
+        if (keep[static_cast<std::size_t>(id)] == 0) continue;
+        const double load = plan::hanging_from(plan, id).volume_mm3;
+        if (left_out + load < crumb) {
+            left_out += load;
+            keep[static_cast<std::size_t>(id)] = 0;
         }
     }
     std::erase_if(*bare, [&](int id) { return keep[static_cast<std::size_t>(id)] != 0; });

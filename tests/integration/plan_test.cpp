@@ -388,6 +388,18 @@ TEST(PlanCli, ALayerOnNothingWhereNoTrackFitsIsLeftBare) {
     ASSERT_NE(at, std::string::npos) << f.out;
     const double whole = std::stod(f.out.substr(at + key.size()));
     EXPECT_NEAR(std::stod(m[3]), 100.0 * std::stod(m[2]) / whole, 0.06) << f.out;
+
+    // A pyramid of 4 mm (21 mm3) beside a 30 mm block (27000 mm3): what hangs from its bare
+    // apex is under a thousandth of the plan, a crumb left out with it (decision 0044), so no
+    // layer rests on nothing.
+    maxslice::mesh::TriangleMesh crumb;
+    crumb.vertices = {{36, 15, 8}, {34, 13, 12}, {38, 13, 12}, {38, 17, 12}, {34, 17, 12}};
+    crumb.triangles = pyramid.triangles;
+    const fs::path small = fixture_stl(dir, "crumb", merged(box({0, 0, 0}, {30, 30, 30}), crumb));
+    const CliRun c = run_cli({"plan", small.string(), "--profile", keeping.string()});
+    ASSERT_EQ(c.exit_code, 0) << c.err;
+    EXPECT_EQ(c.out.find("rest on nothing"), std::string::npos) << c.out;
+    EXPECT_NE(c.out.find("left bare"), std::string::npos) << c.out;
 }
 
 CliRun plan_nist_as_given(const std::string& stem, const fs::path& dir, fs::path& plan);
