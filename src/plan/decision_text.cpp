@@ -154,8 +154,8 @@ const Decision* deciding_split(const Plan& plan, int region, int* from) {
                 if (from != nullptr) *from = at;
                 return &d;
             }
-            const bool far = std::find(d.far_regions.begin(), d.far_regions.end(), at) !=
-                             d.far_regions.end();
+            const bool far =
+                std::find(d.far_regions.begin(), d.far_regions.end(), at) != d.far_regions.end();
             if ((d.continuation == at && d.region != at) || far) carried = &d;
         }
         if (carried == nullptr) break;

@@ -23,6 +23,18 @@
 
 namespace maxslice::test {
 
+/// The reference cell's head (examples/profiles/reference_5axis_ac.toml [machine.nozzle]).
+[[nodiscard]] inline plan::Nozzle reference_head() {
+    plan::Nozzle n;
+    n.half_angle_deg = 30.0;
+    n.cone_length_mm = 45.0;
+    n.standoff_mm = 9.0;
+    n.body_radius_mm = 30.0;
+    n.body_length_mm = 120.0;
+    n.clearance_mm = 1.0;
+    return n;
+}
+
 /// Sampling and tolerance of the brute-force check (mm).
 struct NozzleCheckSettings {
     /// Spacing of the apexes along the strokes, of the points along the wires' edges and of

@@ -845,12 +845,7 @@ TEST(BuildOrder, EmptyPlanGivesAnEmptyCompleteOrder) {
 // unless the doubtful collisions are measured again; measured again, they get one that the
 // independent check finds keeps the clearance.
 TEST(BuildOrderSlow, ACollisionTheSamplesLeaveInDoubtIsMeasuredAgain) {
-    Nozzle head;
-    head.half_angle_deg = 30;
-    head.cone_length_mm = 45;
-    head.body_radius_mm = 30;
-    head.body_length_mm = 120;
-    head.clearance_mm = 1;
+    const Nozzle head = test::reference_head();
     int rescued = 0;
     for (const auto& f : test::all_planner_fixtures()) {
         if (f.name != "cross_hole_block" && f.name != "tab_with_hole") continue;

@@ -23,17 +23,7 @@ namespace {
 
 using core::Vec3d;
 
-// The reference cell's head (examples/profiles/reference_5axis_ac.toml).
-Nozzle reference_head() {
-    Nozzle n;
-    n.half_angle_deg = 30.0;
-    n.cone_length_mm = 45.0;
-    n.standoff_mm = 9.0;
-    n.body_radius_mm = 30.0;
-    n.body_length_mm = 120.0;
-    n.clearance_mm = 1.0;
-    return n;
-}
+using test::reference_head;
 
 PlanSettings settings(bool with_head) {
     PlanSettings s;
