@@ -61,6 +61,13 @@ constexpr int kPlaneBatch = 16;
 /// 2 reach row passes); beyond, the lower envelope (a few operations a voxel, not vectorized).
 constexpr int kWindowReach = 16;
 
+/// Each voxel asked about is searched on its own, nearest offsets first, not by the planes'
+/// transforms, when the voxels asked about times the offsets nearer than the stock expected
+/// (the coarse search's, else the reach) are fewer than this share of the box's voxels times
+/// the transforms' passes (2 reach + 3): a random bit read costs several of their vectorized
+/// steps. So a stock sticking out in a few places of a large part is found voxel by voxel.
+constexpr double kDirectShare = 0.25;
+
 struct IndexBox {
     int lo[3] = {std::numeric_limits<int>::max(), std::numeric_limits<int>::max(),
                  std::numeric_limits<int>::max()};
@@ -115,11 +122,12 @@ BitGrid coarsened(const BitGrid& fine) {
 constexpr int kFirstReach = 8;
 
 StockDistance stock_from(const BitGrid& beads, const BitGrid& finished, int limit,
-                         const StockDistance* coarse);
+                         const StockDistance* coarse, StockSearch how);
 
 }  // namespace
 
-StockDistance smallest_stock(const BitGrid& beads, const BitGrid& finished, int limit) {
+StockDistance smallest_stock(const BitGrid& beads, const BitGrid& finished, int limit,
+                             StockSearch how) {
     limit = std::clamp(limit, 1, kMaxStockLimit);
     // On fine grids the stock is often tens of voxels (a 1 mm machining stock at 0.075 mm):
     // the same search on grids kCoarse times coarser (set where any voxel is) first says about
@@ -127,10 +135,10 @@ StockDistance smallest_stock(const BitGrid& beads, const BitGrid& finished, int 
     // fine search reaches farther as before: the answer is the fine grid's either way.
     if (std::min({finished.nx(), finished.ny(), finished.nz()}) >= kCoarse * 2 * kFirstReach) {
         const StockDistance c = stock_from(coarsened(beads), coarsened(finished),
-                                           std::max(1, limit / kCoarse + 1), nullptr);
-        return stock_from(beads, finished, limit, &c);
+                                           std::max(1, limit / kCoarse + 1), nullptr, how);
+        return stock_from(beads, finished, limit, &c, how);
     }
-    return stock_from(beads, finished, limit, nullptr);
+    return stock_from(beads, finished, limit, nullptr, how);
 }
 
 namespace {
@@ -138,7 +146,7 @@ namespace {
 // smallest_stock, its first reach guessed from `coarse` (the answer on coarser grids) when that
 // found a stock of the same kind (inside or sticking out).
 StockDistance stock_from(const BitGrid& beads, const BitGrid& finished, int limit,
-                         const StockDistance* coarse) {
+                         const StockDistance* coarse, StockSearch how) {
     StockDistance out;
     limit = std::clamp(limit, 1, kMaxStockLimit);
     const int nx = finished.nx(), ny = finished.ny(), nz = finished.nz();
@@ -205,6 +213,67 @@ StockDistance stock_from(const BitGrid& beads, const BitGrid& finished, int limi
                               static_cast<std::size_t>(j);
         return (asked_words[w] >> (k & 63) & 1U) != 0;
     };
+    // The stock expected (voxels): the coarse search's when it found one of the same kind, else
+    // the reach of each search.
+    double expected = std::numeric_limits<double>::infinity();
+    std::size_t asked_count = 0;
+    for (const std::uint64_t w : asked_words) asked_count += static_cast<std::size_t>(std::popcount(w));
+    // search(reach) by each voxel asked about on its own: the offsets within the reach,
+    // nearest first, until a target (or, once one voxel is known, until no offset left can
+    // change the answer). The same answer and voxel as the planes' transforms: the voxels are
+    // taken in the same order (k, then i, then j), a better one replacing the best only when
+    // strictly better.
+    const auto search_each = [&](int reach) {
+        const std::int64_t cap = static_cast<std::int64_t>(reach + 1) * (reach + 1);
+        struct Offset {
+            std::int64_t d2;
+            int di, dj, dk;
+        };
+        std::vector<Offset> offsets;
+        for (int di = -reach; di <= reach; ++di) {
+            for (int dj = -reach; dj <= reach; ++dj) {
+                for (int dk = -reach; dk <= reach; ++dk) {
+                    const std::int64_t d2 = std::int64_t{di} * di + std::int64_t{dj} * dj +
+                                            std::int64_t{dk} * dk;
+                    if (d2 < cap) offsets.push_back({d2, di, dj, dk});
+                }
+            }
+        }
+        std::stable_sort(offsets.begin(), offsets.end(),
+                         [](const Offset& a, const Offset& b) { return a.d2 < b.d2; });
+        const std::uint64_t flip = out.inside ? ~std::uint64_t{0} : 0;  // target: bit ^ flip
+        const auto target = [&](int i, int j, int k) {
+            if (i < 0 || j < 0 || k < 0 || i >= nx || j >= ny || k >= nz) return false;
+            const std::size_t w = static_cast<std::size_t>(k >> 6) * plane +
+                                  static_cast<std::size_t>(i) * static_cast<std::size_t>(ny) +
+                                  static_cast<std::size_t>(j);
+            return ((bw[w] ^ flip) >> (k & 63) & 1U) != 0;
+        };
+        std::int64_t best = out.inside ? std::numeric_limits<std::int64_t>::max() : -1;
+        for (int q = box.lo[2]; q <= box.hi[2]; ++q) {
+            for (int i = box.lo[0]; i <= box.hi[0]; ++i) {
+                for (int j = box.lo[1]; j <= box.hi[1]; ++j) {
+                    if (!asked(i, j, q)) continue;
+                    std::int64_t d2 = cap;
+                    for (const Offset& o : offsets) {
+                        // Inside, the smallest is wanted: no farther offset does better.
+                        if (out.inside && o.d2 >= best) break;
+                        if (target(i + o.di, j + o.dj, q + o.dk)) {
+                            d2 = o.d2;
+                            break;
+                        }
+                    }
+                    if (out.inside ? d2 < best : d2 > best) {
+                        best = d2;
+                        out.i = i;
+                        out.j = j;
+                        out.k = q;
+                    }
+                }
+            }
+        }
+        return best;
+    };
     std::vector<std::uint16_t> planes;
     // The best squared distance within `reach` voxels, or one above reach^2 when there is none
     // (or, sticking out, when some voxel asked about has none).
@@ -218,6 +287,14 @@ StockDistance stock_from(const BitGrid& beads, const BitGrid& finished, int limi
         const int bx = hi[0] - lo[0] + 1, by = hi[1] - lo[1] + 1, bz = hi[2] - lo[2] + 1;
         const int ring = std::min(2 * reach + 1 + kPlaneBatch, bz);
         const std::int64_t cap = static_cast<std::int64_t>(reach + 1) * (reach + 1);
+        const double e = std::min<double>(expected, reach) + 1.0;
+        const double walk = 4.2 * e * e * e;  // offsets within the stock expected
+        const bool each = how == StockSearch::kCheaper
+                              ? static_cast<double>(asked_count) * walk <
+                                    kDirectShare * static_cast<double>(bx) * by * bz *
+                                        (2.0 * reach + 3.0)
+                              : how == StockSearch::kEachVoxel;
+        if (each) return search_each(reach);
         const std::size_t bplane = static_cast<std::size_t>(bx) * static_cast<std::size_t>(by);
         planes.assign(static_cast<std::size_t>(ring) * bplane, 0);
         // The squared in-plane distance to the nearest target of plane k, capped at
@@ -340,6 +417,7 @@ StockDistance stock_from(const BitGrid& beads, const BitGrid& finished, int limi
     if (coarse != nullptr && !coarse->empty && !coarse->beyond && coarse->inside == out.inside) {
         const int guess = static_cast<int>(std::ceil(coarse->distance)) * kCoarse + 2 * kCoarse;
         reach = std::clamp(guess, reach, limit);
+        expected = coarse->distance * kCoarse;
     }
     std::int64_t best = search(reach);
     while (best > static_cast<std::int64_t>(reach) * reach && reach < limit) {

@@ -31,8 +31,13 @@ struct StockDistance {
 /// fits, limit <= kMaxStockLimit). Planes are transformed in parallel and asked about in order,
 /// exact in integers: the same grids give the same answer whatever the thread count.
 inline constexpr int kMaxStockLimit = 180;
+/// How the distances are searched: the planes' transforms, each voxel asked about on its own
+/// (nearest offsets first: fewer voxels asked than the box holds), or the cheaper of the two
+/// by their counts. All give the same answer.
+enum class StockSearch { kCheaper, kPlanes, kEachVoxel };
 [[nodiscard]] StockDistance smallest_stock(const BitGrid& beads, const BitGrid& finished,
-                                           int limit);
+                                           int limit,
+                                           StockSearch how = StockSearch::kCheaper);
 
 /// The largest limit <= want (and >= 1) whose planes of a box nx x ny voxels fit in
 /// `budget_bytes` (at least 1 even when they do not).

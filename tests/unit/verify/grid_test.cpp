@@ -11,6 +11,7 @@
 #include <limits>
 #include <numbers>
 #include <random>
+#include <tuple>
 #include <vector>
 
 #include "region_query.hpp"
@@ -308,6 +309,14 @@ TEST(VoxelGrid, SmallestStockAgreesWithBruteForce) {
             }
         }
         const StockDistance got = smallest_stock(beads, finished, limit);
+        // The planes' transforms and the search voxel by voxel give the same answer and voxel.
+        for (const StockSearch how : {StockSearch::kPlanes, StockSearch::kEachVoxel}) {
+            const StockDistance other = smallest_stock(beads, finished, limit, how);
+            EXPECT_EQ(other.inside, got.inside);
+            EXPECT_EQ(other.beyond, got.beyond);
+            EXPECT_DOUBLE_EQ(other.distance, got.distance);
+            EXPECT_EQ(std::tuple(other.i, other.j, other.k), std::tuple(got.i, got.j, got.k));
+        }
         SCOPED_TRACE(trial);
         ASSERT_FALSE(got.empty);
         EXPECT_EQ(got.inside, !sticks_out);
@@ -454,6 +463,14 @@ TEST(VoxelGrid, SmallestStockOnLargeGridsAgreesWithBruteForce) {
         if (want < 0) continue;  // the finished part lies inside the small beads
         const int limit = 150;   // beyond the grid's diagonal
         const StockDistance got = smallest_stock(beads, finished, limit);
+        // The planes' transforms and the search voxel by voxel give the same answer and voxel.
+        for (const StockSearch how : {StockSearch::kPlanes, StockSearch::kEachVoxel}) {
+            const StockDistance other = smallest_stock(beads, finished, limit, how);
+            EXPECT_EQ(other.inside, got.inside);
+            EXPECT_EQ(other.beyond, got.beyond);
+            EXPECT_DOUBLE_EQ(other.distance, got.distance);
+            EXPECT_EQ(std::tuple(other.i, other.j, other.k), std::tuple(got.i, got.j, got.k));
+        }
         ASSERT_FALSE(got.empty);
         ASSERT_EQ(got.inside, inside);
         ASSERT_LE(want, long{limit} * limit);
