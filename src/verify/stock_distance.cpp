@@ -217,7 +217,8 @@ StockDistance stock_from(const BitGrid& beads, const BitGrid& finished, int limi
     // the reach of each search.
     double expected = std::numeric_limits<double>::infinity();
     std::size_t asked_count = 0;
-    for (const std::uint64_t w : asked_words) asked_count += static_cast<std::size_t>(std::popcount(w));
+    for (const std::uint64_t w : asked_words)
+        asked_count += static_cast<std::size_t>(std::popcount(w));
     // search(reach) by each voxel asked about on its own: the offsets within the reach,
     // nearest first, until a target (or, once one voxel is known, until no offset left can
     // change the answer). The same answer and voxel as the planes' transforms: the voxels are
@@ -233,8 +234,8 @@ StockDistance stock_from(const BitGrid& beads, const BitGrid& finished, int limi
         for (int di = -reach; di <= reach; ++di) {
             for (int dj = -reach; dj <= reach; ++dj) {
                 for (int dk = -reach; dk <= reach; ++dk) {
-                    const std::int64_t d2 = std::int64_t{di} * di + std::int64_t{dj} * dj +
-                                            std::int64_t{dk} * dk;
+                    const std::int64_t d2 =
+                        std::int64_t{di} * di + std::int64_t{dj} * dj + std::int64_t{dk} * dk;
                     if (d2 < cap) offsets.push_back({d2, di, dj, dk});
                 }
             }
@@ -289,11 +290,11 @@ StockDistance stock_from(const BitGrid& beads, const BitGrid& finished, int limi
         const std::int64_t cap = static_cast<std::int64_t>(reach + 1) * (reach + 1);
         const double e = std::min<double>(expected, reach) + 1.0;
         const double walk = 4.2 * e * e * e;  // offsets within the stock expected
-        const bool each = how == StockSearch::kCheaper
-                              ? static_cast<double>(asked_count) * walk <
-                                    kDirectShare * static_cast<double>(bx) * by * bz *
-                                        (2.0 * reach + 3.0)
-                              : how == StockSearch::kEachVoxel;
+        const bool each =
+            how == StockSearch::kCheaper
+                ? static_cast<double>(asked_count) * walk <
+                      kDirectShare * static_cast<double>(bx) * by * bz * (2.0 * reach + 3.0)
+                : how == StockSearch::kEachVoxel;
         if (each) return search_each(reach);
         const std::size_t bplane = static_cast<std::size_t>(bx) * static_cast<std::size_t>(by);
         planes.assign(static_cast<std::size_t>(ring) * bplane, 0);

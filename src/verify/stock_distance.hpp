@@ -35,8 +35,7 @@ inline constexpr int kMaxStockLimit = 180;
 /// (nearest offsets first: fewer voxels asked than the box holds), or the cheaper of the two
 /// by their counts. All give the same answer.
 enum class StockSearch { kCheaper, kPlanes, kEachVoxel };
-[[nodiscard]] StockDistance smallest_stock(const BitGrid& beads, const BitGrid& finished,
-                                           int limit,
+[[nodiscard]] StockDistance smallest_stock(const BitGrid& beads, const BitGrid& finished, int limit,
                                            StockSearch how = StockSearch::kCheaper);
 
 /// The largest limit <= want (and >= 1) whose planes of a box nx x ny voxels fit in
