@@ -239,6 +239,20 @@ TEST(VoxelGrid, NothingAtOrAboveTheFloorIsNoHitEvenWithMaterialJustBelow) {
     EXPECT_TRUE(find_occupied(grid, kOrigin, kVoxel, {5.0, 5.0, 3.5}, {0, 0, -1}, cone, 0.0, &hit));
 }
 
+// smallest_stock as the job calls it, after checking that the planes' transforms and the
+// search voxel by voxel give the same answer and voxel.
+StockDistance stock_by_every_search(const BitGrid& beads, const BitGrid& finished, int limit) {
+    const StockDistance got = smallest_stock(beads, finished, limit);
+    for (const StockSearch how : {StockSearch::kPlanes, StockSearch::kEachVoxel}) {
+        const StockDistance other = smallest_stock(beads, finished, limit, how);
+        EXPECT_EQ(other.inside, got.inside);
+        EXPECT_EQ(other.beyond, got.beyond);
+        EXPECT_DOUBLE_EQ(other.distance, got.distance);
+        EXPECT_EQ(std::tuple(other.i, other.j, other.k), std::tuple(got.i, got.j, got.k));
+    }
+    return got;
+}
+
 // The smallest stock against brute force over every pair of voxels: the squared distance it
 // finds is the smallest (finished part inside the beads) or largest (sticking out) over the
 // asked voxels of the squared distance to the nearest target voxel, exact below its limit
@@ -308,15 +322,7 @@ TEST(VoxelGrid, SmallestStockAgreesWithBruteForce) {
                 }
             }
         }
-        const StockDistance got = smallest_stock(beads, finished, limit);
-        // The planes' transforms and the search voxel by voxel give the same answer and voxel.
-        for (const StockSearch how : {StockSearch::kPlanes, StockSearch::kEachVoxel}) {
-            const StockDistance other = smallest_stock(beads, finished, limit, how);
-            EXPECT_EQ(other.inside, got.inside);
-            EXPECT_EQ(other.beyond, got.beyond);
-            EXPECT_DOUBLE_EQ(other.distance, got.distance);
-            EXPECT_EQ(std::tuple(other.i, other.j, other.k), std::tuple(got.i, got.j, got.k));
-        }
+        const StockDistance got = stock_by_every_search(beads, finished, limit);
         SCOPED_TRACE(trial);
         ASSERT_FALSE(got.empty);
         EXPECT_EQ(got.inside, !sticks_out);
@@ -462,15 +468,7 @@ TEST(VoxelGrid, SmallestStockOnLargeGridsAgreesWithBruteForce) {
         }
         if (want < 0) continue;  // the finished part lies inside the small beads
         const int limit = 150;   // beyond the grid's diagonal
-        const StockDistance got = smallest_stock(beads, finished, limit);
-        // The planes' transforms and the search voxel by voxel give the same answer and voxel.
-        for (const StockSearch how : {StockSearch::kPlanes, StockSearch::kEachVoxel}) {
-            const StockDistance other = smallest_stock(beads, finished, limit, how);
-            EXPECT_EQ(other.inside, got.inside);
-            EXPECT_EQ(other.beyond, got.beyond);
-            EXPECT_DOUBLE_EQ(other.distance, got.distance);
-            EXPECT_EQ(std::tuple(other.i, other.j, other.k), std::tuple(got.i, got.j, got.k));
-        }
+        const StockDistance got = stock_by_every_search(beads, finished, limit);
         ASSERT_FALSE(got.empty);
         ASSERT_EQ(got.inside, inside);
         ASSERT_LE(want, long{limit} * limit);
