@@ -18,11 +18,42 @@ constexpr std::size_t kSniffBytes = 4096;
 // The longest error or warning message read_mesh returns.
 constexpr std::size_t kMaxMessageChars = 600;
 
-// The end of the time-out message of the mesh readers that run in a child (assimp, lib3mf):
-// they do no tessellation, so no option makes them faster.
+// The end of the time-out message of the mesh readers that run in the reader program
+// (assimp, lib3mf): they do no tessellation, so no option makes them faster.
 constexpr std::string_view kSlowLibraryReader =
     "the reader took too long on this file, which is damaged or far larger than it looks; "
     "check it, or export it again";
+
+// The STEP/IGES reader's: it tessellates.
+constexpr std::string_view kSlowCadReader =
+    "reading and tessellating the solids took too long; a coarser tessellation (a larger "
+    "--chord-deviation) may help if the part is large or finely curved, else the file is "
+    "damaged";
+
+// Reads an OBJ, 3MF, STEP or IGES file in the reader program maxslice-read-part
+// (read_part_main.cpp, which takes these arguments), a process of its own (isolated.cpp).
+core::Result<detail::RawImport> read_in_reader_program(const std::filesystem::path& path,
+                                                       Format format,
+                                                       const ImportOptions& options) {
+#ifdef MAXSLICE_PART_READER_BUILD_PATH
+    const char* build_path = MAXSLICE_PART_READER_BUILD_PATH;
+#else
+    const char* build_path = nullptr;
+#endif
+    auto program = detail::find_companion("the part reader program", "MAXSLICE_PART_READER",
+                                          "maxslice-read-part", build_path);
+    if (!program) return std::unexpected(program.error());
+    const bool cad = format == Format::kStep || format == Format::kIges;
+    const std::string_view library = cad                      ? "Open CASCADE"
+                                     : format == Format::k3mf ? "lib3mf"
+                                                              : "assimp";
+    const detail::ReaderCommand command{*program,
+                                        {std::to_string(static_cast<int>(format)), path.string(),
+                                         fmt::format("{}", options.chord_deviation_mm),
+                                         fmt::format("{}", options.angular_deviation_deg)}};
+    return detail::run_isolated(command, options.library_time_limit_s, library,
+                                cad ? kSlowCadReader : kSlowLibraryReader);
+}
 
 std::string lower_extension(const std::filesystem::path& path) {
     std::string ext = path.extension().string();
@@ -193,28 +224,18 @@ core::Result<ImportedMesh> read_impl(const std::filesystem::path& path,
     switch (*format) {
         case Format::kStlBinary:
         case Format::kStlAscii: raw = detail::read_stl_file(path, head->view(), size); break;
-        case Format::kObj:
         case Format::kPly:
         case Format::kOff: {
             auto bytes = size <= kSniffBytes ? std::move(head) : detail::read_file(path);
             if (!bytes) return std::unexpected(bytes.error());
-            if (*format == Format::kPly) {
-                raw = detail::read_ply(bytes->view());
-            } else if (*format == Format::kOff) {
-                raw = detail::read_off(bytes->view());
-            } else {
-                raw = detail::run_isolated(
-                    [&] { return detail::read_with_assimp(bytes->view(), *format); },
-                    options.library_time_limit_s, "assimp", kSlowLibraryReader);
-            }
+            raw = *format == Format::kPly ? detail::read_ply(bytes->view())
+                                          : detail::read_off(bytes->view());
             break;
         }
+        case Format::kObj:
         case Format::k3mf:
-            raw = detail::run_isolated([&] { return detail::read_3mf(path); },
-                                       options.library_time_limit_s, "lib3mf", kSlowLibraryReader);
-            break;
         case Format::kStep:
-        case Format::kIges: raw = detail::read_cad(path, *format, options); break;
+        case Format::kIges: raw = read_in_reader_program(path, *format, options); break;
     }
     if (!raw) return std::unexpected(raw.error());
     const std::string note = extension_note(path, raw->format);
@@ -265,20 +286,6 @@ core::Result<Format> sniff_format(std::string_view head, std::uint64_t file_size
 }
 
 }  // namespace detail
-
-std::string_view format_name(Format format) {
-    switch (format) {
-        case Format::kStlBinary: return "stl-binary";
-        case Format::kStlAscii: return "stl-ascii";
-        case Format::kObj: return "obj";
-        case Format::kPly: return "ply";
-        case Format::kOff: return "off";
-        case Format::k3mf: return "3mf";
-        case Format::kStep: return "step";
-        case Format::kIges: return "iges";
-    }
-    return "unknown";
-}
 
 core::Result<ImportedMesh> read_mesh(const std::filesystem::path& path,
                                      const ImportOptions& options) {

@@ -9,6 +9,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -103,8 +104,9 @@ private:
 [[nodiscard]] core::Result<void> check_3mf_expansion(const std::filesystem::path& path,
                                                      std::uint64_t max_placed, int max_depth);
 
-/// STEP or IGES through Open CASCADE: solids only, tessellated with the options'
-/// deviations, in mm.
+/// STEP or IGES through Open CASCADE, in this process (the reader program's): solids only,
+/// tessellated with the options' deviations, in mm. Loads the module libmaxslice_cad.so
+/// (cad_plugin.cpp).
 [[nodiscard]] core::Result<RawImport> read_cad(const std::filesystem::path& path, Format format,
                                                const ImportOptions& options);
 
@@ -112,14 +114,40 @@ private:
 /// in sanitizer builds).
 inline constexpr double kReaderMemoryShare = 0.5;
 
-/// Runs a reader in a forked child process: a crash (signal) or a run longer than
-/// time_limit_s (<= 0: no limit) of the library behind it refuses the file (kInvalidInput)
-/// instead of ending or blocking the program; `slow_because` ends the time-out message
-/// (what makes this reader slow on a file, and what to do). The child is killed when the
-/// calling thread ends (the program is killed). kIo when the child cannot be started.
-[[nodiscard]] core::Result<RawImport> run_isolated(
-    const std::function<core::Result<RawImport>()>& reader, double time_limit_s,
-    std::string_view library, std::string_view slow_because);
+/// A reader program and its arguments (run_isolated adds the caller's pid before them).
+struct ReaderCommand {
+    std::filesystem::path program;
+    std::vector<std::string> args;
+};
+
+/// Runs a reader program (one that calls serve_isolated) and takes the mesh it reads: a
+/// crash (signal) or a run longer than time_limit_s (<= 0: no limit) of the library behind
+/// it refuses the file (kInvalidInput) instead of ending or blocking the program, naming
+/// `library`; `slow_because` ends the time-out message (what makes this reader slow on a
+/// file, and what to do). The program is killed when the calling thread ends (the caller is
+/// killed). kIo when the program cannot be started.
+[[nodiscard]] core::Result<RawImport> run_isolated(const ReaderCommand& command,
+                                                   double time_limit_s, std::string_view library,
+                                                   std::string_view slow_because);
+
+/// What a reader program runs: its arguments after the caller's pid.
+using IsolatedReader =
+    std::function<core::Result<RawImport>(std::span<const std::string_view> args)>;
+
+/// The reader program's side of run_isolated, called from its main: checks that the caller
+/// started it and is alive, asks to die with it, bounds its memory, runs the reader and
+/// hands the result (or that it ran out of memory, or threw) to the caller. Never returns.
+[[noreturn]] void serve_isolated(int argc, char** argv, const IsolatedReader& reader);
+
+/// A file maxslice ships beside its program: `name` in the directory of the running program,
+/// in lib/maxslice/ beside that directory (an installed maxslice), or at `build_path` (the
+/// build tree it was built in), the first of them that exists; an environment variable
+/// `env`, when set, names the file instead, with no fallback. kUnsupported naming every
+/// place looked at when there is none; `what` says what the file is.
+[[nodiscard]] core::Result<std::filesystem::path> find_companion(std::string_view what,
+                                                                 const char* env,
+                                                                 std::string_view name,
+                                                                 const char* build_path);
 
 /// Checks an OBJ text before assimp sees it: every 'v' number parses, every face index
 /// points at a vertex. Counts faces with fewer than 3 corners and point/line elements.

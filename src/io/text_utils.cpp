@@ -143,3 +143,21 @@ std::optional<std::string> utf16_to_utf8(std::string_view bytes) {
 }
 
 }  // namespace maxslice::io::detail
+
+namespace maxslice::io {
+
+std::string_view format_name(Format format) {
+    switch (format) {
+        case Format::kStlBinary: return "stl-binary";
+        case Format::kStlAscii: return "stl-ascii";
+        case Format::kObj: return "obj";
+        case Format::kPly: return "ply";
+        case Format::kOff: return "off";
+        case Format::k3mf: return "3mf";
+        case Format::kStep: return "step";
+        case Format::kIges: return "iges";
+    }
+    return "unknown";
+}
+
+}  // namespace maxslice::io
