@@ -51,17 +51,22 @@
 
 #include "readers.hpp"
 
+#if defined(__SANITIZE_ADDRESS__)
+#define MAXSLICE_ADDRESS_SANITIZER 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define MAXSLICE_ADDRESS_SANITIZER 1
+#endif
+#endif
+#if MAXSLICE_ADDRESS_SANITIZER
+#include <sanitizer/common_interface_defs.h>
+#endif
+
 namespace maxslice::io::detail {
 namespace {
 
-#if defined(__SANITIZE_ADDRESS__)
+#if MAXSLICE_ADDRESS_SANITIZER
 constexpr bool kAddressSanitizer = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-constexpr bool kAddressSanitizer = true;
-#else
-constexpr bool kAddressSanitizer = false;
-#endif
 #else
 constexpr bool kAddressSanitizer = false;
 #endif
@@ -119,7 +124,13 @@ private:
 };
 
 // The first word of what the reader program writes.
-enum class Payload : std::uint64_t { kError = 0, kMesh = 1, kOutOfMemory = 2, kThrew = 3 };
+enum class Payload : std::uint64_t {
+    kError = 0,
+    kMesh = 1,
+    kOutOfMemory = 2,
+    kThrew = 3,
+    kSanitizer = 4,  ///< a sanitizer reported an error in the reader (sanitizer builds)
+};
 
 std::string encode(Payload tag) {
     Writer w;
@@ -163,6 +174,13 @@ std::optional<core::Result<RawImport>> decode(std::string_view bytes, std::strin
                         "machine's) reading the file: it expands to more than that (a packed "
                         "file that inflates enormously, or a damaged one)",
                         library, 100.0 * kReaderMemoryShare)));
+    }
+    if (tag == static_cast<std::uint64_t>(Payload::kSanitizer)) {
+        return core::Result<RawImport>(core::fail(
+            core::ErrorCode::kInternal,
+            fmt::format("the {} reader program stopped on a sanitizer report (printed above): a "
+                        "bug in maxslice's reading code, not in the file",
+                        library)));
     }
     if (tag == static_cast<std::uint64_t>(Payload::kThrew) && rd.done()) {
         return core::Result<RawImport>(core::fail(
@@ -233,6 +251,17 @@ int above_result_fd(int fd) {
     ::close(kResultFd);
     ::_exit(0);
 }
+
+#if MAXSLICE_ADDRESS_SANITIZER
+// Called by the sanitizer runtime when it ends the reader program on a report (a bug in
+// maxslice's own code that runs there: AddressSanitizer, or UndefinedBehaviorSanitizer
+// without recovery): the caller learns that it was a report, not a crash of the library on
+// a damaged file, whichever way the runtime then ends the program (abort_on_error).
+void sanitizer_died() {
+    const auto tag = static_cast<std::uint64_t>(Payload::kSanitizer);
+    [[maybe_unused]] const ssize_t n = ::write(kResultFd, &tag, sizeof tag);
+}
+#endif
 
 }  // namespace
 
@@ -323,6 +352,13 @@ core::Result<RawImport> run_isolated(const ReaderCommand& command, double time_l
                                       "limit for a part reader and was stopped: {}",
                                       library, time_limit_s, slow_because));
     }
+    // A sanitizer report ends the program with a signal or an exit code the runtime's options
+    // choose: what it wrote says which.
+    std::uint64_t tag = 0;
+    if (bytes.size() >= sizeof tag) std::memcpy(&tag, bytes.data(), sizeof tag);
+    if (tag == static_cast<std::uint64_t>(Payload::kSanitizer)) {
+        if (auto result = decode(bytes, library)) return std::move(*result);
+    }
     if (waited == pid && WIFSIGNALED(status)) {
         const int sig = WTERMSIG(status);
         return core::fail(core::ErrorCode::kInvalidInput,
@@ -347,6 +383,9 @@ void serve_isolated(int argc, char** argv, const IsolatedReader& reader) {
     }
     if (::prctl(PR_SET_PDEATHSIG, SIGKILL) != 0 || ::getppid() != parent) ::_exit(1);
     bound_memory();
+#if MAXSLICE_ADDRESS_SANITIZER
+    __sanitizer_set_death_callback(&sanitizer_died);
+#endif
     std::vector<std::string_view> args;
     for (int i = 2; i < argc; ++i) args.emplace_back(argv[i]);
     try {

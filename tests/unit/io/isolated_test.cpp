@@ -138,6 +138,23 @@ TEST(Isolated, AReaderKilledBySignalIsACrashOfTheLibrary) {
         << r.error().describe();
 }
 
+// A sanitizer report on maxslice's own code in the reader is a bug to fix, not a damaged file:
+// it must not pass for a refusal (the fuzzers and the sanitizer tests would miss it).
+TEST(Isolated, ASanitizerReportInTheReaderIsAnInternalError) {
+#if !defined(__SANITIZE_ADDRESS__) && defined(__has_feature)
+#if !__has_feature(address_sanitizer)
+    GTEST_SKIP() << "only a sanitizer build reports the overflow";
+#endif
+#elif !defined(__SANITIZE_ADDRESS__)
+    GTEST_SKIP() << "only a sanitizer build reports the overflow";
+#endif
+    auto r = detail::run_isolated(test_reader({"overflow"}), 60.0, "lib3mf", "test");
+    ASSERT_FALSE(r);
+    EXPECT_EQ(r.error().code, core::ErrorCode::kInternal) << r.error().describe();
+    EXPECT_TRUE(contains(r.error().message, "lib3mf reader program stopped on a sanitizer report"))
+        << r.error().describe();
+}
+
 TEST(Isolated, AMissingReaderProgramCannotBeStarted) {
     auto r = detail::run_isolated({"/nonexistent/maxslice-read-part", {}}, 60.0, "assimp", "t");
     ASSERT_FALSE(r);

@@ -6,6 +6,7 @@
 //   pause           never finishes
 //   allocate BYTES  allocates BYTES (touching one page) and returns nothing
 //   kill            ends by an uncatchable signal, as a crash does
+//   overflow        reads past a heap block (a sanitizer report in sanitizer builds)
 #include <signal.h>
 #include <unistd.h>
 
@@ -50,6 +51,15 @@ Result<RawImport> read_part(std::span<const std::string_view> args) {
         return RawImport{};
     }
     if (mode == "kill") ::raise(SIGKILL);
+    if (mode == "overflow") {
+        // A heap overflow in the reader's own code: a sanitizer report in sanitizer builds
+        // (isolated_test.cpp runs this mode only there).
+        std::unique_ptr<char[]> block(new char[16]);
+        volatile char* p = block.get();
+        const std::size_t past = args.size() + 15;  // 16 with the mode alone
+        return maxslice::core::fail(maxslice::core::ErrorCode::kInvalidInput,
+                                    std::string(1, p[past]));
+    }
     return maxslice::core::fail(maxslice::core::ErrorCode::kInvalidInput,
                                 "the test reader refuses this");
 }
