@@ -64,8 +64,10 @@ struct Query {
         if (level == 0) {
             if (a < region.a_min) return false;
             const double r = core::norm(rel - axis * a);
-            const double bound = region.distance_bound(a, r);
-            if (bound > margin || (margin > 0.0 && region.distance(a, r) > margin)) return false;
+            if (!region.bound_within(a, r, margin) ||
+                (margin > 0.0 && region.distance(a, r) > margin)) {
+                return false;
+            }
             if (hit != nullptr) *hit = c;
             return true;
         }
@@ -73,7 +75,7 @@ struct Query {
         if (a + ext < region.a_min || a - ext > region.a_max + margin) return false;
         const double r = core::norm(rel - axis * a);
         const double rho = 0.5 * size * std::numbers::sqrt3;
-        if (region.distance_bound(a, r) > margin + rho) return false;
+        if (!region.bound_within(a, r, margin + rho)) return false;
         for (int di = 0; di < 2; ++di) {
             for (int dj = 0; dj < 2; ++dj) {
                 for (int dk = 0; dk < 2; ++dk) {
@@ -122,6 +124,20 @@ double Region::distance_bound(double a, double r) const {
         d = std::min(d, m);
     }
     return d;
+}
+
+bool Region::bound_within(double a, double r, double limit) const {
+    for (const auto& poly : edges) {
+        bool within = true;
+        for (const Edge& e : poly) {
+            if (a * e.na + r * e.nr - e.offset > limit) {
+                within = false;
+                break;
+            }
+        }
+        if (within) return true;
+    }
+    return false;
 }
 
 double Region::distance(double a, double r) const {

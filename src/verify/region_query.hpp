@@ -39,6 +39,9 @@ struct Region {
     /// A lower bound of distance() outside the region (the largest edge-line distance of the
     /// nearest polygon), exact inside; no square roots.
     [[nodiscard]] double distance_bound(double a, double r) const;
+    /// distance_bound(a, r) <= limit, decided with the fewest edges: the first polygon within
+    /// it answers, and a polygon is left at its first edge line beyond it.
+    [[nodiscard]] bool bound_within(double a, double r, double limit) const;
 };
 
 /// Looks for a set voxel whose centre lies within `margin` of the region placed with its axis
