@@ -51,13 +51,6 @@
 
 #include "readers.hpp"
 
-#if defined(__SANITIZE_ADDRESS__)
-#define MAXSLICE_ADDRESS_SANITIZER 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define MAXSLICE_ADDRESS_SANITIZER 1
-#endif
-#endif
 #if MAXSLICE_ADDRESS_SANITIZER
 #include <sanitizer/common_interface_defs.h>
 #endif
@@ -65,15 +58,9 @@
 namespace maxslice::io::detail {
 namespace {
 
-#if MAXSLICE_ADDRESS_SANITIZER
-constexpr bool kAddressSanitizer = true;
-#else
-constexpr bool kAddressSanitizer = false;
-#endif
-
 // Lowers the child's address-space limit to its share of the machine's memory.
 void bound_memory() {
-    if (kAddressSanitizer) return;
+    if (MAXSLICE_ADDRESS_SANITIZER) return;
     const double bytes = kReaderMemoryShare * static_cast<double>(::sysconf(_SC_PHYS_PAGES)) *
                          static_cast<double>(::sysconf(_SC_PAGESIZE));
     struct rlimit lim {};

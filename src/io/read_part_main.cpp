@@ -55,8 +55,7 @@ Result<RawImport> read_part(std::span<const std::string_view> args) {
 
 }  // namespace
 
-#if defined(__SANITIZE_ADDRESS__) || defined(__has_feature)
-#if defined(__SANITIZE_ADDRESS__) || __has_feature(address_sanitizer)
+#if MAXSLICE_ADDRESS_SANITIZER
 // In a sanitizer build a crash signal ends this program as in any other build (the caller
 // refuses the file: Open CASCADE dereferences null handles on damaged files), instead of
 // being reported as a bug of maxslice; the sanitizer's reports on maxslice's own code still
@@ -64,7 +63,6 @@ Result<RawImport> read_part(std::span<const std::string_view> args) {
 extern "C" const char* __asan_default_options() {
     return "handle_segv=0:handle_sigbus=0:handle_sigfpe=0:handle_sigill=0";
 }
-#endif
 #endif
 
 int main(int argc, char** argv) {

@@ -19,6 +19,19 @@
 #include "maxslice/io/read_mesh.hpp"
 #include "maxslice/mesh/triangle_mesh.hpp"
 
+// 1 in a build with AddressSanitizer (clang's -fsanitize=address, or GCC's), else 0: the
+// reader program's memory bound and signal handling, and the tests of them, depend on it.
+#if defined(__SANITIZE_ADDRESS__)
+#define MAXSLICE_ADDRESS_SANITIZER 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define MAXSLICE_ADDRESS_SANITIZER 1
+#endif
+#endif
+#ifndef MAXSLICE_ADDRESS_SANITIZER
+#define MAXSLICE_ADDRESS_SANITIZER 0
+#endif
+
 namespace maxslice::io::detail {
 
 /// What a format reader hands back. Errors from the readers carry no context; read_mesh

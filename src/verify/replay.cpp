@@ -10,7 +10,6 @@
 #include <limits>
 #include <new>
 #include <optional>
-#include <stdexcept>
 #include <string>
 #include <utility>
 
@@ -196,7 +195,6 @@ void reserve_blocks(std::string_view text, std::vector<ReplayBlock>& blocks) {
         blocks.reserve(std::min(lines, text.size() / kLeastBlockBytes) + 1);
     } catch (const std::bad_alloc&) {
         // grows as it goes
-    } catch (const std::length_error&) {
     }
 }
 

@@ -96,13 +96,9 @@ TEST(Isolated, TimeOutNamesTheReaderAndTheCause) {
 // page is touched: without the bound it succeeds (and the test fails) without using the
 // memory.
 TEST(Isolated, AReaderThatExceedsItsMemoryShareIsRefused) {
-#if defined(__SANITIZE_ADDRESS__)
-    GTEST_SKIP() << "AddressSanitizer needs the address space; the bound is left out there";
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-    GTEST_SKIP() << "AddressSanitizer needs the address space; the bound is left out there";
-#endif
-#endif
+    if (MAXSLICE_ADDRESS_SANITIZER) {
+        GTEST_SKIP() << "AddressSanitizer needs the address space; the bound is left out there";
+    }
     const double machine = static_cast<double>(::sysconf(_SC_PHYS_PAGES)) *
                            static_cast<double>(::sysconf(_SC_PAGESIZE));
     const auto too_much =
@@ -141,13 +137,7 @@ TEST(Isolated, AReaderKilledBySignalIsACrashOfTheLibrary) {
 // A sanitizer report on maxslice's own code in the reader is a bug to fix, not a damaged file:
 // it must not pass for a refusal (the fuzzers and the sanitizer tests would miss it).
 TEST(Isolated, ASanitizerReportInTheReaderIsAnInternalError) {
-#if !defined(__SANITIZE_ADDRESS__) && defined(__has_feature)
-#if !__has_feature(address_sanitizer)
-    GTEST_SKIP() << "only a sanitizer build reports the overflow";
-#endif
-#elif !defined(__SANITIZE_ADDRESS__)
-    GTEST_SKIP() << "only a sanitizer build reports the overflow";
-#endif
+    if (!MAXSLICE_ADDRESS_SANITIZER) GTEST_SKIP() << "only a sanitizer build reports the overflow";
     auto r = detail::run_isolated(test_reader({"overflow"}), 60.0, "lib3mf", "test");
     ASSERT_FALSE(r);
     EXPECT_EQ(r.error().code, core::ErrorCode::kInternal) << r.error().describe();
