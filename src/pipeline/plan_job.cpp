@@ -546,11 +546,10 @@ std::string plan_json(const PlannedPart& planned, const PreparedPart& part) {
                 dj["far_features"] = std::move(far);
             }
             if (d.head_checked) {
-                dj["head"] = {{"lean_deg", d.split_lean_deg},
-                              {"turn_deg", d.split_turn_deg},
-                              {"margin_mm", d.head_margin_mm},
-                              {"sideways_margin_mm", d.seed_margin_mm},
-                              {"clears", d.head_clears}};
+                dj["head"] = {
+                    {"lean_deg", d.split_lean_deg},           {"turn_deg", d.split_turn_deg},
+                    {"searched_deg", d.split_searched_deg},   {"margin_mm", d.head_margin_mm},
+                    {"sideways_margin_mm", d.seed_margin_mm}, {"clears", d.head_clears}};
             }
         }
         if (d.kind == plan::Decision::Kind::kTilt) dj["lean_deg"] = d.lean_deg;

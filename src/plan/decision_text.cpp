@@ -21,6 +21,20 @@ std::string turn_words(double turn_deg) {
     return fmt::format("turned {:.0f} deg about the lower layer's normal, then ", turn_deg);
 }
 
+// How the head's reach moved a split's direction off N_s: "turned 20 deg about the lower
+// layer's normal, then leaned up 45 deg from the sideways direction" (`its`: "its sideways
+// direction").
+std::string moved_words(const Decision& d, bool its) {
+    const char* sideways = its ? "its sideways direction" : "the sideways direction";
+    if (d.split_searched_deg > 0.0) {
+        return fmt::format(
+            "found in a sample of the sphere within the table's tilt range, {:.0f} deg from {}",
+            d.split_searched_deg, sideways);
+    }
+    return fmt::format("{}leaned up {:.0f} deg from {}", turn_words(d.split_turn_deg),
+                       d.split_lean_deg, sideways);
+}
+
 }  // namespace
 
 std::string describe(const Plan& plan, const Decision& d) {
@@ -34,17 +48,16 @@ std::string describe(const Plan& plan, const Decision& d) {
             std::string reach;
             if (d.head_checked && !d.head_clears) {
                 reach = fmt::format(
-                    "; no lean up keeps the head's {:.2f} mm clearance from what is built before "
-                    "it and the plate (closest {:.2f} mm): the build order and the verifier "
-                    "decide",
+                    "; no lean up or turn of the sideways direction, nor any direction of a "
+                    "sample of the sphere that carries the piece, keeps the head's {:.2f} mm "
+                    "clearance from what is built before it and the plate (closest {:.2f} mm): "
+                    "the build order and the verifier decide",
                     s.head->clearance_mm, d.head_margin_mm);
             } else if (d.moved_for_reach()) {
                 reach = fmt::format(
-                    " ({}leaned up {:.0f} deg from the sideways direction, where the head would "
-                    "come within {:.2f} mm of what is built before it or the plate; so moved, it "
-                    "keeps its {:.2f} mm clearance)",
-                    turn_words(d.split_turn_deg), d.split_lean_deg, d.seed_margin_mm,
-                    s.head->clearance_mm);
+                    " ({}, where the head would come within {:.2f} mm of what is built before it "
+                    "or the plate; so moved, it keeps its {:.2f} mm clearance)",
+                    moved_words(d, false), d.seed_margin_mm, s.head->clearance_mm);
             }
             if (s.max_tilt_deg < 180.0 && !plan.regions.empty() &&
                 angle_deg(ns, plan.regions.front().direction) > s.max_tilt_deg - 1e-6) {
@@ -203,13 +216,13 @@ std::string describe_refusal(const Plan& plan, const BuildOrder& order, const No
             rid, from != rid ? fmt::format(" (it carries on region {})", from) : std::string(),
             p.area_mm2, p.C.x, p.C.y, p.C.z, r.direction.x, r.direction.y, r.direction.z);
         if (made->moved_for_reach()) {
-            out += fmt::format(", {}leaned up {:.0f} deg from its sideways direction",
-                               turn_words(made->split_turn_deg), made->split_lean_deg);
+            out += ", " + moved_words(*made, true);
         }
         if (made->head_checked && !made->head_clears) {
             out += fmt::format(
-                " (no lean up to the most that keeps its underside carried kept the head "
-                "{:.2f} mm clear: closest {:.2f} mm)",
+                " (no lean up to the most that keeps its underside carried, nor any direction "
+                "of a sample of the sphere that carries it, kept the head {:.2f} mm clear: "
+                "closest {:.2f} mm)",
                 nozzle.clearance_mm, made->head_margin_mm);
         }
         out += fmt::format(", reaches region {} only with the head in its way", region_of(c.other));

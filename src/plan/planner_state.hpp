@@ -150,6 +150,12 @@ private:
     // Whether region rid was split off with its direction leaned up from N_s for the head's
     // reach, or continues such a region after a later split: its layers do not tilt towards
     // the centroid chain (decision 0029).
+    // reach.cpp: where no lean or turn of N_s keeps the clearance, a sample of the sphere.
+    core::Result<std::optional<ReachChoice>> direction_by_sphere(const OverhangPiece& p,
+                                                                 const core::Vec3d& ns,
+                                                                 const std::vector<HalfSpace>& cell,
+                                                                 const ReachScene& scene,
+                                                                 double slack);
     [[nodiscard]] bool leaned_by_reach(int rid) const;
     [[nodiscard]] double reach_spacing() const;
     ReachScene reach_scene(int lower, PointCloud& top);

@@ -9,8 +9,10 @@
 #include <span>
 #include <utility>
 
+#include <optional>
 #include "maxslice/core/revolution.hpp"
 #include "maxslice/core/units.hpp"
+#include "maxslice/geom2d/wire_tree.hpp"
 
 namespace maxslice::plan::detail {
 namespace {
@@ -205,6 +207,20 @@ constexpr double kSameTowardsDeg = 1.0;
 // The sideways region's apexes are sampled on this many planes at most along a direction.
 constexpr int kReachPlanes = 48;
 
+// The sphere's sample (direction_by_sphere): neighbours this far apart (deg) ...
+constexpr double kSphereStepDeg = 15.0;
+// A direction of the sample is taken at once when the head keeps this much more than the
+// clearance (and the samples' slack) along it; else the one with the largest margin. The
+// sample is coarse and the reach check samples the material: the room keeps the build order,
+// which measures finer, from finding the head just within the clearance (box_sides.STEP as
+// given: without it, a direction 0.1 mm inside).
+constexpr double kSphereRoomMm = 2.0;
+// Sections grow by at most beta's overhang from one sampled plane to the next, beta capped
+// here (deg) so that the growth stays finite.
+constexpr double kSphereMaxBetaDeg = 85.0;
+// A direction this close to `up` (norm of its part across) has no azimuth of its own.
+constexpr double kMinAcross = 1e-9;
+
 // Sample spacing of the head's reach checks: half a track. The margins they give are within a
 // quarter track of the surface's, so a direction must keep that much more than the clearance
 // (the build order and the verifier check the program itself).
@@ -348,7 +364,113 @@ core::Result<ReachChoice> Planner::direction_by_reach(int lower, const OverhangP
         add(turned, 0.0, az);
         leans_of(turned, az);
     }
-    return choose_by_reach(*s_.head, scene, candidates, slack, apexes_along);
+    auto choice = choose_by_reach(*s_.head, scene, candidates, slack, apexes_along);
+    if (!choice || choice->clears) return choice;
+    auto searched = direction_by_sphere(p, ns, cell, scene, slack);
+    if (!searched) return std::unexpected(searched.error());
+    if (!searched->has_value() || !(*searched)->clears) return choice;
+    (*searched)->seed_margin_mm = choice->seed_margin_mm;
+    return **searched;
+}
+
+// Directions on a sphere about `up`, each at most `step_deg` from a neighbour and no more than
+// max_tilt_deg from `up`: rings of polar angle every step_deg, each ring's azimuths counted
+// from `ns`'s, so a part turned about `up` gets the same directions turned with it.
+std::vector<Vec3d> sphere_sample(const Vec3d& up, const Vec3d& ns, double max_tilt_deg,
+                                 double step_deg) {
+    const double deg = std::numbers::pi / 180.0;
+    Vec3d e1 = ns - up * core::dot(ns, up);
+    if (core::norm(e1) < kMinAcross) {
+        e1 = std::abs(up.x) < 0.9 ? Vec3d{1, 0, 0} : Vec3d{0, 1, 0};
+        e1 = e1 - up * core::dot(e1, up);
+    }
+    e1 = core::normalized(e1);
+    const Vec3d e2 = core::cross(up, e1);
+    std::vector<Vec3d> out{up};
+    const int rings = static_cast<int>(std::floor(std::min(max_tilt_deg, 180.0) / step_deg + 1e-9));
+    for (int k = 1; k <= rings; ++k) {
+        const double theta = k * step_deg * deg;
+        const int around =
+            std::max(1, static_cast<int>(std::ceil(360.0 * std::sin(theta) / step_deg)));
+        for (int j = 0; j < around; ++j) {
+            const double phi = 2.0 * std::numbers::pi * j / around;
+            out.push_back(
+                core::normalized(up * std::cos(theta) +
+                                 (e1 * std::cos(phi) + e2 * std::sin(phi)) * std::sin(theta)));
+        }
+    }
+    return out;
+}
+
+// No lean or turn of N_s keeps the clearance: a sample of the sphere within the table's tilt
+// range, nearest to N_s first. A direction is kept only where the material beyond the split
+// plane rests on what lies before it (each sampled section within the one before grown as far
+// as beta allows, the first on the material just before the split plane) and the head clears
+// what is built and the plate: the first such, else the one with the largest margin.
+core::Result<std::optional<ReachChoice>> Planner::direction_by_sphere(
+    const OverhangPiece& p, const Vec3d& ns, const std::vector<HalfSpace>& cell,
+    const ReachScene& scene, double slack) {
+    const Vec3d up = plan_.regions.front().direction;
+    const double spacing = reach_spacing();
+    const double tan_beta =
+        std::tan(std::min(s_.beta_deg, kSphereMaxBetaDeg) * std::numbers::pi / 180.0);
+    const auto half_track = core::mm_to_um(s_.track_width_mm / 2);
+    std::vector<std::pair<double, Vec3d>> dirs;
+    for (const Vec3d& d : sphere_sample(up, ns, s_.max_tilt_deg, kSphereStepDeg)) {
+        // N_s itself was tried first among the leans.
+        if (angle_deg(d, ns) >= kSameTowardsDeg) dirs.emplace_back(angle_deg(d, ns), d);
+    }
+    std::stable_sort(dirs.begin(), dirs.end(),
+                     [](const auto& a, const auto& b) { return a.first < b.first; });
+    // What lies before the split plane: the parent's cell (cell's last half-space is 'above
+    // L'), which L's region and the region carrying on from L fill before this one.
+    const std::vector<HalfSpace> before_split(cell.begin(), cell.end() - 1);
+    const double wanted = s_.head->clearance_mm + slack + kSphereRoomMm;
+    std::optional<ReachChoice> best;
+    for (const auto& [off, d] : dirs) {
+        std::vector<HalfSpace> c = cell;
+        c.push_back({p.contact_center, d});
+        const slice::PlaneFrame base = slice::PlaneFrame::from_normal(p.contact_center, d);
+        const double hi = slice::extent_along(mesh_, base).second;
+        if (!(hi > 0.0)) continue;
+        const int planes =
+            std::clamp(static_cast<int>(std::ceil(hi / s_.layer_mm)), 1, kReachPlanes);
+        const double first = std::min(s_.layer_mm / 2, hi / 2);
+        const slice::PlaneFrame behind = base.shifted(-s_.layer_mm / 2);
+        auto before = sections_->section(behind, s_.layer_mm);
+        if (!before) return std::unexpected(before.error());
+        geom2d::Paths2 prev = clip_to_cell(*before, before_split, behind);
+        double prev_at = -s_.layer_mm / 2;
+        bool supported = true;
+        std::vector<Vec3d> apexes;
+        for (int k = 0; k < planes && supported; ++k) {
+            const double at = planes == 1 ? first : first + (hi - first) * k / (planes - 1);
+            const slice::PlaneFrame plane = base.shifted(at);
+            auto cut = sections_->section(plane, s_.layer_mm);
+            if (!cut) return std::unexpected(cut.error());
+            geom2d::Paths2 clipped = clip_to_cell(*cut, c, plane);
+            // What overhangs the section before by more than beta allows, without slivers
+            // narrower than a track (as the neighbour analysis sees pieces).
+            const geom2d::Paths2 bare = geom2d::difference_of(
+                clipped, geom2d::offset_of(prev, core::mm_to_um((at - prev_at) * tan_beta)));
+            const geom2d::Paths2 opened = geom2d::intersection_of(
+                geom2d::offset_of(geom2d::offset_of(bare, -half_track), half_track), bare);
+            supported = geom2d::signed_area_mm2(opened) < analysis_.min_piece_area_mm2;
+            const std::vector<Vec3d> pts =
+                boundary_points(clipped, plane, spacing, s_.layer_mm / 2);
+            apexes.insert(apexes.end(), pts.begin(), pts.end());
+            prev = std::move(clipped);
+            prev_at = at;
+        }
+        if (!supported || apexes.empty()) continue;
+        const double m = reach_margin(*s_.head, scene, apexes, d, wanted + 1.0);
+        if (!best || m > best->margin_mm) {
+            best = ReachChoice{d, 0.0, 0.0, m, 0.0, m >= s_.head->clearance_mm};
+            best->searched_deg = off;
+        }
+        if (m >= wanted) break;
+    }
+    return best;
 }
 
 }  // namespace maxslice::plan::detail

@@ -73,7 +73,16 @@ struct ReachChoice {
     double margin_mm = 0.0;       ///< the head's smallest margin along it (capped)
     double seed_margin_mm = 0.0;  ///< along N_s itself
     bool clears = false;          ///< margin_mm >= the nozzle's clearance
+    /// > 0: found in a sample of the sphere (no lean or turn of N_s kept the clearance),
+    /// this far from N_s (deg).
+    double searched_deg = 0.0;
 };
+
+/// Directions within max_tilt_deg of `up` (unit), neighbours about step_deg apart: `up`,
+/// then rings of polar angle every step_deg, each ring's azimuths counted from the part of
+/// `ns` across `up` (a part turned about `up` gets the same directions turned with it).
+[[nodiscard]] std::vector<core::Vec3d> sphere_sample(const core::Vec3d& up, const core::Vec3d& ns,
+                                                     double max_tilt_deg, double step_deg);
 
 /// A direction to try: the seed's N_s (lean_deg 0) or N_s leaned by lean_deg, after turning
 /// it about L's normal by turn_deg.

@@ -109,6 +109,7 @@ core::Result<bool> Planner::split(int rid, int lower, const slice::Slice& s,
     d.head_checked = s_.head.has_value();
     d.split_lean_deg = reach->lean_deg;
     d.split_turn_deg = reach->turn_deg;
+    d.split_searched_deg = reach->searched_deg;
     d.head_margin_mm = reach->margin_mm;
     d.seed_margin_mm = reach->seed_margin_mm;
     d.head_clears = reach->clears;

@@ -765,11 +765,12 @@ TEST(FiveAxis, TheLargeCellHasTheReferenceHeadAndProcesses) {
     expect_clean_job(bar, kProfiles / "large_5axis_ac.toml", dir, "gm", {"--orient", "given"});
 }
 
-// A profile (the reference one by default) with a nozzle of 60 degree half angle, written into
-// dir.
+// A profile (the reference one by default) with a nozzle of 75 degree half angle, written into
+// dir. (With 60 degrees the portal's beam is built as given since decision 0046: a direction
+// from the sample of the sphere clears it.)
 fs::path wide_nozzle_profile(const fs::path& dir, const fs::path& from_profile = kReference5) {
     return replaced_copy(from_profile, dir, "wide.toml", "half_angle_deg = 30.0",
-                         "half_angle_deg = 60.0");
+                         "half_angle_deg = 75.0");
 }
 
 // A part whose footprint reaches beyond the substrate plate on every base is refused before it
@@ -866,7 +867,7 @@ TEST(FiveAxis, ABodyFloatingFreeIsRefusedNamingWhereItStarts) {
     EXPECT_LT(std::stod(m[3]), 25.0) << r.err;
 }
 
-// A nozzle with a 60 degree half angle cannot reach under the portal's beam: no build order,
+// A nozzle with a 75 degree half angle cannot reach under the portal's beam: no build order,
 // exit 2, nothing written. (The reference 30 degree nozzle builds it as given: its beam is
 // closed from one column with the head leaned up over the other, decision 0029.)
 TEST(FiveAxis, AWideNozzleIsRefusedWithoutAProgram) {
@@ -882,7 +883,7 @@ TEST(FiveAxis, AWideNozzleIsRefusedWithoutAProgram) {
     EXPECT_FALSE(fs::exists(program));
 }
 
-// The portal frame has no collision-free order as given with a nozzle of 60 degree half angle
+// The portal frame has no collision-free order as given with a nozzle of 75 degree half angle
 // (its beam cannot be reached from beside the columns). By default the job then stands it on
 // another candidate base, says so, and writes a program that `maxslice verify` passes with the
 // part placed along that direction; --orient given and --direction keep the refusal.
@@ -1149,7 +1150,7 @@ TEST(FiveAxis, AHeadThatWouldMeetTheSubstrateLeansTheSidewaysRegionUp) {
 
 // The RS-274 dialects name the base the program builds on in their header; `maxslice verify`
 // without --direction places the model by it (the gm dialect has no comments: it needs the
-// --direction the job prints). With a nozzle of 60 degree half angle the portal frame is stood
+// --direction the job prints). With a nozzle of 75 degree half angle the portal frame is stood
 // on another base.
 TEST(FiveAxis, AnRsProgramSaysWhichBaseItBuildsOn) {
     const fs::path dir = temp_dir("header_base");

@@ -139,9 +139,14 @@ struct Decision {
     /// How far N_s was turned about L's normal first (signed, deg; 0: not turned). A turn is
     /// tried only when no lean of N_s itself keeps the clearance.
     double split_turn_deg = 0.0;
-    /// Whether the head's reach moved the new region's direction off N_s (lean or turn).
+    /// > 0: no lean or turn of N_s kept the clearance, and the direction was found in a
+    /// sample of the sphere within the table's tilt range, this far from N_s (deg).
+    double split_searched_deg = 0.0;
+    /// Whether the head's reach moved the new region's direction off N_s (lean, turn or
+    /// search).
     [[nodiscard]] bool moved_for_reach() const {
-        return head_checked && (split_lean_deg > 0.0 || split_turn_deg != 0.0);
+        return head_checked &&
+               (split_lean_deg > 0.0 || split_turn_deg != 0.0 || split_searched_deg > 0.0);
     }
     double head_margin_mm = 0.0;
     double seed_margin_mm = 0.0;
