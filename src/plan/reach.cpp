@@ -441,9 +441,12 @@ core::Result<std::optional<ReachChoice>> Planner::direction_by_sphere(
         if (!before) return std::unexpected(before.error());
         geom2d::Paths2 prev = clip_to_cell(*before, before_split, behind);
         double prev_at = -s_.layer_mm / 2;
-        bool supported = true;
-        std::vector<Vec3d> apexes;
-        for (int k = 0; k < planes && supported; ++k) {
+        // Plane by plane: a direction is dropped at the first section that overhangs the one
+        // before, or whose head comes closer than the clearance (most directions fail so).
+        bool kept = true;
+        bool any_apex = false;
+        double m = wanted + 1.0;
+        for (int k = 0; k < planes && kept; ++k) {
             const double at = planes == 1 ? first : first + (hi - first) * k / (planes - 1);
             const slice::PlaneFrame plane = base.shifted(at);
             auto cut = sections_->section(plane, s_.layer_mm);
@@ -455,15 +458,18 @@ core::Result<std::optional<ReachChoice>> Planner::direction_by_sphere(
                 clipped, geom2d::offset_of(prev, core::mm_to_um((at - prev_at) * tan_beta)));
             const geom2d::Paths2 opened = geom2d::intersection_of(
                 geom2d::offset_of(geom2d::offset_of(bare, -half_track), half_track), bare);
-            supported = geom2d::signed_area_mm2(opened) < analysis_.min_piece_area_mm2;
-            const std::vector<Vec3d> pts =
-                boundary_points(clipped, plane, spacing, s_.layer_mm / 2);
-            apexes.insert(apexes.end(), pts.begin(), pts.end());
+            kept = geom2d::signed_area_mm2(opened) < analysis_.min_piece_area_mm2;
+            if (kept) {
+                const std::vector<Vec3d> pts =
+                    boundary_points(clipped, plane, spacing, s_.layer_mm / 2);
+                any_apex = any_apex || !pts.empty();
+                m = reach_margin(*s_.head, scene, pts, d, m);
+                kept = m >= s_.head->clearance_mm;
+            }
             prev = std::move(clipped);
             prev_at = at;
         }
-        if (!supported || apexes.empty()) continue;
-        const double m = reach_margin(*s_.head, scene, apexes, d, wanted + 1.0);
+        if (!kept || !any_apex) continue;
         if (!best || m > best->margin_mm) {
             best = ReachChoice{d, 0.0, 0.0, m, 0.0, m >= s_.head->clearance_mm};
             best->searched_deg = off;
