@@ -142,6 +142,49 @@ TEST(Reach, ASidewaysRegionTheHeadReachesKeepsTheSeedsDirection) {
     }
 }
 
+// Where no lean or turn of the sideways direction keeps a wide nozzle (60 degree half angle)
+// clear of the plate and the block, as for the bearing seat's and the wall's bosses, the
+// planner searches a sample of the sphere within the tilt range (decision 0046). The
+// direction it keeps clears by its own margin, every layer rests on the one below, and an
+// order exists that the brute-force head of tests/support (its own cone, body and sampling)
+// finds clear.
+TEST(Reach, WhereNoLeanClearsTheHeadASampleOfTheSphereFindsADirectionThatDoes) {
+    for (const auto& f : {test::bearing_seat(), test::wall_boss()}) {
+        SCOPED_TRACE(f.name);
+        PlanSettings s = settings(true);
+        s.head->half_angle_deg = 60.0;
+        s.max_tilt_deg = 120.0;
+        const Plan p = plan_of(f.mesh, s);
+        int searched = 0;
+        for (const Decision& d : p.decisions) {
+            if (d.kind == Decision::Kind::kTilt || !(d.split_searched_deg > 0.0)) continue;
+            ++searched;
+            EXPECT_TRUE(d.moved_for_reach());
+            EXPECT_TRUE(d.head_clears);
+            EXPECT_GE(d.head_margin_mm, s.head->clearance_mm);
+            // No lean or turn of N_s kept the clearance: along N_s itself the head did not.
+            EXPECT_LT(d.seed_margin_mm, s.head->clearance_mm);
+            const Region& r = p.regions[static_cast<std::size_t>(d.new_region)];
+            EXPECT_LE(angle_deg(r.direction, {0, 0, 1}), s.max_tilt_deg + 1e-9);
+            EXPECT_NE(describe(p, d).find("found in a sample of the sphere"), std::string::npos)
+                << describe(p, d);
+        }
+        EXPECT_GT(searched, 0);
+        EXPECT_TRUE(p.unsupported_layers.empty());
+        OrderSettings os;
+        os.nozzle = *s.head;
+        const auto order = order_layers(p, os);
+        ASSERT_TRUE(order.has_value()) << order.error().describe();
+        EXPECT_TRUE(order->conflicts.empty());
+        test::NozzleCheckSettings cs;
+        cs.clearance_mm = s.head->clearance_mm;
+        cs.sample_step_mm = 2.0;
+        cs.max_pairs = 1;
+        const auto hits = test::brute_force_collisions(p, *order, *s.head, 2.5, cs);
+        EXPECT_TRUE(hits.empty()) << test::describe(hits.front());
+    }
+}
+
 // Turning a part about Z (the plate's normal) and moving it change neither what the head can
 // reach nor the plate under it: every fixture keeps its number of regions and its layers on
 // nothing, and its verdict on a collision-free order, but for conflicts within the order's
