@@ -147,15 +147,25 @@ private:
     core::Result<ReachChoice> direction_by_reach(int lower, const OverhangPiece& p,
                                                  const core::Vec3d& ns,
                                                  const std::vector<HalfSpace>& cell);
-    // Whether region rid was split off with its direction leaned up from N_s for the head's
-    // reach, or continues such a region after a later split: its layers do not tilt towards
-    // the centroid chain (decision 0029).
-    // reach.cpp: where no lean or turn of N_s keeps the clearance, a sample of the sphere.
+    // Where no lean or turn of N_s keeps the clearance, a sample of the sphere (decision 0046).
     core::Result<std::optional<ReachChoice>> direction_by_sphere(const OverhangPiece& p,
                                                                  const core::Vec3d& ns,
                                                                  const std::vector<HalfSpace>& cell,
                                                                  const ReachScene& scene,
                                                                  double slack);
+    // The planes along candidate direction d on which the reach check samples the region
+    // split off for piece p: its cell, and the planes' frames from its first layer up.
+    struct ReachPlanes {
+        std::vector<HalfSpace> cell;
+        slice::PlaneFrame base;
+        std::vector<double> heights;  // above base, along d
+    };
+    [[nodiscard]] ReachPlanes reach_planes(const OverhangPiece& p,
+                                           const std::vector<HalfSpace>& cell,
+                                           const core::Vec3d& d) const;
+    // Whether region rid was split off with its direction leaned up from N_s for the head's
+    // reach, or continues such a region after a later split: its layers do not tilt towards
+    // the centroid chain (decision 0029).
     [[nodiscard]] bool leaned_by_reach(int rid) const;
     [[nodiscard]] double reach_spacing() const;
     ReachScene reach_scene(int lower, PointCloud& top);

@@ -6,10 +6,10 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <span>
 #include <utility>
 
-#include <optional>
 #include "maxslice/core/revolution.hpp"
 #include "maxslice/core/units.hpp"
 #include "maxslice/geom2d/wire_tree.hpp"
@@ -292,6 +292,24 @@ bool Planner::leaned_by_reach(int rid) const {
     });
 }
 
+Planner::ReachPlanes Planner::reach_planes(const OverhangPiece& p,
+                                           const std::vector<HalfSpace>& cell,
+                                           const Vec3d& d) const {
+    ReachPlanes out;
+    out.cell = cell;
+    out.cell.push_back({p.contact_center, d});
+    out.base = slice::PlaneFrame::from_normal(p.contact_center, d);
+    const double hi = slice::extent_along(mesh_, out.base).second;
+    if (!(hi > 0.0)) return out;
+    const int planes = std::clamp(static_cast<int>(std::ceil(hi / s_.layer_mm)), 1, kReachPlanes);
+    // The region's first layer, then evenly up to its top.
+    const double first = std::min(s_.layer_mm / 2, hi / 2);
+    for (int k = 0; k < planes; ++k) {
+        out.heights.push_back(planes == 1 ? first : first + (hi - first) * k / (planes - 1));
+    }
+    return out;
+}
+
 core::Result<ReachChoice> Planner::direction_by_reach(int lower, const OverhangPiece& p,
                                                       const Vec3d& ns,
                                                       const std::vector<HalfSpace>& cell) {
@@ -330,19 +348,11 @@ core::Result<ReachChoice> Planner::direction_by_reach(int lower, const OverhangP
     };
     leans_of(seed, 0.0);
     const auto apexes_along = [&](const Vec3d& d) -> core::Result<std::vector<Vec3d>> {
-        std::vector<HalfSpace> c = cell;
-        c.push_back({p.contact_center, d});
-        const slice::PlaneFrame base = slice::PlaneFrame::from_normal(p.contact_center, d);
-        const double hi = slice::extent_along(mesh_, base).second;
+        const ReachPlanes rp = reach_planes(p, cell, d);
+        const std::vector<HalfSpace>& c = rp.cell;
         std::vector<Vec3d> apexes;
-        if (!(hi > 0.0)) return apexes;
-        const int planes =
-            std::clamp(static_cast<int>(std::ceil(hi / s_.layer_mm)), 1, kReachPlanes);
-        for (int k = 0; k < planes; ++k) {
-            // The region's first layer, then evenly up to its top.
-            const double first = std::min(s_.layer_mm / 2, hi / 2);
-            const double at = planes == 1 ? first : first + (hi - first) * k / (planes - 1);
-            const slice::PlaneFrame plane = base.shifted(at);
+        for (const double at : rp.heights) {
+            const slice::PlaneFrame plane = rp.base.shifted(at);
             auto cut = sections_->section(plane, s_.layer_mm);
             if (!cut) return std::unexpected(cut.error());
             const geom2d::Paths2 clipped = clip_to_cell(*cut, c, plane);
@@ -418,7 +428,8 @@ core::Result<std::optional<ReachChoice>> Planner::direction_by_sphere(
     std::vector<std::pair<double, Vec3d>> dirs;
     for (const Vec3d& d : sphere_sample(up, ns, s_.max_tilt_deg, kSphereStepDeg)) {
         // N_s itself was tried first among the leans.
-        if (angle_deg(d, ns) >= kSameTowardsDeg) dirs.emplace_back(angle_deg(d, ns), d);
+        const double off = angle_deg(d, ns);
+        if (off >= kSameTowardsDeg) dirs.emplace_back(off, d);
     }
     std::stable_sort(dirs.begin(), dirs.end(),
                      [](const auto& a, const auto& b) { return a.first < b.first; });
@@ -428,15 +439,9 @@ core::Result<std::optional<ReachChoice>> Planner::direction_by_sphere(
     const double wanted = s_.head->clearance_mm + slack + kSphereRoomMm;
     std::optional<ReachChoice> best;
     for (const auto& [off, d] : dirs) {
-        std::vector<HalfSpace> c = cell;
-        c.push_back({p.contact_center, d});
-        const slice::PlaneFrame base = slice::PlaneFrame::from_normal(p.contact_center, d);
-        const double hi = slice::extent_along(mesh_, base).second;
-        if (!(hi > 0.0)) continue;
-        const int planes =
-            std::clamp(static_cast<int>(std::ceil(hi / s_.layer_mm)), 1, kReachPlanes);
-        const double first = std::min(s_.layer_mm / 2, hi / 2);
-        const slice::PlaneFrame behind = base.shifted(-s_.layer_mm / 2);
+        const ReachPlanes rp = reach_planes(p, cell, d);
+        if (rp.heights.empty()) continue;
+        const slice::PlaneFrame behind = rp.base.shifted(-s_.layer_mm / 2);
         auto before = sections_->section(behind, s_.layer_mm);
         if (!before) return std::unexpected(before.error());
         geom2d::Paths2 prev = clip_to_cell(*before, before_split, behind);
@@ -446,12 +451,12 @@ core::Result<std::optional<ReachChoice>> Planner::direction_by_sphere(
         bool kept = true;
         bool any_apex = false;
         double m = wanted + 1.0;
-        for (int k = 0; k < planes && kept; ++k) {
-            const double at = planes == 1 ? first : first + (hi - first) * k / (planes - 1);
-            const slice::PlaneFrame plane = base.shifted(at);
+        for (std::size_t k = 0; k < rp.heights.size() && kept; ++k) {
+            const double at = rp.heights[k];
+            const slice::PlaneFrame plane = rp.base.shifted(at);
             auto cut = sections_->section(plane, s_.layer_mm);
             if (!cut) return std::unexpected(cut.error());
-            geom2d::Paths2 clipped = clip_to_cell(*cut, c, plane);
+            geom2d::Paths2 clipped = clip_to_cell(*cut, rp.cell, plane);
             // What overhangs the section before by more than beta allows, without slivers
             // narrower than a track (as the neighbour analysis sees pieces).
             const geom2d::Paths2 bare = geom2d::difference_of(
