@@ -514,6 +514,19 @@ std::string short_of_figures(double track_width_mm, const std::string& goal,
     return fmt::format("{}{:.2f} mm track {} ({})", kShortOfFigures, track_width_mm, goal, figures);
 }
 
+// The part as given, whose program misses the figures, for the search of the other bases
+// (decisions 0031 and 0047): why it falls short, and what a base that misses them too must
+// beat to be kept instead: a shorter verified build time holding no less of the part.
+struct ShortAsGiven {
+    std::string why;  // empty: not a search for the figures
+    double build_time_s = 0.0;  // 0: only a base that meets the figures is kept
+    double held = 1.0;          // the finished part (else the part) inside beads, [0, 1]
+
+    [[nodiscard]] bool beaten_by(double build_time_s_other, double held_other) const {
+        return build_time_s_other < build_time_s && held_other >= held;
+    }
+};
+
 // Says which base direction a job kept when it is not the part as given: a warning and a
 // summary line when the given one could not be built, the summary line with --orient auto;
 // and how to replay the program when the verifier needs more than the part and the profile
@@ -580,6 +593,10 @@ struct JobOutcome {
     std::string figures;  // "90.77% coverage, 0.05% excess", or why nothing was written
     std::optional<core::Error> short_of_part;  // the kept program leaves the finished part short
     bool kept_as_given = false;  // the program builds the part as given (no other base taken)
+    /// The verified program's build time and the share of the finished part (else of the part)
+    /// inside its beads, [0, 1] (NaN: not verified).
+    double build_time_s = std::numeric_limits<double>::quiet_NaN();
+    double held = std::numeric_limits<double>::quiet_NaN();
     /// Bodies the plan left out (decision 0036), worded for a refusal short of the part; empty
     /// when there are none.
     std::string left_out;
@@ -602,6 +619,8 @@ struct JobOutcome {
         const double open = area_mm2 > 0.0 ? uncovered_mm2 / area_mm2 : 0.0;
         short_of_part.reset();
         if (report) {
+            build_time_s = report->build_time_s;
+            held = report->finished_given ? report->finished_inside : report->coverage;
             figures = fmt::format("{:.2f}% coverage, {:.2f}% excess", 100.0 * report->coverage,
                                   100.0 * report->excess);
             if (report->finished_given) {
@@ -720,14 +739,15 @@ pipeline::ProgramVerdict verdict_of(std::string refusal, const Written<Planned>&
 // the nozzle check, turn them into moves and make the 5-axis program. `finer`: which of the
 // profile's finer processes `profiles` holds (0: the main one). `part` is what is deposited;
 // `finished`, when that is a near-net shape, the finished part (file frame). `given_short`,
-// when not empty (why the part as given falls short): the bases other than the given one are
-// searched, and one whose program misses the figures is refused like one that cannot be built.
+// when its `why` is not empty (the part as given falls short): the bases other than the given
+// one are searched, and one whose program misses the figures is refused like one that cannot be
+// built, unless it beats the part as given (decision 0047).
 JobOutcome run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
                                const mesh::TriangleMesh& part, const machine::Profiles& profiles,
                                pipeline::StageTimes& times, const core::Vec3d& given,
                                pipeline::OrientPolicy policy, int finer,
-                               const mesh::TriangleMesh* finished, const std::string& given_short) {
-    const bool for_goal = !given_short.empty();
+                               const mesh::TriangleMesh* finished, const ShortAsGiven& given_short) {
+    const bool for_goal = !given_short.why.empty();
     JobOutcome r;
     Printed& o = r.printed;
     const auto done = [&](int rc) { return r.done(rc); };
@@ -776,8 +796,11 @@ JobOutcome run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
         pipeline::ProgramVerdict verdict =
             verdict_of(std::move(*refusal), w, profiles.process.track_width_mm, probe);
         // Looking for a base whose program meets the figures: one that misses them is a
-        // refused try like the others (decision 0031).
-        if (for_goal && verdict.short_of_figures) {
+        // refused try like the others (decision 0031), unless it builds faster than the part as
+        // given and holds no less of it (decision 0047).
+        if (for_goal && verdict.short_of_figures &&
+            (probe.short_of_part ||
+             !given_short.beaten_by(verdict.build_time_s, probe.held))) {
             return short_of_figures(profiles.process.track_width_mm, probe.goal, probe.figures);
         }
         return verdict;
@@ -797,12 +820,14 @@ JobOutcome run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
         if (oriented->tries.empty() ||
             !oriented->tries[static_cast<std::size_t>(oriented->chosen)].refusal.empty()) {
             r.track_limited = true;
-            return refuse("no other base meets the figures with this track");
+            return refuse(
+                "no other base meets the figures with this track, nor builds faster holding as "
+                "much of the part");
         }
         // The part as given, tried before, heads the tries.
         oriented->tries.insert(
             oriented->tries.begin(),
-            pipeline::OrientTry{core::normalized(given), "as given", given_short});
+            pipeline::OrientTry{core::normalized(given), "as given", given_short.why});
         ++oriented->chosen;
     }
     const mesh::TriangleMesh placed = std::move(oriented->placed);
@@ -966,7 +991,7 @@ void layers_of_process(pipeline::SliceSettings& ss, const machine::ProcessProfil
 // refused base, and the part as given is not tried again.
 core::Result<JobOutcome> with_finer_processes(
     const machine::Profiles& profiles, const SliceOptions& so,
-    const std::function<JobOutcome(const machine::Profiles&, int, const std::string&)>& attempt,
+    const std::function<JobOutcome(const machine::Profiles&, int, const ShortAsGiven&)>& attempt,
     bool other_bases) {
     const auto& finer = profiles.process.finer;
     const auto track = [](const machine::Profiles& p) { return p.process.track_width_mm; };
@@ -988,19 +1013,28 @@ core::Result<JobOutcome> with_finer_processes(
         }
         auto p = machine::with_finer_process(profiles, n);
         if (!p) return std::unexpected(core::with_context(p.error(), "--finer"));
-        return attempt(*p, n, "");
+        return attempt(*p, n, {});
     }
-    JobOutcome main = attempt(profiles, 0, "");
+    JobOutcome main = attempt(profiles, 0, {});
     // --layer is a choice of the main process's layers: the finer ones have their own.
-    if (!main.track_limited || finer.empty() || so.finer == "off" || so.layer_given) return main;
+    if (!main.track_limited || so.finer == "off" || so.layer_given) return main;
+    const bool search_bases = other_bases && main.kept_as_given;
+    if (finer.empty() && !search_bases) return main;
     // The part as given misses the figures with the main track: another base that meets them
     // with it builds in a fraction of the finer track's time (decision 0031).
     std::string bases;
-    if (other_bases && main.kept_as_given) {
-        JobOutcome moved =
-            attempt(profiles, 0, short_of_figures(track(profiles), main.goal, main.figures));
-        if (moved.rc == kExitOk && !moved.track_limited && !moved.kept_as_given) return moved;
-        bases = " as given, and no other base does better with it";
+    // Another base that misses the figures too, but builds faster and holds no less of the
+    // part than the part as given (decision 0047): kept unless a finer process meets them.
+    std::optional<JobOutcome> faster;
+    if (search_bases) {
+        JobOutcome moved = attempt(profiles, 0,
+                                   {short_of_figures(track(profiles), main.goal, main.figures),
+                                    main.build_time_s, main.held});
+        if (moved.rc == kExitOk && !moved.kept_as_given) {
+            if (!moved.track_limited) return moved;
+            faster = std::move(moved);
+        }
+        bases = " as given, and no other base meets them with it";
     }
     std::string tried;
     for (int n = 1; n <= static_cast<int>(finer.size()); ++n) {
@@ -1021,11 +1055,12 @@ core::Result<JobOutcome> with_finer_processes(
                 f.printed.out);
             return f;
         };
-        JobOutcome f = attempt(*p, n, "");
+        JobOutcome f = attempt(*p, n, {});
         if (f.rc == kExitOk && !f.track_limited) return noted(std::move(f));
         // Short with this track as given too: another base may meet the figures with it.
         if (other_bases && f.rc == kExitOk && f.kept_as_given) {
-            JobOutcome moved = attempt(*p, n, short_of_figures(track(*p), f.goal, f.figures));
+            JobOutcome moved =
+                attempt(*p, n, {short_of_figures(track(*p), f.goal, f.figures)});
             if (moved.rc == kExitOk && !moved.track_limited && !moved.kept_as_given) {
                 return noted(std::move(moved));
             }
@@ -1033,11 +1068,22 @@ core::Result<JobOutcome> with_finer_processes(
         tried += fmt::format("{}the {:.2f} mm track (finer process {}): {}",
                              tried.empty() ? "" : "; ", track(*p), n, f.figures);
     }
-    main.printed.err += fmt::format(
-        "maxslice: note: the profile's finer processes do no better: {} (--finer N makes "
-        "the program with finer process N)\n",
-        tried);
-    return main;
+    JobOutcome& kept = faster ? *faster : main;
+    if (faster) {
+        kept.printed.err += fmt::format(
+            "maxslice: note: no base meets the figures with the {:.2f} mm track; the base kept "
+            "builds in {:.1f} min and holds {:.2f}% of the part inside its beads, the part as "
+            "given {:.1f} min and {:.2f}% (--orient given keeps it)\n",
+            track(profiles), kept.build_time_s / 60.0, 100.0 * kept.held,
+            main.build_time_s / 60.0, 100.0 * main.held);
+    }
+    if (!finer.empty()) {
+        kept.printed.err += fmt::format(
+            "maxslice: note: the profile's finer processes do no better: {} (--finer N makes "
+            "the program with finer process N)\n",
+            tried);
+    }
+    return std::move(kept);
 }
 
 // Prints a job's lines and writes what it made: the program (-o) and the previews.
@@ -1348,7 +1394,7 @@ int run_slice(const PartOptions& opt, const SliceOptions& so) {
     const bool may_retry =
         !profiles->process.finer.empty() && so.finer == "auto" && !so.layer_given;
     const auto attempt = [&](const machine::Profiles& p, int finer,
-                             const std::string& given_short) {
+                             const ShortAsGiven& given_short) {
         if (table_tilt) {
             return run_multiaxis_slice(opt, so, part->imported.mesh, p, times, given, *policy,
                                        finer, finished_part, given_short);

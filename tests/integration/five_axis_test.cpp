@@ -920,6 +920,39 @@ TEST(FiveAxis, APartShortAsGivenWithItsTrackIsStoodWhereTheTrackMeetsTheFigures)
     EXPECT_LT(build_minutes(r.out), 0.5 * build_minutes(given.out)) << r.out << given.out;
 }
 
+// Where no base meets the figures, the default search keeps another base only when its
+// verified program builds faster than the part as given and holds no less of the finished part
+// (decision 0047). The portal frame with a profile without a finer process and without
+// machining stock: as given its beads hold under 99.5 % of the finished part, and so do every
+// other base's; one of them builds faster holding more.
+TEST(FiveAxis, WhereNoBaseMeetsTheFiguresAFasterBaseHoldingNoLessIsKept) {
+    const fs::path dir = temp_dir("no_base_meets");
+    std::string text = slurp(kReference5);
+    const std::size_t finer = text.find("[[process.finer]]");
+    ASSERT_NE(finer, std::string::npos);
+    text.resize(finer);
+    const fs::path main_only = dir / "main_only.toml";
+    std::ofstream(main_only) << text;
+    const fs::path profile = zeroed_copy(main_only, dir, {"machining_stock_mm"}, "_no_stock");
+    const fs::path part = export_fixture(maxslice::test::portal_frame(), dir);
+    const CliRun given = run_cli({"slice", part.string(), "--profile", profile.string(), "-o",
+                                  (dir / "given.gm").string(), "--orient", "given"});
+    ASSERT_EQ(given.exit_code, 0) << given.out << given.err;
+    const Figures g = read_figures(given.out);
+    expect_clean(g, given.out);
+    ASSERT_LT(g.finished_pct, 100.0 * maxslice::verify::kFinishedInsideTarget) << given.out;
+    const CliRun r = run_cli({"slice", part.string(), "--profile", profile.string(), "-o",
+                              (dir / "kept.gm").string()});
+    ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+    const Figures f = read_figures(r.out);
+    expect_clean(f, r.out);
+    EXPECT_NE(r.err.find("no base meets the figures with the 2.50 mm track"), std::string::npos)
+        << r.err;
+    EXPECT_NE(r.out.find("orientation     along "), std::string::npos) << r.out;
+    EXPECT_LT(build_minutes(r.out), build_minutes(given.out)) << r.out << given.out;
+    EXPECT_GE(f.finished_pct, g.finished_pct) << r.out << given.out;
+}
+
 // Among the bases that build, the search keeps the one with the shortest verified build time
 // (decision 0015): with --orient auto the job's build time is no longer than the one each axis
 // base gets on its own (--orient given --direction, the same track) where that meets the
