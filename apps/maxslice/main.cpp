@@ -518,7 +518,7 @@ std::string short_of_figures(double track_width_mm, const std::string& goal,
 // (decisions 0031 and 0047): why it falls short, and what a base that misses them too must
 // beat to be kept instead: a shorter verified build time holding no less of the part.
 struct ShortAsGiven {
-    std::string why;  // empty: not a search for the figures
+    std::string why;            // empty: not a search for the figures
     double build_time_s = 0.0;  // 0: only a base that meets the figures is kept
     double held = 1.0;          // the finished part (else the part) inside beads, [0, 1]
 
@@ -746,7 +746,8 @@ JobOutcome run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
                                const mesh::TriangleMesh& part, const machine::Profiles& profiles,
                                pipeline::StageTimes& times, const core::Vec3d& given,
                                pipeline::OrientPolicy policy, int finer,
-                               const mesh::TriangleMesh* finished, const ShortAsGiven& given_short) {
+                               const mesh::TriangleMesh* finished,
+                               const ShortAsGiven& given_short) {
     const bool for_goal = !given_short.why.empty();
     JobOutcome r;
     Printed& o = r.printed;
@@ -799,8 +800,7 @@ JobOutcome run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
         // refused try like the others (decision 0031), unless it builds faster than the part as
         // given and holds no less of it (decision 0047).
         if (for_goal && verdict.short_of_figures &&
-            (probe.short_of_part ||
-             !given_short.beaten_by(verdict.build_time_s, probe.held))) {
+            (probe.short_of_part || !given_short.beaten_by(verdict.build_time_s, probe.held))) {
             return short_of_figures(profiles.process.track_width_mm, probe.goal, probe.figures);
         }
         return verdict;
@@ -1059,8 +1059,7 @@ core::Result<JobOutcome> with_finer_processes(
         if (f.rc == kExitOk && !f.track_limited) return noted(std::move(f));
         // Short with this track as given too: another base may meet the figures with it.
         if (other_bases && f.rc == kExitOk && f.kept_as_given) {
-            JobOutcome moved =
-                attempt(*p, n, {short_of_figures(track(*p), f.goal, f.figures)});
+            JobOutcome moved = attempt(*p, n, {short_of_figures(track(*p), f.goal, f.figures)});
             if (moved.rc == kExitOk && !moved.track_limited && !moved.kept_as_given) {
                 return noted(std::move(moved));
             }
@@ -1074,8 +1073,8 @@ core::Result<JobOutcome> with_finer_processes(
             "maxslice: note: no base meets the figures with the {:.2f} mm track; the base kept "
             "builds in {:.1f} min and holds {:.2f}% of the part inside its beads, the part as "
             "given {:.1f} min and {:.2f}% (--orient given keeps it)\n",
-            track(profiles), kept.build_time_s / 60.0, 100.0 * kept.held,
-            main.build_time_s / 60.0, 100.0 * main.held);
+            track(profiles), kept.build_time_s / 60.0, 100.0 * kept.held, main.build_time_s / 60.0,
+            100.0 * main.held);
     }
     if (!finer.empty()) {
         kept.printed.err += fmt::format(

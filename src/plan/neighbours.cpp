@@ -72,6 +72,13 @@ core::Result<std::optional<bool>> Planner::check_splits(int rid, int lower, cons
                 continue;
             }
             if (p.ang_deg > s_.beta_deg || !p.touches_lower) {
+                if (split_before(rid, ref, p)) {
+                    // Split for once already, and the near side kept it: no plane of the
+                    // tilt range takes it off, and another split would change nothing. It
+                    // stays and rests on nothing (a refusal of this base, not a runaway).
+                    record_unreachable(rid, ref, s, p);
+                    continue;
+                }
                 if (retry_footing(rid, ref)) return std::optional<bool>(true);
                 roll_back(rid, ref);
                 auto again = split(rid, ref, s, p);
@@ -145,6 +152,17 @@ bool Planner::stands_on(const Paths2& grounded, int rid, int ref, const Overhang
     const Paths2 on_ref = project_paths(grounded, last.plane, base.plane);
     return !geom2d::intersection_of(p.region, geom2d::offset_of(on_ref, ground_growth_um(last)))
                 .empty();
+}
+
+// Whether region rid, not started yet, was split above layer `lower` for piece p already (the
+// same centroid) and became that split's near side, which kept the piece.
+bool Planner::split_before(int rid, int lower, const OverhangPiece& p) const {
+    if (!plan_.regions[static_cast<std::size_t>(rid)].layers.empty()) return false;
+    return std::any_of(plan_.decisions.begin(), plan_.decisions.end(), [&](const Decision& d) {
+        return (d.kind == Decision::Kind::kSplit || d.kind == Decision::Kind::kFloating) &&
+               d.region == rid && d.continuation == rid && d.layer == lower &&
+               core::norm(d.piece.C - p.C) < 1e-9;
+    });
 }
 
 void Planner::record_unreachable(int rid, int lower, const slice::Slice& s,

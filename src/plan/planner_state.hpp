@@ -127,6 +127,7 @@ private:
     [[nodiscard]] std::optional<geom2d::Paths2> grounded_from(int rid, int ref) const;
     core::Result<bool> rests_across_cell(int ref, const OverhangPiece& p);
     [[nodiscard]] std::int64_t ground_growth_um(const Layer& l) const;
+    [[nodiscard]] bool split_before(int rid, int lower, const OverhangPiece& p) const;
     void record_unreachable(int rid, int lower, const slice::Slice& s, const OverhangPiece& p);
     void record_tilt(int rid, int lower, const slice::Slice& s, const OverhangPiece& p);
     void record_piece(Decision::Kind kind, int rid, int lower, const slice::Slice& s,
@@ -144,15 +145,17 @@ private:
                                                             const OverhangPiece& p);
 
     // reach.cpp: the direction a region split off sideways is built along (decision 0029).
+    // `separate`: only directions whose split plane leaves p's centroid in front of it (the
+    // region split has not started, and its near side is walked again).
     core::Result<ReachChoice> direction_by_reach(int lower, const OverhangPiece& p,
                                                  const core::Vec3d& ns,
-                                                 const std::vector<HalfSpace>& cell);
+                                                 const std::vector<HalfSpace>& cell, bool separate);
     // Where no lean or turn of N_s keeps the clearance, a sample of the sphere (decision 0046).
     core::Result<std::optional<ReachChoice>> direction_by_sphere(const OverhangPiece& p,
                                                                  const core::Vec3d& ns,
                                                                  const std::vector<HalfSpace>& cell,
                                                                  const ReachScene& scene,
-                                                                 double slack);
+                                                                 double slack, bool separate);
     // The planes along candidate direction d on which the reach check samples the region
     // split off for piece p: its cell, and the planes' frames from its first layer up.
     struct ReachPlanes {

@@ -204,6 +204,19 @@ core::Result<ReachChoice> choose_by_reach(
 // Two directions closer than this (deg) are one candidate.
 constexpr double kSameTowardsDeg = 1.0;
 
+namespace {
+
+// Whether a split plane through p's contact with the layer below, along d, takes p off the
+// near side: p's centroid lies in front of it. A region that has not started becomes the near
+// side and is walked again: it would keep the piece whole and split for it again and again
+// (NIST CTC-04 as given: a lean of a direction turned to the edge of the tilt range put the
+// piece behind its plane). A region that has started ends below the piece whatever the plane.
+bool separates(const OverhangPiece& p, const Vec3d& d, bool separate) {
+    return !separate || core::dot(p.C - p.contact_center, d) > 0.0;
+}
+
+}  // namespace
+
 // The sideways region's apexes are sampled on this many planes at most along a direction.
 constexpr int kReachPlanes = 48;
 
@@ -312,7 +325,8 @@ Planner::ReachPlanes Planner::reach_planes(const OverhangPiece& p,
 
 core::Result<ReachChoice> Planner::direction_by_reach(int lower, const OverhangPiece& p,
                                                       const Vec3d& ns,
-                                                      const std::vector<HalfSpace>& cell) {
+                                                      const std::vector<HalfSpace>& cell,
+                                                      bool separate) {
     const Layer& l = plan_.layers[static_cast<std::size_t>(lower)];
     if (!s_.head) return ReachChoice{ns, 0.0, 0.0, 0.0, true};
     const double spacing = reach_spacing();
@@ -336,7 +350,7 @@ core::Result<ReachChoice> Planner::direction_by_reach(int lower, const OverhangP
         const bool seen = std::any_of(candidates.begin(), candidates.end(), [&](const auto& c) {
             return angle_deg(c.direction, d) < kSameTowardsDeg;
         });
-        if (!seen) candidates.push_back({d, lean, turn});
+        if (!seen && separates(p, d, separate)) candidates.push_back({d, lean, turn});
     };
     const auto leans_of = [&](const Vec3d& from, double turn) {
         for (const Vec3d& towards : {l.top.normal, up}) {
@@ -376,7 +390,7 @@ core::Result<ReachChoice> Planner::direction_by_reach(int lower, const OverhangP
     }
     auto choice = choose_by_reach(*s_.head, scene, candidates, slack, apexes_along);
     if (!choice || choice->clears) return choice;
-    auto searched = direction_by_sphere(p, ns, cell, scene, slack);
+    auto searched = direction_by_sphere(p, ns, cell, scene, slack, separate);
     if (!searched) return std::unexpected(searched.error());
     if (!searched->has_value() || !(*searched)->clears) return choice;
     (*searched)->seed_margin_mm = choice->seed_margin_mm;
@@ -419,7 +433,7 @@ std::vector<Vec3d> sphere_sample(const Vec3d& up, const Vec3d& ns, double max_ti
 // what is built and the plate: the first such, else the one with the largest margin.
 core::Result<std::optional<ReachChoice>> Planner::direction_by_sphere(
     const OverhangPiece& p, const Vec3d& ns, const std::vector<HalfSpace>& cell,
-    const ReachScene& scene, double slack) {
+    const ReachScene& scene, double slack, bool separate) {
     const Vec3d up = plan_.regions.front().direction;
     const double spacing = reach_spacing();
     const double tan_beta =
@@ -429,7 +443,7 @@ core::Result<std::optional<ReachChoice>> Planner::direction_by_sphere(
     for (const Vec3d& d : sphere_sample(up, ns, s_.max_tilt_deg, kSphereStepDeg)) {
         // N_s itself was tried first among the leans.
         const double off = angle_deg(d, ns);
-        if (off >= kSameTowardsDeg) dirs.emplace_back(off, d);
+        if (off >= kSameTowardsDeg && separates(p, d, separate)) dirs.emplace_back(off, d);
     }
     std::stable_sort(dirs.begin(), dirs.end(),
                      [](const auto& a, const auto& b) { return a.first < b.first; });

@@ -65,7 +65,8 @@ core::Result<bool> Planner::split(int rid, int lower, const slice::Slice& s,
     const HalfSpace above{l.top.origin, n};
     std::vector<HalfSpace> above_cell = parent.cell;
     above_cell.push_back(above);
-    auto reach = direction_by_reach(lower, p, core::normalized(sideways), above_cell);
+    auto reach =
+        direction_by_reach(lower, p, core::normalized(sideways), above_cell, parent.layers.empty());
     if (!reach) return std::unexpected(reach.error());
     const core::Vec3d ns = within_tilt(reach->direction);
     const HalfSpace beyond{p.contact_center, ns};

@@ -941,8 +941,8 @@ TEST(FiveAxis, WhereNoBaseMeetsTheFiguresAFasterBaseHoldingNoLessIsKept) {
     const Figures g = read_figures(given.out);
     expect_clean(g, given.out);
     ASSERT_LT(g.finished_pct, 100.0 * maxslice::verify::kFinishedInsideTarget) << given.out;
-    const CliRun r = run_cli({"slice", part.string(), "--profile", profile.string(), "-o",
-                              (dir / "kept.gm").string()});
+    const CliRun r = run_cli(
+        {"slice", part.string(), "--profile", profile.string(), "-o", (dir / "kept.gm").string()});
     ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
     const Figures f = read_figures(r.out);
     expect_clean(f, r.out);

@@ -950,6 +950,38 @@ PlannerFixture arm_and_post(const ArmAndPostSpec& spec) {
                 });
 }
 
+PlannerFixture hook(const HookSpec& spec) {
+    const double bl = spec.base_length, bh = spec.base_height, d = spec.depth;
+    const double w = spec.column_width, ch = spec.column_height, al = spec.arm_length;
+    const double at = spec.arm_thickness, fw = spec.finger_width, fl = spec.finger_length;
+    require(bl > 0.0 && bh > 0.0 && d > 0.0 && w > 0.0 && ch > 0.0 && al > 0.0 && at > 0.0 &&
+                fw > 0.0 && fl > 0.0,
+            "hook: sizes must be positive");
+    require(w <= bl && fw < al && fl < ch && w + al - fw > bl,
+            "hook: the finger must hang from the arm's end, beyond the base and above it");
+    const double top = bh + ch;  // the arm's underside
+    // Rectangles that share whole edges, so the pieces fuse without T-junctions.
+    CapBuilder b;
+    b.add(rectangle_cap(0.0, 0.0, w, bh));
+    if (w < bl) b.add(rectangle_cap(w, 0.0, bl, bh));
+    b.add(rectangle_cap(0.0, bh, w, top));
+    b.add(rectangle_cap(0.0, top, w, top + at));
+    b.add(rectangle_cap(w, top, w + al - fw, top + at));
+    b.add(rectangle_cap(w + al - fw, top, w + al, top + at));
+    b.add(rectangle_cap(w + al - fw, top - fl, w + al, top));
+    return make("hook",
+                "a column with an arm at its top and a finger hanging from the arm's end: the "
+                "arm is built sideways, the finger grows from it towards the plate",
+                extrude_xz(b.cap(), 0.0, d), d * (bl * bh + w * ch + (w + al) * at + fw * fl),
+                box_of({0, 0, 0}, {w + al, d, top + at}), [=](double z) {
+                    if (z >= 0.0 && z < bh) return bl * d;
+                    double a = (z >= bh && z < top) ? w * d : 0.0;
+                    if (z >= top - fl && z < top) a += fw * d;
+                    if (z >= top && z < top + at) a += (w + al) * d;
+                    return a;
+                });
+}
+
 std::vector<PlannerFixture> all_planner_fixtures() {
     std::vector<PlannerFixture> out;
     out.push_back(vertical_prism());

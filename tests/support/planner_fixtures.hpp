@@ -349,6 +349,22 @@ struct ArmAndPostSpec {
 };
 [[nodiscard]] PlannerFixture arm_and_post(const ArmAndPostSpec& spec = {});
 
+/// A hook: a column on a base slab, an arm along +X at its top, and a finger hanging down
+/// from the arm's end, clear of the base. The arm is built sideways; the finger then grows
+/// from the arm's last layers towards the plate, beyond the table's tilt range.
+struct HookSpec {
+    double base_length = 30.0;    ///< mm, along X
+    double base_height = 5.0;     ///< mm
+    double depth = 10.0;          ///< mm, along Y
+    double column_width = 10.0;   ///< mm
+    double column_height = 40.0;  ///< mm above the base
+    double arm_length = 30.0;     ///< mm beyond the column
+    double arm_thickness = 8.0;   ///< mm
+    double finger_width = 8.0;    ///< mm along X, at the arm's end
+    double finger_length = 20.0;  ///< mm below the arm
+};
+[[nodiscard]] PlannerFixture hook(const HookSpec& spec = {});
+
 /// Every fixture above with its default spec.
 [[nodiscard]] std::vector<PlannerFixture> all_planner_fixtures();
 

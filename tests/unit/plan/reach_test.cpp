@@ -185,6 +185,38 @@ TEST(Reach, WhereNoLeanClearsTheHeadASampleOfTheSphereFindsADirectionThatDoes) {
     }
 }
 
+// A finger hanging from the end of an arm built sideways grows towards the plate, beyond the
+// table's tilt range, and the directions that keep the head clear lean up: a split plane along
+// one of them can leave the finger behind it. The region such a split leaves below the finger
+// has not started; it is walked again and must be split along a direction that takes the
+// finger off, not again and again along the same one (the planner ran into max_regions, NIST
+// CTC-04 as given alike).
+TEST(Reach, ARegionThatHasNotStartedIsSplitForAPieceOnlyAlongAPlaneThatTakesItOff) {
+    PlanSettings s = settings(true);
+    s.max_tilt_deg = 120.0;
+    const test::PlannerFixture f = test::hook();
+    auto p = plan_part(f.mesh, {0, 0, 1}, s);
+    ASSERT_TRUE(p.has_value()) << p.error().describe();
+    EXPECT_LE(p->regions.size(), 16U);
+    int not_started = 0;
+    for (std::size_t i = 0; i < p->decisions.size(); ++i) {
+        const Decision& d = p->decisions[i];
+        if (d.kind != Decision::Kind::kSplit && d.kind != Decision::Kind::kFloating) continue;
+        if (d.continuation == d.region) {
+            ++not_started;
+            EXPECT_GT(core::dot(d.piece.C - d.split_plane.point, d.split_plane.normal), 0.0)
+                << describe(*p, d);
+        }
+        for (std::size_t j = i + 1; j < p->decisions.size(); ++j) {
+            const Decision& e = p->decisions[j];
+            const bool same = e.kind == d.kind && e.region == d.region && e.layer == d.layer &&
+                              core::norm(e.piece.C - d.piece.C) < 1e-9;
+            EXPECT_FALSE(same) << describe(*p, d);
+        }
+    }
+    EXPECT_GT(not_started, 0);
+}
+
 // Turning a part about Z (the plate's normal) and moving it change neither what the head can
 // reach nor the plate under it: every fixture keeps its number of regions and its layers on
 // nothing, and its verdict on a collision-free order, but for conflicts within the order's
