@@ -222,6 +222,9 @@ constexpr int kReachPlanes = 48;
 
 // The sphere's sample (direction_by_sphere): neighbours this far apart (deg) ...
 constexpr double kSphereStepDeg = 15.0;
+// ... and where none of those keeps the clearance, this far apart (deg): a piece's way out can
+// be narrower than the coarse step (NIST FTC-06 as given: 6 degrees wide).
+constexpr double kSphereFineStepDeg = 5.0;
 // A direction of the sample is taken at once when the head keeps this much more than the
 // clearance (and the samples' slack) along it; else the one with the largest margin. The
 // sample is coarse and the reach check samples the material: the room keeps the build order,
@@ -439,61 +442,76 @@ core::Result<std::optional<ReachChoice>> Planner::direction_by_sphere(
     const double tan_beta =
         std::tan(std::min(s_.beta_deg, kSphereMaxBetaDeg) * std::numbers::pi / 180.0);
     const auto half_track = core::mm_to_um(s_.track_width_mm / 2);
-    std::vector<std::pair<double, Vec3d>> dirs;
-    for (const Vec3d& d : sphere_sample(up, ns, s_.max_tilt_deg, kSphereStepDeg)) {
-        // N_s itself was tried first among the leans.
-        const double off = angle_deg(d, ns);
-        if (off >= kSameTowardsDeg && separates(p, d, separate)) dirs.emplace_back(off, d);
-    }
-    std::stable_sort(dirs.begin(), dirs.end(),
-                     [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::vector<Vec3d> tried;
+    // The sample at `step` deg, nearest N_s first, but for directions tried before.
+    const auto sample = [&](double step) {
+        std::vector<std::pair<double, Vec3d>> dirs;
+        for (const Vec3d& d : sphere_sample(up, ns, s_.max_tilt_deg, step)) {
+            // N_s itself was tried first among the leans.
+            const double off = angle_deg(d, ns);
+            if (off < kSameTowardsDeg || !separates(p, d, separate) ||
+                std::any_of(tried.begin(), tried.end(),
+                            [&](const Vec3d& t) { return angle_deg(t, d) < kSameTowardsDeg; })) {
+                continue;
+            }
+            dirs.emplace_back(off, d);
+        }
+        std::stable_sort(dirs.begin(), dirs.end(),
+                         [](const auto& a, const auto& b) { return a.first < b.first; });
+        return dirs;
+    };
     // What lies before the split plane: the parent's cell (cell's last half-space is 'above
     // L'), which L's region and the region carrying on from L fill before this one.
     const std::vector<HalfSpace> before_split(cell.begin(), cell.end() - 1);
     const double wanted = s_.head->clearance_mm + slack + kSphereRoomMm;
     std::optional<ReachChoice> best;
-    for (const auto& [off, d] : dirs) {
-        const ReachPlanes rp = reach_planes(p, cell, d);
-        if (rp.heights.empty()) continue;
-        const slice::PlaneFrame behind = rp.base.shifted(-s_.layer_mm / 2);
-        auto before = sections_->section(behind, s_.layer_mm);
-        if (!before) return std::unexpected(before.error());
-        geom2d::Paths2 prev = clip_to_cell(*before, before_split, behind);
-        double prev_at = -s_.layer_mm / 2;
-        // Plane by plane: a direction is dropped at the first section that overhangs the one
-        // before, or whose head comes closer than the clearance (most directions fail so).
-        bool kept = true;
-        bool any_apex = false;
-        double m = wanted + 1.0;
-        for (std::size_t k = 0; k < rp.heights.size() && kept; ++k) {
-            const double at = rp.heights[k];
-            const slice::PlaneFrame plane = rp.base.shifted(at);
-            auto cut = sections_->section(plane, s_.layer_mm);
-            if (!cut) return std::unexpected(cut.error());
-            geom2d::Paths2 clipped = clip_to_cell(*cut, rp.cell, plane);
-            // What overhangs the section before by more than beta allows, without slivers
-            // narrower than a track (as the neighbour analysis sees pieces).
-            const geom2d::Paths2 bare = geom2d::difference_of(
-                clipped, geom2d::offset_of(prev, core::mm_to_um((at - prev_at) * tan_beta)));
-            const geom2d::Paths2 opened = geom2d::intersection_of(
-                geom2d::offset_of(geom2d::offset_of(bare, -half_track), half_track), bare);
-            kept = geom2d::signed_area_mm2(opened) < analysis_.min_piece_area_mm2;
-            if (kept) {
-                const std::vector<Vec3d> pts =
-                    boundary_points(clipped, plane, spacing, s_.layer_mm / 2);
-                any_apex = any_apex || !pts.empty();
-                m = reach_margin(*s_.head, scene, pts, d, m);
-                kept = m >= s_.head->clearance_mm;
+    for (const double step : {kSphereStepDeg, kSphereFineStepDeg}) {
+        if (best) break;
+        const auto dirs = sample(step);
+        for (const auto& [off, d] : dirs) {
+            tried.push_back(d);
+            const ReachPlanes rp = reach_planes(p, cell, d);
+            if (rp.heights.empty()) continue;
+            const slice::PlaneFrame behind = rp.base.shifted(-s_.layer_mm / 2);
+            auto before = sections_->section(behind, s_.layer_mm);
+            if (!before) return std::unexpected(before.error());
+            geom2d::Paths2 prev = clip_to_cell(*before, before_split, behind);
+            double prev_at = -s_.layer_mm / 2;
+            // Plane by plane: a direction is dropped at the first section that overhangs the one
+            // before, or whose head comes closer than the clearance (most directions fail so).
+            bool kept = true;
+            bool any_apex = false;
+            double m = wanted + 1.0;
+            for (std::size_t k = 0; k < rp.heights.size() && kept; ++k) {
+                const double at = rp.heights[k];
+                const slice::PlaneFrame plane = rp.base.shifted(at);
+                auto cut = sections_->section(plane, s_.layer_mm);
+                if (!cut) return std::unexpected(cut.error());
+                geom2d::Paths2 clipped = clip_to_cell(*cut, rp.cell, plane);
+                // What overhangs the section before by more than beta allows, without slivers
+                // narrower than a track (as the neighbour analysis sees pieces).
+                const geom2d::Paths2 bare = geom2d::difference_of(
+                    clipped, geom2d::offset_of(prev, core::mm_to_um((at - prev_at) * tan_beta)));
+                const geom2d::Paths2 opened = geom2d::intersection_of(
+                    geom2d::offset_of(geom2d::offset_of(bare, -half_track), half_track), bare);
+                kept = geom2d::signed_area_mm2(opened) < analysis_.min_piece_area_mm2;
+                if (kept) {
+                    const std::vector<Vec3d> pts =
+                        boundary_points(clipped, plane, spacing, s_.layer_mm / 2);
+                    any_apex = any_apex || !pts.empty();
+                    m = reach_margin(*s_.head, scene, pts, d, m);
+                    kept = m >= s_.head->clearance_mm;
+                }
+                prev = std::move(clipped);
+                prev_at = at;
             }
-            prev = std::move(clipped);
-            prev_at = at;
+            if (!kept || !any_apex) continue;
+            if (!best || m > best->margin_mm) {
+                best = ReachChoice{d, 0.0, 0.0, m, 0.0, m >= s_.head->clearance_mm};
+                best->searched_deg = off;
+            }
+            if (m >= wanted) return best;
         }
-        if (!kept || !any_apex) continue;
-        if (!best || m > best->margin_mm) {
-            best = ReachChoice{d, 0.0, 0.0, m, 0.0, m >= s_.head->clearance_mm};
-            best->searched_deg = off;
-        }
-        if (m >= wanted) break;
     }
     return best;
 }

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <regex>
@@ -402,26 +403,33 @@ TEST(PlanCli, ALayerOnNothingWhereNoTrackFitsIsLeftBare) {
     EXPECT_NE(c.out.find("left bare"), std::string::npos) << c.out;
 }
 
-CliRun plan_nist_as_given(const std::string& stem, const fs::path& dir, fs::path& plan);
+CliRun plan_nist_as_given(const std::string& stem, const fs::path& dir, fs::path& plan,
+                          const fs::path& profile = reference_profile());
 
 // A refusal names a region split off pointing down (a piece hanging below the sideways region
-// it grows from) and says so: NIST FTC-06 as given splits a 13 mm2 piece off a region built
-// sideways, along a direction more than 90 degrees from the plate's normal, and the only way
-// to it the nozzle has is from below. The region in the way carries that region on (a
-// continuation keeps its direction): the refusal names the split it carries on.
+// it grows from) and says so: NIST FTC-06 as given, with a nozzle of 45 degrees half angle
+// (with the reference one it builds), splits a piece off the base region along a direction
+// past the plate's plane, and the only way to it the nozzle has is from below.
 TEST(PlanCli, ARefusalSaysWhenTheRegionInTheWayPointsDown) {
+    const fs::path dir = temp_dir("points_down");
+    std::string text = slurp(reference_profile());
+    const std::string key_angle = "half_angle_deg = 30.0";
+    const auto angle_at = text.find(key_angle);
+    ASSERT_NE(angle_at, std::string::npos);
+    text.replace(angle_at, key_angle.size(), "half_angle_deg = 45.0");
+    const fs::path profile = dir / "wide_nozzle.toml";
+    std::ofstream(profile) << text;
     fs::path plan;
-    const CliRun r = plan_nist_as_given("nist_ftc_06_asme1_rd", temp_dir("points_down"), plan);
+    const CliRun r = plan_nist_as_given("nist_ftc_06_asme1_rd", dir, plan, profile);
     ASSERT_EQ(r.exit_code, 2) << r.err;
     const std::string key = "deg from the plate's normal, down";
     const auto at = r.err.find(key);
     ASSERT_NE(at, std::string::npos) << r.err;
-    // The angle printed is that of the region the refusal names, and over 90 degrees.
+    // The angle printed is that of the region the refusal names, and at least 90 degrees.
     const auto num = r.err.rfind("points ", at);
     ASSERT_NE(num, std::string::npos);
     const double deg = std::stod(r.err.substr(num + 7));
-    EXPECT_GT(deg, 90.0);
-    EXPECT_NE(r.err.find("(it carries on region "), std::string::npos) << r.err;
+    EXPECT_GE(deg, 90.0);
     const auto named = r.err.find("In the way: region ");
     ASSERT_NE(named, std::string::npos);
     const int rid = std::stoi(r.err.substr(named + 19));
@@ -481,11 +489,12 @@ TEST(PlanCli, EveryFirstPieceOfTheHelicalRingsSidewaysRegionsRestsOnAnotherRegio
 
 // `maxslice plan` of the NIST part `stem` (step/nist/STEM.stp) as given with the reference A/C
 // profile, read with --repair as the job reads it; the plan file is written in `dir`.
-CliRun plan_nist_as_given(const std::string& stem, const fs::path& dir, fs::path& plan) {
+CliRun plan_nist_as_given(const std::string& stem, const fs::path& dir, fs::path& plan,
+                          const fs::path& profile) {
     const fs::path part = kTestData / "step" / "nist" / (stem + ".stp");
     plan = dir / "plan.json";
-    return run_cli({"plan", part.string(), "--repair", "--profile", reference_profile().string(),
-                    "--orient", "given", "--plan", plan.string()});
+    return run_cli({"plan", part.string(), "--repair", "--profile", profile.string(), "--orient",
+                    "given", "--plan", plan.string()});
 }
 
 // NIST FTC-10 as given: a collision-free order and no layer on nothing (refused before: a
@@ -509,11 +518,11 @@ TEST(PlanCli, NistFtc10AsGivenPlansCollisionFree) {
     EXPECT_GT(checked, 0) << "some split's head was checked and clears";
 }
 
-// NIST FTC-06 as given: above dozens of layers the tilt gives up keeping the thickness, in
+// NIST FTC-07 as given: above dozens of layers the tilt gives up keeping the thickness, in
 // runs: each run is one line, and the lines count every give-up once.
-TEST(PlanCli, NistFtc06AsGivenPrintsAGiveUpRunOnce) {
+TEST(PlanCli, NistFtc07AsGivenPrintsAGiveUpRunOnce) {
     fs::path plan;
-    const CliRun r = plan_nist_as_given("nist_ftc_06_asme1_rd", temp_dir("ftc06"), plan);
+    const CliRun r = plan_nist_as_given("nist_ftc_07_asme1_rd", temp_dir("ftc07"), plan);
     ASSERT_TRUE(fs::exists(plan)) << r.err;
     check_plan_file(plan);
     const std::size_t gave_up = check_printed_give_ups(r.out, plan);
@@ -523,7 +532,8 @@ TEST(PlanCli, NistFtc06AsGivenPrintsAGiveUpRunOnce) {
          at = r.out.find("no tilt towards", at + 1)) {
         ++lines;
     }
-    // (47 give-ups in one run at 564fd86; a line each would be 47.)
+    // (42 give-ups in one run; a line each would be 42. NIST FTC-06 had 47 before the sphere's
+    // finer sample planned it otherwise.)
     EXPECT_LT(2 * lines, gave_up) << "runs of give-ups are one line each";
 }
 
