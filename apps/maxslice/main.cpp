@@ -354,6 +354,8 @@ struct Written {
     // Beads the verifier found resting on nothing, left out before it passed the program.
     std::size_t left_out_beads = 0;
     double left_out_mm = 0.0;
+    // Travels the verifier found meeting the part (or within the clearance), taken over it.
+    std::size_t lifted_travels = 0;
 };
 
 // A program the verifier refuses only for a few beads on nothing (the toolpaths' support
@@ -366,6 +368,22 @@ constexpr double kLeaveOutShare = 0.01;
 // A verifier's pose lies on the program's track within the written digits (0.001 mm and
 // 0.001 deg at the table's reach); a track this close to one is the one it lies on.
 constexpr double kLeaveOutWithinMm = 0.01;
+
+// A program the verifier refuses only for travels that meet the part or come within the
+// clearance (a straight travel between a layer's islands across material of other regions,
+// built before and standing above the layer) has those travels taken over the part and is
+// replayed again, at most this many times (decision 0048) ...
+constexpr int kLiftRounds = 2;
+// ... this far above the part's highest point along the head's direction (mm), at least the
+// nozzle's clearance.
+constexpr double kLiftMarginMm = 2.0;
+
+bool travels_to_lift(const verify::Report& report) {
+    const std::size_t faults = report.collisions.count + report.clearance.count;
+    return faults > 0 && report.travel_fault_ends.size() == faults &&
+           report.limit_violations.count == 0 && report.out_of_range.count == 0 &&
+           report.unfinished.count == 0 && report.left_on.count == 0;
+}
 
 bool beads_to_leave_out(const verify::Report& report) {
     return report.passed_apart_from_support() && !report.unsupported_tips.empty() &&
@@ -410,21 +428,39 @@ core::Result<std::string> write_and_verify(Written<Planned>& w, const core::Vec3
         w.report = std::move(*r);
         return {};
     };
+    // The program changed: summarized, written and replayed again.
+    const auto again = [&]() -> core::Result<void> {
+        auto summary = machine::summarize(w.program->program, profiles.process);
+        if (!summary) return std::unexpected(summary.error());
+        w.program->summary = *summary;
+        auto text =
+            machine::write_program(w.program->program, profiles.machine, profiles.process, wo);
+        if (!text) return std::unexpected(text.error());
+        w.text = std::move(*text);
+        return replay();
+    };
     if (auto ok = replay(); !ok) return std::unexpected(ok.error());
+    const double lift_margin = std::max(
+        kLiftMarginMm, profiles.machine.nozzle ? profiles.machine.nozzle->clearance_mm : 0.0);
+    const auto top_along = [&](const core::Vec3d& d) {
+        double h = -std::numeric_limits<double>::infinity();
+        for (const core::Vec3d& v : placed.vertices) h = std::max(h, core::dot(v, d));
+        return h + lift_margin;
+    };
+    for (int round = 0; round < kLiftRounds && travels_to_lift(*w.report); ++round) {
+        const std::size_t lifted = machine::lift_travels(
+            w.program->program, w.report->travel_fault_ends, kLeaveOutWithinMm, top_along);
+        if (lifted == 0) break;
+        w.lifted_travels += lifted;
+        if (auto ok = again(); !ok) return std::unexpected(ok.error());
+    }
     for (int round = 0; round < kLeaveOutRounds && beads_to_leave_out(*w.report); ++round) {
         const double cut = machine::leave_out_deposits(
             w.program->program, w.report->unsupported_tips, profiles.process, kLeaveOutWithinMm);
         if (!(cut > 0.0)) break;
         w.left_out_beads += w.report->unsupported.count;
         w.left_out_mm += cut;
-        auto summary = machine::summarize(w.program->program, profiles.process);
-        if (!summary) return std::unexpected(summary.error());
-        w.program->summary = *summary;
-        auto again =
-            machine::write_program(w.program->program, profiles.machine, profiles.process, wo);
-        if (!again) return std::unexpected(again.error());
-        w.text = std::move(*again);
-        if (auto ok = replay(); !ok) return std::unexpected(ok.error());
+        if (auto ok = again(); !ok) return std::unexpected(ok.error());
     }
     w.verify_s = seconds_since(t);
     w.kept = verifier_keeps(*w.report, so);
@@ -490,7 +526,13 @@ void print_verification(Printed& o, const std::optional<verify::Report>& report,
 
 // "on nothing      2 beads ... left out": the beads the verifier found resting on nothing
 // and the job left out before the replay that passed (decision 0039).
-void print_left_out(Printed& o, std::size_t beads, double mm) {
+void print_left_out(Printed& o, std::size_t beads, double mm, std::size_t lifted = 0) {
+    if (lifted > 0) {
+        o.print(
+            "over the part   %zu travels the verifier found meeting the part or within the "
+            "clearance taken over it; the program replayed again\n",
+            lifted);
+    }
     if (beads == 0) return;
     o.print(
         "on nothing      %zu beads the verifier found resting on nothing left out (%.1f mm of "
@@ -966,7 +1008,7 @@ JobOutcome run_multiaxis_slice(const PartOptions& opt, const SliceOptions& so,
     o.print("left out        %.1f mm of track in %d layers (no bead below it)\n", p->trimmed_mm,
             p->layers_trimmed);
     print_verification(o, report, profiles.process.track_width_mm);
-    print_left_out(o, w.left_out_beads, w.left_out_mm);
+    print_left_out(o, w.left_out_beads, w.left_out_mm, w.lifted_travels);
     return done(kExitOk);
 }
 
@@ -1184,6 +1226,7 @@ JobOutcome run_planar_slice(const PartOptions& opt, const SliceOptions& so,
 
     std::optional<pipeline::PlannedProgram> planned;
     std::pair<std::size_t, double> left_out{0, 0.0};  // beads on nothing left out, mm
+    std::size_t lifted = 0;                           // travels taken over the part
     std::optional<verify::Report> report;
     if (program_mode) {
         // Refuse a part whose overhangs need a split, never deposit on air.
@@ -1240,6 +1283,7 @@ JobOutcome run_planar_slice(const PartOptions& opt, const SliceOptions& so,
         report = std::move(w.report);
         planned = std::move(*w.program);
         left_out = {w.left_out_beads, w.left_out_mm};
+        lifted = w.lifted_travels;
     }
 
     double volume = 0.0, hmin = 1e300, hmax = 0.0;
@@ -1278,7 +1322,7 @@ JobOutcome run_planar_slice(const PartOptions& opt, const SliceOptions& so,
         o.print("uncovered       %.2f mm2 of %.1f mm2 (%d layers over 1%%)\n",
                 planned->uncovered_mm2, planned->region_area_mm2, planned->layers_with_uncovered);
         print_verification(o, report, profiles->process.track_width_mm);
-        print_left_out(o, left_out.first, left_out.second);
+        print_left_out(o, left_out.first, left_out.second, lifted);
     }
     // The previews and the JSON are written when this job is the one kept.
     if (!so.json_file.empty() || !so.svg_dir.empty() || !so.contact_sheet.empty()) {

@@ -12,6 +12,8 @@ namespace {
 
 /// The head is "already there" when the last position is this close (mm).
 constexpr double kAlreadyThereMm = 1e-9;
+/// Two unit directions this close are one (the head is not turned between them).
+constexpr double kSameDirection = 1e-9;
 
 const Move* last_positioning(const Program& program) {
     for (auto it = program.moves.rbegin(); it != program.moves.rend(); ++it) {
@@ -159,6 +161,44 @@ double leave_out_deposits(Program& program, std::span<const core::Vec3d> tips,
     }
     program.moves = std::move(out);
     return left_out;
+}
+
+std::size_t lift_travels(Program& program, std::span<const core::Vec3d> ends, double within_mm,
+                         const std::function<double(const core::Vec3d&)>& top_mm) {
+    if (ends.empty()) return 0;
+    const auto flagged = [&](const core::Vec3d& p) {
+        return std::any_of(ends.begin(), ends.end(),
+                           [&](const core::Vec3d& e) { return core::norm(e - p) <= within_mm; });
+    };
+    std::vector<Move> out;
+    out.reserve(program.moves.size());
+    std::optional<Move> last;  // the last positioning move
+    std::size_t lifted = 0;
+    for (const Move& m : program.moves) {
+        const bool positions = m.kind == MoveKind::kTravel || m.kind == MoveKind::kDeposit;
+        if (m.kind == MoveKind::kTravel && last &&
+            core::norm(last->direction - m.direction) < kSameDirection && flagged(m.position)) {
+            const core::Vec3d& d = m.direction;
+            const double top = top_mm(d);
+            const double up_from = top - core::dot(last->position, d);
+            const double up_to = top - core::dot(m.position, d);
+            if (up_from > 0.0) {
+                Move up = m;
+                up.position = last->position + d * up_from;
+                out.push_back(up);
+            }
+            if (up_to > 0.0) {
+                Move across = m;
+                across.position = m.position + d * up_to;
+                out.push_back(across);
+            }
+            ++lifted;
+        }
+        out.push_back(m);
+        if (positions) last = m;
+    }
+    program.moves = std::move(out);
+    return lifted;
 }
 
 }  // namespace maxslice::machine

@@ -479,7 +479,14 @@ private:
 
     void check_collisions(const ReplayBlock& b, const std::vector<Sample>& samples, Report& rep) {
         // One per block: the first pose whose head meets material, or the substrate.
+        const auto travel_fault = [&] {
+            if (!b.laser_on && !samples.empty() &&
+                rep.travel_fault_ends.size() < Report::kMaxUnsupportedTips) {
+                rep.travel_fault_ends.push_back(samples.back().tip);
+            }
+        };
         const auto collide = [&](const Sample& s, const Vec3d& hit, std::string_view what) {
+            travel_fault();
             ++rep.collisions.count;
             if (!rep.collisions.first) {
                 rep.collisions.first = Location{
@@ -546,6 +553,7 @@ private:
             }
         }
         if (near) {
+            travel_fault();
             ++rep.clearance.count;
             if (!rep.clearance.first) rep.clearance.first = std::move(near);
         }

@@ -1,5 +1,7 @@
 #pragma once
 
+#include <cstddef>
+#include <functional>
 #include <span>
 
 #include "maxslice/core/vec3.hpp"
@@ -35,5 +37,13 @@ void append_wire(Program& program, std::span<const core::Vec3d> points,
 /// (docs/decisions/0039). Returns the length of track left out (mm).
 double leave_out_deposits(Program& program, std::span<const core::Vec3d> tips,
                           const ProcessProfile& process, double within_mm);
+
+/// Takes the travel moves that end within `within_mm` of one of `ends` (part coordinates) and
+/// keep the head's direction over the part: up along the direction to `top_mm` along it,
+/// across, and down to where the travel ended (a leg is left out where the head is that high
+/// already). The job lifts the travels the verifier finds meeting the part or within the
+/// clearance (docs/decisions/0048). Returns how many travels were lifted.
+std::size_t lift_travels(Program& program, std::span<const core::Vec3d> ends, double within_mm,
+                         const std::function<double(const core::Vec3d&)>& top_mm);
 
 }  // namespace maxslice::machine

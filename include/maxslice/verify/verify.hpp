@@ -88,6 +88,10 @@ struct Report {
     /// at most kMaxUnsupportedTips: where a job leaves beads out (decision 0039).
     std::vector<core::Vec3d> unsupported_tips;
     static constexpr std::size_t kMaxUnsupportedTips = 100'000;
+    /// Where the travel blocks among the collisions and the clearance findings end (their
+    /// last pose's tool tip, part frame), in program order, at most kMaxUnsupportedTips: the
+    /// travels a job takes over the part instead (decision 0048).
+    std::vector<core::Vec3d> travel_fault_ends;
     Finding limit_violations;  ///< blocks with a pose outside machine.axes
     /// The profile has a [machine.substrate]: the head is checked against the plate too
     /// (a hit counts as a collision).

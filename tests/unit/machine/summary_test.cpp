@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include "machine_fixtures.hpp"
+#include "maxslice/machine/program_builder.hpp"
 #include "maxslice/machine/program_check.hpp"
 #include "maxslice/machine/summary.hpp"
 
@@ -104,6 +105,48 @@ TEST(LeaveOut, TheMovesATipLiesOnBecomeTravelsWithTheLaserSwitchedAroundThem) {
         if (m.kind == MoveKind::kTravel) {
             EXPECT_FALSE(on);
         }
+    }
+}
+
+// The travels the verifier finds meeting the part are taken over it (decision 0048): up along
+// the head's direction to the top it is given, across, down to where the travel ended; other
+// travels, and a travel on which the head turns, stay as they were.
+TEST(LiftTravels, ATravelEndingAtAFaultGoesUpAcrossAndDown) {
+    const ProcessProfile process = reference_process();
+    const core::Vec3d tilted = core::normalized(core::Vec3d{1.0, 0.0, 1.0});
+    Program p;
+    append_wire(p, std::vector<core::Vec3d>{{0.0, 0.0, 1.0}, {10.0, 0.0, 1.0}}, process, 0);
+    append_wire(p, std::vector<core::Vec3d>{{40.0, 0.0, 1.0}, {50.0, 0.0, 1.0}}, process, 0);
+    append_wire(p, std::vector<core::Vec3d>{{50.0, 20.0, 1.0}, {60.0, 20.0, 1.0}}, process, 0);
+    append_wire(p, std::vector<core::Vec3d>{{0.0, 40.0, 1.0}, {5.0, 40.0, 1.0}}, process, 1, 1,
+                tilted);
+    const Program before = p;
+    const auto top = [](const core::Vec3d& d) { return d.z > 0.99 ? 30.0 : 1e3; };
+    // No fault near a travel's end: nothing changes.
+    const std::vector<core::Vec3d> none{{25.0, 0.0, 1.0}};
+    EXPECT_EQ(lift_travels(p, none, 0.01, top), 0U);
+    ASSERT_EQ(p.moves.size(), before.moves.size());
+    // The travel to (40, 0, 1) and the turning one to (0, 40, 1).
+    const std::vector<core::Vec3d> ends{{40.0, 0.004, 1.0}, {0.0, 40.0, 1.0}};
+    EXPECT_EQ(lift_travels(p, ends, 0.01, top), 1U);
+    ASSERT_EQ(p.moves.size(), before.moves.size() + 2);
+    std::size_t k = 0;
+    for (std::size_t i = 0; i < before.moves.size(); ++i, ++k) {
+        const Move& m = before.moves[i];
+        if (m.kind == MoveKind::kTravel && m.position == core::Vec3d{40.0, 0.0, 1.0}) {
+            // Up from the end of the first wire, across at the top, down to the travel's end.
+            EXPECT_EQ(p.moves[k].kind, MoveKind::kTravel);
+            EXPECT_NEAR(core::norm(p.moves[k].position - core::Vec3d{10.0, 0.0, 30.0}), 0.0, 1e-9);
+            EXPECT_EQ(p.moves[k + 1].kind, MoveKind::kTravel);
+            EXPECT_NEAR(core::norm(p.moves[k + 1].position - core::Vec3d{40.0, 0.0, 30.0}), 0.0,
+                        1e-9);
+            EXPECT_EQ(p.moves[k + 1].feed_mm_min, m.feed_mm_min);
+            EXPECT_EQ(p.moves[k + 1].laser_w, m.laser_w);
+            k += 2;
+        }
+        EXPECT_EQ(p.moves[k].kind, m.kind);
+        EXPECT_EQ(p.moves[k].position, m.position);
+        EXPECT_EQ(p.moves[k].direction, m.direction);
     }
 }
 

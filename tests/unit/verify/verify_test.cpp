@@ -92,6 +92,10 @@ TEST(Verify, TravelThroughDepositedMaterialCollides) {
         EXPECT_EQ(r.collisions.first->line, through);
         // The material met lies in the block.
         EXPECT_LE(std::abs(r.collisions.first->point_mm.x - c.x), kHalf + r.voxel_mm);
+        // A travel: where it ends is listed for the job to take it over the part (decision
+        // 0048), beyond the block on the side it went to.
+        ASSERT_EQ(r.travel_fault_ends.size(), 1U);
+        EXPECT_GT(r.travel_fault_ends.front().x - r.collisions.first->point_mm.x, 20.0);
         EXPECT_EQ(r.unsupported.count, 0U);
         EXPECT_EQ(r.limit_violations.count, 0U);
     }
@@ -217,6 +221,7 @@ TEST(Verify, RotationWithTheNozzleDownCollides) {
     ASSERT_TRUE(r.collisions.first);
     EXPECT_EQ(r.collisions.first->line, turn);
     EXPECT_EQ(r.limit_violations.count, 0U);
+    EXPECT_EQ(r.travel_fault_ends.size(), 1U);
 }
 
 // A fanuc program under tool centre point control builds the block with the table turned by
