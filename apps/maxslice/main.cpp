@@ -38,6 +38,7 @@
 #include "maxslice/pipeline/previews.hpp"
 #include "maxslice/pipeline/program_job.hpp"
 #include "maxslice/pipeline/slice_job.hpp"
+#include "maxslice/slice/slicer.hpp"
 #include "maxslice/verify/verify.hpp"
 #include "reference_profile.hpp"
 #include "verify_command.hpp"
@@ -443,9 +444,9 @@ core::Result<std::string> write_and_verify(Written<Planned>& w, const core::Vec3
     const double lift_margin = std::max(
         kLiftMarginMm, profiles.machine.nozzle ? profiles.machine.nozzle->clearance_mm : 0.0);
     const auto top_along = [&](const core::Vec3d& d) {
-        double h = -std::numeric_limits<double>::infinity();
-        for (const core::Vec3d& v : placed.vertices) h = std::max(h, core::dot(v, d));
-        return h + lift_margin;
+        return slice::extent_along(placed, slice::PlaneFrame::from_normal({0.0, 0.0, 0.0}, d))
+                   .second +
+               lift_margin;
     };
     for (int round = 0; round < kLiftRounds && travels_to_lift(*w.report); ++round) {
         const std::size_t lifted = machine::lift_travels(
