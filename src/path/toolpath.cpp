@@ -315,6 +315,31 @@ PreparedLayer prepare_layer(const geom2d::WireTree& region, const PathSettings& 
     return out;
 }
 
+// One track along the middle of each island too narrow for a contour (plan_narrow_layer).
+PreparedLayer prepare_narrow_layer(const geom2d::WireTree& region, const PathSettings& settings) {
+    const Widths widths(settings);
+    PreparedLayer out;
+    const auto tolerance = core::mm_to_um(kSimplifyShare * settings.track_width_mm);
+    for (const Paths2& raw : region.islands()) {
+        const Paths2 island = geom2d::simplify(raw, tolerance);
+        if (island.empty() || geom2d::signed_area_um2(island.front()) <= 0.0) continue;
+        if (!geom2d::offset_of(island, -widths.half).empty()) continue;  // a contour fits
+        Paths2 tracks;
+        detail::RouteGroup fill;
+        for (detail::RouteStroke& s :
+             detail::gap_fill(island, 2 * widths.half, widths.min_sliver)) {
+            tracks.push_back(s.points);
+            if (s.closed) tracks.back().push_back(s.points.front());
+            fill.push_back(std::move(s));
+        }
+        out.uncovered_mm2 += geom2d::uncovered_area_mm2(island, tracks, widths.half,
+                                                        std::max<std::int64_t>(1, widths.half / 8));
+        if (fill.empty()) continue;
+        out.route.emplace_back().push_back(std::move(fill));
+    }
+    return out;
+}
+
 // Puts a prepared layer's strokes in deposition order from `start` and measures them.
 LayerToolpath order_layer(PreparedLayer&& prepared, StrokeOrder order, Point2 start) {
     LayerToolpath out;
@@ -342,6 +367,12 @@ core::Result<LayerToolpath> plan_layer(const geom2d::WireTree& region, const Pat
                                        geom2d::Point2 start) {
     if (auto ok = validate(settings); !ok) return std::unexpected(ok.error());
     return order_layer(prepare_layer(region, settings), settings.order, start);
+}
+
+core::Result<LayerToolpath> plan_narrow_layer(const geom2d::WireTree& region,
+                                              const PathSettings& settings, geom2d::Point2 start) {
+    if (auto ok = validate(settings); !ok) return std::unexpected(ok.error());
+    return order_layer(prepare_narrow_layer(region, settings), settings.order, start);
 }
 
 core::Result<std::vector<LayerToolpath>> plan_layers(

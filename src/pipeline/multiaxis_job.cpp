@@ -137,6 +137,24 @@ std::optional<geom2d::Paths2> support_of(const plan::Plan& plan, const plan::Lay
     return geom2d::union_of(support);
 }
 
+// Lengths and coverage of a toolpath whose strokes changed, measured again.
+void measure(path::LayerToolpath& tp, const geom2d::WireTree& wires, std::int64_t half_um) {
+    using geom2d::length_um;
+    geom2d::Paths2 tracks;
+    double deposit = 0.0;
+    double travel = 0.0;
+    for (std::size_t i = 0; i < tp.strokes.size(); ++i) {
+        const geom2d::Path2& pts = tp.strokes[i].points;
+        tracks.push_back(pts);
+        deposit += length_um(pts);
+        if (i > 0) travel += length_um({tp.strokes[i - 1].points.back(), pts.front()});
+    }
+    tp.deposit_length_mm = deposit / core::kMicronsPerMm;
+    tp.travel_length_mm = travel / core::kMicronsPerMm;
+    tp.uncovered_mm2 = geom2d::uncovered_area_mm2(wires.paths(), tracks, half_um,
+                                                  std::max<std::int64_t>(1, half_um / 8));
+}
+
 // A stroke whose clipped pieces are this much shorter than itself (um) is kept whole.
 constexpr double kSameLengthUm = 1.0;
 
@@ -168,20 +186,85 @@ double trim_to_support(path::LayerToolpath& tp, const geom2d::Paths2& support,
     }
     tp.strokes = std::move(kept);
     if (removed <= 0.0) return 0.0;
-    geom2d::Paths2 tracks;
-    double deposit = 0.0;
-    double travel = 0.0;
-    for (std::size_t i = 0; i < tp.strokes.size(); ++i) {
-        const geom2d::Path2& pts = tp.strokes[i].points;
-        tracks.push_back(pts);
-        deposit += length_um(pts);
-        if (i > 0) travel += length_um({tp.strokes[i - 1].points.back(), pts.front()});
-    }
-    tp.deposit_length_mm = deposit / core::kMicronsPerMm;
-    tp.travel_length_mm = travel / core::kMicronsPerMm;
-    tp.uncovered_mm2 = geom2d::uncovered_area_mm2(wires.paths(), tracks, half_um,
-                                                  std::max<std::int64_t>(1, half_um / 8));
+    measure(tp, wires, half_um);
     return removed / core::kMicronsPerMm;
+}
+
+// The narrow starts' beads may overhang their islands by at most this share of the volume of
+// the layers built (decision 0049).
+constexpr double kNarrowOverhangShare = 0.01;
+
+// A layer's track centres projected into another layer's plane frame (u, v), micrometres.
+void project_tracks(const plan::Plan& plan, const plan::Layer& from, const path::LayerToolpath& tp,
+                    const plan::Layer& onto, geom2d::Paths2& out) {
+    const LayerFrame frame = frame_of(plan, from);
+    for (const path::Stroke& s : tp.strokes) {
+        geom2d::Path2& line = out.emplace_back();
+        line.reserve(s.points.size());
+        for (const geom2d::Point2& q : s.points) {
+            const Vec3d d = frame.tip(q) - onto.plane.origin;
+            line.push_back({core::mm_to_um(core::dot(d, onto.plane.u)),
+                            core::mm_to_um(core::dot(d, onto.plane.v))});
+        }
+    }
+}
+
+// A feature that starts narrower than a track (the edge of a slanted rib, the tip of a wedge
+// standing on a face, a thin fin under a wider one) gets no track in its first layers; every
+// layer above it would then rest on nothing and be cut away below, the whole feature with it.
+// So, from the last layer built down, an island of a layer standing on the plate or on parents
+// (a layer on nothing is the plan's to judge) where no contour fits gets one track along its
+// middle when tracks of a layer above, built along the same direction, come within the
+// support's reach of it (decision 0049). Its beads overhang the narrow section: material the
+// machining takes off, as the stock.
+void lay_narrow_starts(const plan::Plan& plan, const std::vector<int>& order,
+                       const path::PathSettings& settings,
+                       std::vector<path::LayerToolpath>& toolpaths) {
+    const double cos_max = std::cos(kSupportMaxTurnDeg * std::numbers::pi / 180.0);
+    const std::int64_t half_um = core::mm_to_um(settings.track_width_mm / 2.0);
+    const std::int64_t reach_um =
+        core::mm_to_um(kSupportReachHalves * settings.track_width_mm / 2.0);
+    std::vector<const path::LayerToolpath*> by_id(plan.layers.size(), nullptr);
+    for (std::size_t i = 0; i < order.size(); ++i)
+        by_id[static_cast<std::size_t>(order[i])] = &toolpaths[i];
+    std::vector<std::pair<std::size_t, path::LayerToolpath>> before;  // of the layers given one
+    double volume_mm3 = 0.0;                                          // of every layer built
+    double overhang_mm3 = 0.0;  // of the tracks laid here, outside their islands
+    for (std::size_t i = order.size(); i-- > 0;) {
+        const plan::Layer& layer = plan.layers[static_cast<std::size_t>(order[i])];
+        path::LayerToolpath& tp = toolpaths[i];
+        volume_mm3 += layer.area_mm2 * layer.span.thickness();
+        if (tp.uncovered_mm2 <= 0.0 || (!layer.on_plate && layer.parents.empty())) continue;
+        geom2d::Paths2 above;
+        for (const int c : layer.children) {
+            const plan::Layer& child = plan.layers[static_cast<std::size_t>(c)];
+            const path::LayerToolpath* ctp = by_id[static_cast<std::size_t>(c)];
+            if (ctp == nullptr || core::dot(child.top.normal, layer.top.normal) < cos_max) continue;
+            project_tracks(plan, child, *ctp, layer, above);
+        }
+        if (above.empty()) continue;
+        auto narrow = path::plan_narrow_layer(layer.wires, settings, geom2d::Point2{});
+        if (!narrow || narrow->strokes.empty()) continue;
+        const geom2d::Paths2 reach = geom2d::sweep_polylines(above, reach_um);
+        path::LayerToolpath had = tp;
+        for (path::Stroke& s : narrow->strokes) {
+            if (geom2d::clip_polylines({s.points}, reach).empty()) continue;
+            tp.strokes.push_back(std::move(s));
+        }
+        if (tp.strokes.size() == had.strokes.size()) continue;
+        measure(tp, layer.wires, half_um);
+        const double bead_mm2 =
+            (tp.deposit_length_mm - had.deposit_length_mm) * settings.track_width_mm;
+        const double island_mm2 = had.uncovered_mm2 - tp.uncovered_mm2;
+        overhang_mm3 += std::max(0.0, bead_mm2 - island_mm2) * layer.span.thickness();
+        before.emplace_back(i, std::move(had));
+    }
+    // Where those beads would overhang more than a small share of the whole part, the part is
+    // not one with narrow starts but one narrower than the track all over (a part in other
+    // units): nothing is laid there, as before.
+    if (overhang_mm3 > kNarrowOverhangShare * volume_mm3) {
+        for (auto& [i, had] : before) toolpaths[i] = std::move(had);
+    }
 }
 
 double highest_along(const mesh::TriangleMesh& mesh, const Vec3d& d) {
@@ -337,6 +420,8 @@ core::Result<MultiAxisProgram> plan_multiaxis_program(const plan::Plan& plan,
     auto planned = path::plan_layers(regions, settings, geom2d::Point2{}, progress);
     if (!planned) return std::unexpected(planned.error());
     out.toolpaths = std::move(*planned);
+
+    lay_narrow_starts(plan, out.order, settings, out.toolpaths);
 
     // Beads are laid only where the layer below carries them: a feature the tracks of one
     // layer leave bare (narrower than the track) may get a track a layer higher, where it is

@@ -80,6 +80,16 @@ struct LayerToolpath {
                                                      const PathSettings& settings,
                                                      geom2d::Point2 start);
 
+/// The tracks plan_layer does not lay: one track along the medial axis of each island of the
+/// region too narrow for a contour (its inscribed circle narrower than a track), where the
+/// island is at least 5 % of a track wide. Its beads overhang the island on both sides; the
+/// multi-axis job lays them under a feature that starts narrow and widens above it (the edge
+/// of a slanted rib), whose layers would otherwise all rest on nothing (decision 0049).
+/// Islands a contour fits get nothing here, and the uncovered area counts the narrow islands
+/// only. Errors: invalid settings (kInvalidInput).
+[[nodiscard]] core::Result<LayerToolpath> plan_narrow_layer(const geom2d::WireTree& region,
+                                                            const PathSettings& settings,
+                                                            geom2d::Point2 start);
 /// plan_layer over a stack of layers: layer i starts where layer i - 1 ended (the first at
 /// `start`). The tracks of all layers are planned in parallel (oneTBB), the ordering layer by
 /// layer; the result does not depend on the thread count. Reports "toolpaths" progress and

@@ -647,5 +647,36 @@ TEST(Helpers, GeometryChecksDetectWhatTheyLookFor) {
     EXPECT_NEAR(grid.fraction(), 0.5, 0.02);
 }
 
+// plan_narrow_layer lays one track along the middle of an island too narrow for a contour,
+// inside it and nearly its length, and nothing on an island a contour fits (plan_layer's).
+TEST(Toolpath, ANarrowIslandGetsOneTrackAlongItsMiddleAndAWideOneNone) {
+    const geom2d::WireTree tree = region({rect(0, 0, 40, 1.5), rect(0, 10, 20, 30)});
+    auto narrow = plan_narrow_layer(tree, settings(), {});
+    ASSERT_TRUE(narrow.has_value()) << narrow.error().describe();
+    ASSERT_EQ(narrow->strokes.size(), 1u);
+    const Stroke& s = narrow->strokes.front();
+    double length = 0.0;
+    for (std::size_t i = 0; i < s.points.size(); ++i) {
+        EXPECT_NEAR(static_cast<double>(s.points[i].y), 750.0, 50.0);  // the strip's middle
+        EXPECT_GT(s.points[i].x, 0);
+        EXPECT_LT(s.points[i].x, 40000);
+        if (i > 0) length += length_mm({s.points[i - 1], s.points[i]});
+    }
+    EXPECT_GT(length, 36.0);
+    EXPECT_NEAR(narrow->deposit_length_mm, length, 1e-6);
+    // The strip's beads cover it all but a sliver at its ends (the uncovered area counts the
+    // narrow islands only: the square is plan_layer's).
+    EXPECT_LT(narrow->uncovered_mm2, 0.05 * 60.0);
+    // plan_layer lays nothing on the strip.
+    const LayerToolpath full = plan(tree, settings());
+    for (const Stroke& t : full.strokes) {
+        for (const Point2& q : t.points) EXPECT_GT(q.y, 5000);
+    }
+    // A track narrower than the strip: plan_layer builds it, plan_narrow_layer nothing.
+    auto fine = plan_narrow_layer(tree, settings(0.8), {});
+    ASSERT_TRUE(fine.has_value());
+    EXPECT_TRUE(fine->strokes.empty());
+}
+
 }  // namespace
 }  // namespace maxslice::path::test

@@ -341,6 +341,35 @@ TEST(MultiAxisReplay, TracksOverBareFeaturesBelowAreLeftOut) {
     EXPECT_GT(j.report->coverage, 0.85);
 }
 
+// A fin standing on a block: 1.5 mm wide in its lower half (narrower than the 2.5 mm track),
+// 3 mm in its upper half. Its lower layers are islands of their own where no contour fits:
+// without a track there, every bead of the upper fin would rest on nothing and be left out
+// (above). They get one track along their middle (decision 0049), and the whole fin is built,
+// every bead on another.
+TEST(MultiAxisReplay, AFeatureThatStartsNarrowerThanATrackGetsATrackAlongItsMiddle) {
+    const mesh::TriangleMesh part = test::merged(
+        test::merged(test::box({0, 0, 0}, {40, 40, 8}), test::box({10, 19.25, 8}, {30, 20.75, 12})),
+        test::box({10, 18.5, 12}, {30, 21.5, 16}));
+    const Job j = run_job("reference_5axis_ac.toml", part, "fin_on_top");
+    ASSERT_TRUE(j.report.has_value());
+    EXPECT_LT(j.program.trimmed_mm, 1.0);
+    EXPECT_EQ(j.report->unsupported.count, 0u) << verify::report_text(*j.report);
+    EXPECT_EQ(j.report->collisions.count, 0u) << verify::report_text(*j.report);
+    // Beads of the lower fin (above the block) and of the upper fin.
+    std::size_t lower_fin = 0;
+    std::size_t upper_fin = 0;
+    const double bottom = mesh::bounding_box(j.placed).min.z;
+    for (const Pair& p : deposit_pairs(j)) {
+        const double z = p.move->position.z - bottom;
+        if (z > 8.0 && z < 12.0) ++lower_fin;
+        if (z > 12.0) ++upper_fin;
+    }
+    EXPECT_GT(lower_fin, 0u);
+    EXPECT_GT(upper_fin, 0u);
+    EXPECT_GE(j.report->coverage, 0.97) << verify::report_text(*j.report);
+    EXPECT_LT(j.report->excess, 0.05) << verify::report_text(*j.report);
+}
+
 // The portal of issue 23 upside down (beam on the plate, the columns rising from it) with the
 // LinuxCNC 5-axis cell, whose head body is 80 mm across and whose profile asks for 2 mm: while
 // the tip stands at the foot of one column the body's rim reaches over the other. The job's
