@@ -75,6 +75,21 @@ constexpr double kSupportReachHalves = 1.9;
 constexpr double kSideBandShare = 0.5;
 constexpr double kSideGapShare = 0.15;
 
+// A layer's track centres (its frame's tips) projected into another layer's plane frame (u, v),
+// micrometres.
+void project_tracks(const LayerFrame& frame, const path::LayerToolpath& tp, const plan::Layer& onto,
+                    geom2d::Paths2& out) {
+    for (const path::Stroke& s : tp.strokes) {
+        geom2d::Path2& line = out.emplace_back();
+        line.reserve(s.points.size());
+        for (const geom2d::Point2& q : s.points) {
+            const Vec3d d = frame.tip(q) - onto.plane.origin;
+            line.push_back({core::mm_to_um(core::dot(d, onto.plane.u)),
+                            core::mm_to_um(core::dot(d, onto.plane.v))});
+        }
+    }
+}
+
 // Where a layer's track centres are carried: its parents' tracks lifted onto their tops,
 // projected along the layer's direction into its plane frame and swept by the reach (a parent
 // built along another direction: where its beads lie just below the layer's bottom plane, grown
@@ -112,15 +127,7 @@ std::optional<geom2d::Paths2> support_of(const plan::Plan& plan, const plan::Lay
             }
             continue;
         }
-        for (const path::Stroke& s : tp->strokes) {
-            geom2d::Path2& line = lines.emplace_back();
-            line.reserve(s.points.size());
-            for (const geom2d::Point2& q : s.points) {
-                const Vec3d d = frame.tip(q) - layer.plane.origin;
-                line.push_back({core::mm_to_um(core::dot(d, layer.plane.u)),
-                                core::mm_to_um(core::dot(d, layer.plane.v))});
-            }
-        }
+        project_tracks(frame, *tp, layer, lines);
     }
     if (side_cuts.empty()) return geom2d::sweep_polylines(lines, reach_um);
     // The layer's track centres over the sideways beads' material below its bottom plane or
@@ -194,21 +201,6 @@ double trim_to_support(path::LayerToolpath& tp, const geom2d::Paths2& support,
 // the layers built (decision 0049).
 constexpr double kNarrowOverhangShare = 0.01;
 
-// A layer's track centres projected into another layer's plane frame (u, v), micrometres.
-void project_tracks(const plan::Plan& plan, const plan::Layer& from, const path::LayerToolpath& tp,
-                    const plan::Layer& onto, geom2d::Paths2& out) {
-    const LayerFrame frame = frame_of(plan, from);
-    for (const path::Stroke& s : tp.strokes) {
-        geom2d::Path2& line = out.emplace_back();
-        line.reserve(s.points.size());
-        for (const geom2d::Point2& q : s.points) {
-            const Vec3d d = frame.tip(q) - onto.plane.origin;
-            line.push_back({core::mm_to_um(core::dot(d, onto.plane.u)),
-                            core::mm_to_um(core::dot(d, onto.plane.v))});
-        }
-    }
-}
-
 // A feature that starts narrower than a track (the edge of a slanted rib, the tip of a wedge
 // standing on a face, a thin fin under a wider one) gets no track in its first layers; every
 // layer above it would then rest on nothing and be cut away below, the whole feature with it.
@@ -240,7 +232,7 @@ void lay_narrow_starts(const plan::Plan& plan, const std::vector<int>& order,
             const plan::Layer& child = plan.layers[static_cast<std::size_t>(c)];
             const path::LayerToolpath* ctp = by_id[static_cast<std::size_t>(c)];
             if (ctp == nullptr || core::dot(child.top.normal, layer.top.normal) < cos_max) continue;
-            project_tracks(plan, child, *ctp, layer, above);
+            project_tracks(frame_of(plan, child), *ctp, layer, above);
         }
         if (above.empty()) continue;
         auto narrow = path::plan_narrow_layer(layer.wires, settings, geom2d::Point2{});
