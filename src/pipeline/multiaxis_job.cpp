@@ -238,12 +238,12 @@ void lay_narrow_starts(const plan::Plan& plan, const std::vector<int>& order,
         auto narrow = path::plan_narrow_layer(layer.wires, settings, geom2d::Point2{});
         if (!narrow || narrow->strokes.empty()) continue;
         const geom2d::Paths2 reach = geom2d::sweep_polylines(above, reach_um);
+        std::erase_if(narrow->strokes, [&](const path::Stroke& s) {
+            return geom2d::clip_polylines({s.points}, reach).empty();
+        });
+        if (narrow->strokes.empty()) continue;
         path::LayerToolpath had = tp;
-        for (path::Stroke& s : narrow->strokes) {
-            if (geom2d::clip_polylines({s.points}, reach).empty()) continue;
-            tp.strokes.push_back(std::move(s));
-        }
-        if (tp.strokes.size() == had.strokes.size()) continue;
+        for (path::Stroke& s : narrow->strokes) tp.strokes.push_back(std::move(s));
         measure(tp, layer.wires, half_um);
         const double bead_mm2 =
             (tp.deposit_length_mm - had.deposit_length_mm) * settings.track_width_mm;
